@@ -1,0 +1,162 @@
+"""The `texeditor` command: the GUI with no argument, the headless engine with a subcommand.
+
+Exit codes: 0 success, 2 bad input (one line on stderr, never a traceback, no partial output),
+130 interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from .errors import InputError, TexeditorError
+
+SYNTH_OUTPUTS = (".png", ".npy", ".texture")
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports a usage error on one line, like every other error."""
+
+    def error(self, message):
+        raise InputError(message)
+
+
+def _pair(text: str, what: str) -> tuple[int, int]:
+    """'3x3' → (3, 3): width x height."""
+    try:
+        a, b = text.lower().split("x")
+        return int(a), int(b)
+    except ValueError:
+        raise InputError(f"{what} must look like WIDTHxHEIGHT (e.g. 3x3), got {text!r}") from None
+
+
+def _output(path: str, allowed: tuple[str, ...]) -> Path:
+    out = Path(path)
+    if out.suffix.lower() not in allowed:
+        raise InputError(f"the output must end with {', '.join(allowed)}: got {path!r}")
+    if not out.parent.is_dir():
+        raise InputError(f"the output folder {str(out.parent)!r} does not exist")
+    return out
+
+
+def cmd_acquire(args) -> int:
+    from .estimation import estimate_dpj
+    from .levels import load_image, quantize
+
+    u, v = _pair(args.window, "the window")
+    out = _output(args.output, (".dpj",))
+    image = load_image(args.image)
+    q = quantize(image, args.levels, method=args.quantizer)
+    meta = {"source": Path(args.image).name, "quantizer": args.quantizer}
+    dpj = estimate_dpj(q.levels, (u, v), args.levels, wrap=args.wrap, palette=q.palette, meta=meta)
+    dpj.save(out)
+    print(f"{out}: {u}x{v} window, G = {args.levels}, {len(dpj)} non-zero configurations")
+    return 0
+
+
+def cmd_synth(args) -> int:
+    from .dpj import DPJ
+    from .export import write_npy, write_png
+    from .synthesis import synthesize
+
+    width, height = _pair(args.size, "the size")
+    out = _output(args.output, SYNTH_OUTPUTS)
+    dpj = DPJ.load(args.dpj)
+    if out.suffix.lower() == ".texture":
+        return _synth_texture(dpj, width, height, args.seed, out)
+    result = synthesize(dpj, (height, width), seed=args.seed)
+    if out.suffix.lower() == ".png":
+        write_png(out, result.levels, dpj.palette)
+    else:
+        write_npy(out, result.levels)
+    print(f"{out}: {width}x{height}, seed {args.seed}, dead-end repairs {result.repairs} "
+          f"(rows redrawn {result.redraws})")
+    return 0
+
+
+def _synth_texture(dpj, width, height, seed, out) -> int:
+    from .actions import Synthesize
+    from .history import History
+    from .texturefile import save_texture
+
+    history = History()
+    ref = history.add_dpj(dpj)
+    history.apply(Synthesize(dpj=ref, width=width, height=height, seed=seed))
+    save_texture(out, history)
+    print(f"{out}: {width}x{height}, seed {seed}, one Synthesize action")
+    return 0
+
+
+def cmd_dpj_info(args) -> int:
+    from .dpj import DPJ
+
+    report = DPJ.load(args.dpj).report()
+    print(json.dumps(report.to_dict(), indent=2) if args.json else "\n".join(report.lines()))
+    return 0
+
+
+def cmd_gui(args) -> int:
+    from app.main import run
+
+    argv = []
+    if args.screenshot:
+        argv += ["--screenshot", args.screenshot]
+    if args.open:
+        argv += ["--open", args.open]
+    return run(argv)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="texeditor", description="Interactive texture synthesis after Olejnik (1984).")
+    sub = p.add_subparsers(dest="command", parser_class=_Parser)
+
+    a = sub.add_parser("acquire", help="estimate a DPJ from a photo")
+    a.add_argument("image")
+    a.add_argument("--window", default="2x2", help="UxV: u columns by v rows (default 2x2)")
+    a.add_argument("--levels", type=int, default=4, help="G, the number of levels (2..16)")
+    a.add_argument("--quantizer", choices=("band", "lloyd"), default="band")
+    a.add_argument("--wrap", action="store_true", help="count windows on the torus")
+    a.add_argument("-o", "--output", required=True, help="OUT.dpj")
+    a.set_defaults(func=cmd_acquire)
+
+    s = sub.add_parser("synth", help="synthesise a texture from a DPJ")
+    s.add_argument("dpj")
+    s.add_argument("--size", default="512x512", help="WIDTHxHEIGHT (default 512x512)")
+    s.add_argument("--seed", type=int, default=0)
+    s.add_argument("-o", "--output", required=True, help="OUT.png, OUT.npy or OUT.texture")
+    s.set_defaults(func=cmd_synth)
+
+    i = sub.add_parser("dpj-info", help="the validation report of a DPJ")
+    i.add_argument("dpj")
+    i.add_argument("--json", action="store_true")
+    i.set_defaults(func=cmd_dpj_info)
+
+    g = sub.add_parser("gui", help="open the application window")
+    g.add_argument("--screenshot", help="render the window offscreen to this PNG and exit")
+    g.add_argument("--open", help="a .texture file to open")
+    g.set_defaults(func=cmd_gui)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    try:
+        args = build_parser().parse_args(argv or ["gui"])
+        if getattr(args, "seed", 0) is not None and getattr(args, "seed", 0) < 0:
+            raise InputError("the seed must be a non-negative integer")
+        return args.func(args)
+    except TexeditorError as exc:
+        print(f"texeditor: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"texeditor: error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("texeditor: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

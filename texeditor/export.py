@@ -1,0 +1,44 @@
+"""Showing a level matrix: through its palette to RGB, and out to PNG or `.npy` files.
+
+The last step of the data flow (levels + palette → picture). Every write is atomic.
+"""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+
+from .errors import InputError
+from .fileio import atomic_write_bytes
+
+MAX_EXPORT_PIXELS = 2**28
+
+
+def to_rgb(levels: np.ndarray, palette: np.ndarray) -> np.ndarray:
+    """(H, W, 3) uint8: each level drawn in its palette colour."""
+    return np.asarray(palette, dtype=np.uint8)[levels]
+
+
+def write_png(path, levels: np.ndarray, palette: np.ndarray, scale: int = 1) -> None:
+    """Write the texture as a PNG, each point drawn as a scale×scale block; grey if the palette is."""
+    if not isinstance(scale, int) or scale < 1:
+        raise InputError(f"the upscale factor must be a positive integer, got {scale!r}")
+    if levels.size * scale * scale > MAX_EXPORT_PIXELS:
+        raise InputError("the exported picture would be too large: choose a smaller upscale")
+    rgb = to_rgb(levels, palette)
+    if scale > 1:
+        rgb = np.repeat(np.repeat(rgb, scale, axis=0), scale, axis=1)
+    pal = np.asarray(palette)
+    if np.all(pal[:, 0] == pal[:, 1]) and np.all(pal[:, 1] == pal[:, 2]):
+        rgb = rgb[:, :, 0]
+    import imageio.v3 as iio  # scikit-image's own reader/writer; loaded only when exporting
+
+    atomic_write_bytes(path, iio.imwrite("<bytes>", rgb, extension=".png"))
+
+
+def write_npy(path, levels: np.ndarray) -> None:
+    """Write the uint8 level matrix as a `.npy` (no pickle: a plain numeric array)."""
+    buf = io.BytesIO()
+    np.save(buf, np.ascontiguousarray(levels, dtype=np.uint8), allow_pickle=False)
+    atomic_write_bytes(path, buf.getvalue())
