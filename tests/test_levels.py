@@ -1,0 +1,242 @@
+"""Levels & palettes: the two quantisers, the palette and the photo reader's refusals."""
+
+import time
+import warnings
+
+import numpy as np
+import pytest
+from PIL import Image
+from skimage import data, io
+
+from texeditor import levels as lv
+from texeditor.errors import ImageError, InputError
+
+
+def mse(grey, q):
+    """Mean-square error when each level is rendered by the mean grey of its pixels."""
+    err = 0.0
+    for k in np.unique(q.levels):
+        cell = grey[q.levels == k]
+        err += ((cell - cell.mean()) ** 2).sum()
+    return err / grey.size
+
+
+# -- band (the thesis's) ----------------------------------------------------------------------
+def test_band_thresholds_cut_the_central_90_percent_into_equal_intervals():
+    grey = np.linspace(0, 1, 21).reshape(3, 7)  # 5th percentile 0.05, 95th 0.95
+    q = lv.quantize(grey, 3)
+    np.testing.assert_allclose(q.thresholds, [0.35, 0.65], atol=1e-12)
+    expected = np.array([0] * 7 + [1] * 6 + [2] * 8).reshape(3, 7)  # 0.35 and 0.65 go up
+    np.testing.assert_array_equal(q.levels, expected)
+    assert q.levels.dtype == np.uint8 and q.levels.max() < 3
+
+
+def test_band_sends_values_below_and_above_the_band_to_the_extreme_levels():
+    grey = np.array([[0.0] + [0.4] * 9 + [0.5] * 9 + [1.0]])
+    q = lv.quantize(grey, 4)  # 5th percentile 0.95 * 0.4 = 0.38, 95th 0.5 + 0.05 * 0.5 = 0.525
+    np.testing.assert_allclose(q.thresholds, [0.41625, 0.4525, 0.48875], atol=1e-12)
+    assert q.levels[0, 0] == 0 and q.levels[0, -1] == 3
+    assert set(q.levels[0, 1:10]) == {0} and set(q.levels[0, 10:19]) == {3}
+
+
+def test_band_falls_back_to_min_max_when_the_band_is_one_grey():
+    grey = np.full((10, 10), 0.5)
+    grey[0, 0], grey[9, 9] = 0.1, 0.9
+    q = lv.quantize(grey, 4)
+    np.testing.assert_allclose(q.thresholds, [0.3, 0.5, 0.7], atol=1e-12)
+    assert q.levels[0, 0] == 0 and q.levels[9, 9] == 3 and q.levels[5, 5] == 2
+
+
+def test_grey_palette_is_the_mean_grey_of_each_level_and_empty_levels_get_their_centre():
+    grey = np.array([[0.0] * 50 + [1.0] * 50])
+    q = lv.quantize(grey, 4)  # band [0, 1], levels 1 and 2 are empty
+    np.testing.assert_allclose(q.thresholds, [0.25, 0.5, 0.75])
+    np.testing.assert_array_equal(q.palette[:, 0], [0, 96, 159, 255])  # 0.375, 0.625 * 255
+    assert (q.palette == q.palette[:, :1]).all() and q.palette.dtype == np.uint8
+    q = lv.quantize(np.linspace(0, 1, 21).reshape(3, 7), 3)
+    assert q.palette[0, 0] == round(0.15 * 255)  # mean of 0, 0.05, ..., 0.30
+
+
+# -- Lloyd–Max --------------------------------------------------------------------------------
+def test_lloyd_converges_to_the_midpoint_of_the_cell_means():
+    grey = np.array([[0.0, 0.1, 0.2, 0.9, 1.0]] * 4)  # band threshold 0.5; means 0.1 and 0.95
+    q = lv.quantize(grey, 2, "lloyd")
+    np.testing.assert_allclose(q.thresholds, [0.525], atol=1e-12)
+    np.testing.assert_array_equal(q.levels[0], [0, 0, 0, 1, 1])
+    assert q.levels.dtype == np.uint8
+
+
+def test_lloyd_puts_the_threshold_between_two_clusters():
+    rng = np.random.default_rng(1)
+    dark = rng.uniform(0.05, 0.15, 9700)  # 97% dark: the band holds only dark pixels
+    light = rng.uniform(0.85, 0.95, 300)
+    grey = np.concatenate([dark, light]).reshape(100, 100)
+    band = lv.quantize(grey, 2, "band")
+    assert band.thresholds[0] < 0.15  # the thesis's quantiser splits the dark cluster
+    q = lv.quantize(grey, 2, "lloyd")
+    assert 0.45 < q.thresholds[0] < 0.55  # the mid-point of the cluster means, 0.1 and 0.9
+    np.testing.assert_array_equal(q.levels.ravel(), np.r_[np.zeros(9700), np.ones(300)])
+
+
+def test_lloyd_has_a_lower_mean_square_error_than_the_band_on_a_photo():
+    photo = data.camera()
+    grey = lv.to_grey(photo)
+    for g in (2, 4, 8, 16):
+        band, lloyd = lv.quantize(photo, g, "band"), lv.quantize(photo, g, "lloyd")
+        assert mse(grey, lloyd) < mse(grey, band)
+        assert lloyd.levels.max() < g and np.all(np.diff(lloyd.thresholds) >= 0)
+
+
+def test_lloyd_is_fast_on_a_megapixel_photo():
+    photo = np.tile(data.camera(), (2, 2))
+    lv.quantize(photo[:64, :64], 16, "lloyd")
+    start = time.perf_counter()
+    lv.quantize(photo, 16, "lloyd")
+    assert time.perf_counter() - start < 1.0  # about 0.1 s; catches an accidental O(n G) loop
+
+
+# -- palettes, dtypes and shapes --------------------------------------------------------------
+@pytest.mark.parametrize("method", lv.METHODS)
+def test_colour_palette_is_the_mean_colour_of_each_level(method):
+    photo = data.astronaut()
+    q = lv.quantize(photo, 6, method)
+    expected = [np.round(photo[q.levels == k].mean(axis=0)) for k in range(6)]
+    np.testing.assert_array_equal(q.palette, np.array(expected, dtype=np.uint8))
+    assert len({tuple(c) for c in q.palette}) == 6
+
+
+def test_alpha_is_ignored_by_the_palette():
+    photo = data.astronaut()
+    rgba = np.dstack([photo, np.full(photo.shape[:2], 255, np.uint8)])
+    np.testing.assert_array_equal(lv.quantize(rgba, 5).palette, lv.quantize(photo, 5).palette)
+
+
+@pytest.mark.parametrize("method", lv.METHODS)
+@pytest.mark.parametrize("photo", [data.camera(), data.astronaut()], ids=["grey", "rgb"])
+def test_16_bit_gives_the_same_levels_as_8_bit(photo, method):
+    q8 = lv.quantize(photo, 7, method)
+    q16 = lv.quantize(photo.astype(np.uint16) * 257, 7, method)
+    np.testing.assert_array_equal(q16.levels, q8.levels)
+    np.testing.assert_allclose(q16.thresholds, q8.thresholds, atol=1e-6)
+    assert np.abs(q16.palette.astype(int) - q8.palette).max() <= 1
+
+
+def test_every_dtype_and_shape_is_accepted():
+    grey8 = (np.arange(64 * 64).reshape(64, 64) % 251).astype(np.uint8)
+    reference = lv.quantize(grey8, 4).levels
+    variants = [grey8 / 255.0, (grey8 / 255.0).astype(np.float32), grey8[..., None],
+                np.dstack([grey8, np.full_like(grey8, 255)]), np.dstack([grey8] * 3),
+                np.dstack([grey8] * 3 + [np.full_like(grey8, 255)])]
+    for image in variants:
+        np.testing.assert_array_equal(lv.quantize(image, 4).levels, reference)
+    q = lv.quantize(grey8 > 100, 2)
+    np.testing.assert_array_equal(q.levels, grey8 > 100)
+
+
+def test_to_grey_scales_by_dtype_and_lays_rgba_on_white():
+    assert lv.to_grey(np.array([[0, 65535]], np.uint16)).tolist() == [[0.0, 1.0]]
+    transparent_black = np.zeros((1, 1, 4), np.uint8)
+    assert lv.to_grey(transparent_black)[0, 0] == pytest.approx(1.0)
+    assert lv.to_grey(np.array([[[0.2, 0.9]]])).tolist() == [[0.2]]
+    grey = lv.to_grey(data.astronaut())
+    assert grey.dtype == np.float64 and grey.shape == (512, 512) and 0 <= grey.min() < grey.max() <= 1
+
+
+@pytest.mark.parametrize("bad", [np.zeros((4, 4, 5)), np.zeros((2, 4, 4, 3)), np.zeros(4),
+                                 np.zeros((4, 4), complex), np.array([[np.nan, 0.5]])])
+def test_unusable_arrays_raise_image_error(bad):
+    with pytest.raises(ImageError):
+        lv.quantize(bad, 4)
+
+
+# -- refusals ---------------------------------------------------------------------------------
+@pytest.mark.parametrize("image", [np.full((8, 8), 77, np.uint8), np.zeros((0, 5)),
+                                   np.full((3, 3, 3), 0.5)])
+def test_constant_or_empty_image_raises_image_error(image):
+    with pytest.raises(ImageError, match="constant|empty"):
+        lv.quantize(image, 4)
+
+
+@pytest.mark.parametrize("g", [1, 17, 0, -3, 2.5, "8", True])
+def test_levels_out_of_range_raise_input_error(g):
+    with pytest.raises(InputError):
+        lv.quantize(data.camera(), g)
+
+
+def test_unknown_method_raises_input_error():
+    with pytest.raises(InputError, match="band, lloyd"):
+        lv.quantize(data.camera(), 4, "kmeans")
+
+
+# -- load_image -------------------------------------------------------------------------------
+def test_load_image_reads_back_what_was_written(tmp_path):
+    rgb = data.astronaut()[::8, ::8]
+    io.imsave(tmp_path / "a.png", rgb)
+    np.testing.assert_array_equal(lv.load_image(tmp_path / "a.png"), rgb)
+    deep = (np.arange(40 * 30).reshape(30, 40) * 50).astype(np.uint16)
+    io.imsave(tmp_path / "deep.png", deep, check_contrast=False)
+    back = lv.load_image(str(tmp_path / "deep.png"))
+    assert back.dtype == np.uint16
+    np.testing.assert_array_equal(back, deep)
+
+
+def test_load_image_expands_palette_images_and_takes_the_first_page(tmp_path):
+    grey = (np.arange(32 * 32).reshape(32, 32) % 256).astype(np.uint8)
+    Image.fromarray(np.dstack([grey] * 3)).convert("P").save(tmp_path / "p.png")
+    assert lv.load_image(tmp_path / "p.png").shape == (32, 32, 3)
+    pages = [Image.fromarray(grey), Image.fromarray(255 - grey)]
+    for name in ("pages.tif", "anim.gif"):
+        pages[0].save(tmp_path / name, save_all=True, append_images=pages[1:])
+        np.testing.assert_array_equal(lv.load_image(tmp_path / name), grey)
+
+
+def _png_bytes(tmp_path):
+    io.imsave(tmp_path / "good.png", data.camera()[:64, :64], check_contrast=False)
+    return (tmp_path / "good.png").read_bytes()
+
+
+@pytest.mark.parametrize("case", ["text", "truncated", "empty", "missing", "folder"])
+def test_load_image_refuses_bad_files_with_image_error(tmp_path, case):
+    path = tmp_path / "bad.png"
+    if case == "text":
+        path.write_text("this is not a picture\n")
+    elif case == "truncated":
+        path.write_bytes(_png_bytes(tmp_path)[:300])
+    elif case == "empty":
+        path.write_bytes(b"")
+    elif case == "folder":
+        path.mkdir()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with pytest.raises(ImageError) as info:
+            lv.load_image(path)
+    assert "bad.png" in str(info.value) and "\n" not in str(info.value)
+    assert not [w for w in caught if not issubclass(w.category, ResourceWarning)]
+
+
+def test_load_image_refuses_too_many_pixels_before_decoding(tmp_path, monkeypatch):
+    _png_bytes(tmp_path)
+    monkeypatch.setattr(lv, "MAX_PIXELS", 64 * 63)
+    with pytest.raises(ImageError, match="megapixels"):
+        lv.load_image(tmp_path / "good.png")
+
+
+def test_decompression_bomb_becomes_image_error_without_warnings(tmp_path, monkeypatch):
+    _png_bytes(tmp_path)
+    monkeypatch.setattr(Image, "MAX_IMAGE_PIXELS", 1000)  # 4096 pixels: Pillow warns
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with pytest.raises(ImageError, match="too large"):
+            lv.load_image(tmp_path / "good.png")
+    assert not [w for w in caught if issubclass(w.category, Image.DecompressionBombWarning)]
+    monkeypatch.setattr(Image, "MAX_IMAGE_PIXELS", 1000 // 4)  # more than twice: Pillow errors
+    with pytest.raises(ImageError, match="too large"):
+        lv.load_image(tmp_path / "good.png")
+
+
+def test_load_image_refuses_more_than_four_channels(tmp_path):
+    import tifffile
+    tifffile.imwrite(tmp_path / "five.tif", np.zeros((8, 8, 5), np.uint8), photometric="minisblack",
+                     planarconfig="contig")
+    with pytest.raises(ImageError, match="five.tif"):
+        lv.load_image(tmp_path / "five.tif")
