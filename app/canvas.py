@@ -1,0 +1,291 @@
+"""The canvas: the document's level matrix shown through its palette, with zoom, pan and a 3×3 tiled preview.
+
+It sits at the end of the data flow (levels + palette -> screen). It only displays and reports the
+cursor; edits reach the document as Actions submitted by the main window, never from here.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pyqtgraph as pg
+from PySide6 import QtCore, QtGui, QtWidgets
+
+GRID_MIN_ZOOM = 12.0          # screen pixels per cell before the pixel grid is drawn
+ZOOM_STEP = math.sqrt(2.0)    # one +/- key press
+MIN_ZOOM, MAX_ZOOM = 1 / 32, 128.0
+BACKGROUND = "#2b2b2b"        # a neutral dark surround, as in Krita and GIMP
+UNUSED_LEVEL = (255, 0, 255)  # a level beyond the palette shows up magenta instead of passing unseen
+
+
+def palette_lut(palette) -> np.ndarray:
+    """A 256-entry RGB lookup table: the palette's G colours, then magenta for impossible levels."""
+    pal = np.asarray(palette, dtype=np.uint8).reshape(-1, 3)
+    lut = np.empty((256, 3), dtype=np.uint8)
+    lut[:] = UNUSED_LEVEL
+    lut[: len(pal)] = pal
+    return lut
+
+
+def colourize(levels: np.ndarray, palette) -> np.ndarray:
+    """(H, W, 3) uint8 RGB of a level matrix seen through a palette (for export and previews)."""
+    return palette_lut(palette)[np.asarray(levels, dtype=np.uint8)]
+
+
+def view_zoom(view: pg.ViewBox) -> float:
+    """Screen pixels per cell, from the view's requested range (never a stale paint matrix)."""
+    span = view.viewRect().width()
+    return view.width() / span if span > 0 and view.width() > 0 else 1.0
+
+
+class CanvasViewBox(pg.ViewBox):
+    """A ViewBox with editor habits: wheel zooms around the cursor, middle-drag or space-drag pans.
+
+    A plain left drag is left to the tools (none yet) and the right button to a future context
+    menu, so neither moves the view by accident.
+    """
+
+    def __init__(self):
+        super().__init__(lockAspect=True, invertY=True, enableMenu=False, defaultPadding=0.02)
+        self.pan_key_held = False
+
+    def mouseDragEvent(self, ev, axis=None):
+        button = ev.button()
+        panning = button == QtCore.Qt.MouseButton.MiddleButton or (
+            button == QtCore.Qt.MouseButton.LeftButton and self.pan_key_held)
+        if panning:
+            super().mouseDragEvent(ev, axis)
+        else:
+            ev.ignore()
+
+    def mouseClickEvent(self, ev):
+        ev.ignore()
+
+
+class TileEcho(pg.GraphicsObject):
+    """The eight neighbours of the 3×3 tiled preview, painted from the image item's own QImage.
+
+    Sharing the rendered image keeps a tiled 2048² preview at the memory cost of one tile.
+    """
+
+    def __init__(self, source: pg.ImageItem):
+        super().__init__()
+        self.source = source
+
+    def _size(self) -> tuple[int, int]:
+        image = self.source.image
+        return (0, 0) if image is None else (image.shape[1], image.shape[0])
+
+    def boundingRect(self) -> QtCore.QRectF:
+        w, h = self._size()
+        return QtCore.QRectF(-w, -h, 3 * w, 3 * h)
+
+    def paint(self, painter, *args):
+        w, h = self._size()
+        if not w:
+            return
+        if self.source.qimage is None:
+            self.source.render()
+        qimage = self.source.qimage
+        if qimage is None:
+            return
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                if dx or dy:
+                    painter.drawImage(QtCore.QRectF(dx * w, dy * h, w, h), qimage)
+
+
+class PixelGrid(pg.GraphicsObject):
+    """Thin lines between cells, drawn only over the visible part and only when zoomed in far."""
+
+    def __init__(self, view: CanvasViewBox):
+        super().__init__()
+        self.view = view
+        self.bounds = QtCore.QRectF()
+        self.pen = QtGui.QPen(QtGui.QColor(128, 128, 128, 120))
+        self.pen.setCosmetic(True)
+        self.pen.setWidth(1)
+
+    def set_bounds(self, rect: QtCore.QRectF) -> None:
+        self.prepareGeometryChange()
+        self.bounds = QtCore.QRectF(rect)
+        self.update()
+
+    def boundingRect(self) -> QtCore.QRectF:
+        return self.bounds
+
+    def paint(self, painter, *args):
+        if view_zoom(self.view) < GRID_MIN_ZOOM:
+            return
+        visible = self.view.viewRect().intersected(self.bounds)
+        if visible.isEmpty():
+            return
+        painter.setPen(self.pen)
+        x0, x1 = math.ceil(visible.left()), math.floor(visible.right())
+        y0, y1 = math.ceil(visible.top()), math.floor(visible.bottom())
+        lines = [QtCore.QLineF(x, visible.top(), x, visible.bottom()) for x in range(x0, x1 + 1)]
+        lines += [QtCore.QLineF(visible.left(), y, visible.right(), y) for y in range(y0, y1 + 1)]
+        painter.drawLines(lines)
+
+
+class CanvasView(pg.GraphicsView):
+    """The central widget. ``hovered`` carries (x, y, level) under the cursor, or None outside."""
+
+    hovered = QtCore.Signal(object)
+    zoomChanged = QtCore.Signal(float)
+
+    def __init__(self, parent=None):
+        self._levels: np.ndarray | None = None
+        self._tiled = False
+        self._last_zoom = 0.0
+        super().__init__(parent, background=BACKGROUND)
+        self.setFocusPolicy(QtCore.Qt.FocusPolicy.StrongFocus)
+        self.setMouseTracking(True)
+        self.view = CanvasViewBox()
+        self.setCentralItem(self.view)
+        self.image = pg.ImageItem(axisOrder="row-major")
+        self.echo = TileEcho(self.image)
+        self.echo.setVisible(False)
+        self.grid = PixelGrid(self.view)
+        self.view.addItem(self.echo)
+        self.view.addItem(self.image)
+        self.view.addItem(self.grid)
+        self.grid.setZValue(10)
+        self.view.sigRangeChanged.connect(self._range_changed)
+        self.scene().sigMouseMoved.connect(self._mouse_moved)
+
+    # -- content ----------------------------------------------------------------------------------
+    def set_image(self, levels: np.ndarray, palette) -> None:
+        """Show a level matrix through a palette; a new shape fits the view to it."""
+        new_shape = self._levels is None or self._levels.shape != levels.shape
+        self._levels = levels
+        self.image.setImage(levels, lut=palette_lut(palette), levels=(0, 255), autoLevels=False)
+        self.echo.update()
+        self.grid.set_bounds(self.content_rect())
+        if new_shape:
+            self.fit()
+
+    def set_palette(self, palette) -> None:
+        """Recolour without touching the matrix (used by the palette dock's live preview)."""
+        self.image.setLookupTable(palette_lut(palette))
+        self.echo.update()
+
+    @property
+    def levels(self) -> np.ndarray | None:
+        return self._levels
+
+    def displayed_colour(self, x: int, y: int) -> tuple[int, int, int]:
+        """The colour the canvas shows at cell (x, y) — what the user sees, for checks."""
+        lut = self.image.lut
+        return tuple(int(c) for c in lut[self._levels[y, x]][:3])
+
+    # -- tiled preview ----------------------------------------------------------------------------
+    @property
+    def tiled(self) -> bool:
+        return self._tiled
+
+    def set_tiled(self, on: bool) -> None:
+        """Show the texture as a 3×3 tiling so seams at its borders can be judged."""
+        if on == self._tiled:
+            return
+        self._tiled = bool(on)
+        self.echo.setVisible(self._tiled)
+        self.grid.set_bounds(self.content_rect())
+        self.fit()
+
+    def content_rect(self) -> QtCore.QRectF:
+        if self._levels is None:
+            return QtCore.QRectF()
+        h, w = self._levels.shape
+        if self._tiled:
+            return QtCore.QRectF(-w, -h, 3 * w, 3 * h)
+        return QtCore.QRectF(0, 0, w, h)
+
+    # -- zoom ---------------------------------------------------------------------------------------
+    def zoom(self) -> float:
+        """Screen pixels per cell (1.0 = 100 %)."""
+        return view_zoom(self.view)
+
+    def set_zoom(self, zoom: float, center: QtCore.QPointF | None = None) -> None:
+        zoom = min(max(zoom, MIN_ZOOM), MAX_ZOOM)
+        factor = self.zoom() / zoom
+        self.view.scaleBy((factor, factor), center=center)
+
+    def zoom_in(self) -> None:
+        self.set_zoom(self.zoom() * ZOOM_STEP)
+
+    def zoom_out(self) -> None:
+        self.set_zoom(self.zoom() / ZOOM_STEP)
+
+    def actual_pixels(self) -> None:
+        self.set_zoom(1.0)
+
+    def fit(self) -> None:
+        rect = self.content_rect()
+        if not rect.isEmpty():
+            self.view.setRange(rect, padding=0.02)
+
+    def resizeEvent(self, ev):
+        fitted = self._is_fitted()
+        super().resizeEvent(ev)
+        if fitted:
+            self.fit()
+
+    def _is_fitted(self) -> bool:
+        rect = self.content_rect()
+        if rect.isEmpty():
+            return False
+        view = self.view.viewRect()
+        return view.contains(rect) and (
+            view.width() < rect.width() * 1.1 or view.height() < rect.height() * 1.1)
+
+    def _range_changed(self, *args):
+        self.grid.update()
+        zoom = self.zoom()
+        if not math.isclose(zoom, self._last_zoom, rel_tol=1e-6):
+            self._last_zoom = zoom
+            self.zoomChanged.emit(zoom)
+
+    # -- cursor -------------------------------------------------------------------------------------
+    def cell_at(self, scene_pos) -> tuple[int, int] | None:
+        """The (x, y) cell under a scene position, folded back into the texture in tiled mode."""
+        if self._levels is None:
+            return None
+        p = self.view.mapSceneToView(scene_pos)
+        x, y = math.floor(p.x()), math.floor(p.y())
+        h, w = self._levels.shape
+        lo_x, lo_y, span = (-w, -h, 3) if self._tiled else (0, 0, 1)
+        if not (lo_x <= x < lo_x + span * w and lo_y <= y < lo_y + span * h):
+            return None
+        return x % w, y % h
+
+    def _mouse_moved(self, scene_pos):
+        cell = self.cell_at(scene_pos)
+        if cell is None:
+            self.hovered.emit(None)
+        else:
+            x, y = cell
+            self.hovered.emit((x, y, int(self._levels[y, x])))
+
+    # -- space-drag pan -----------------------------------------------------------------------------
+    def keyPressEvent(self, ev):
+        if ev.key() == QtCore.Qt.Key.Key_Space and not ev.isAutoRepeat():
+            self.view.pan_key_held = True
+            self.viewport().setCursor(QtCore.Qt.CursorShape.OpenHandCursor)
+            ev.accept()
+            return
+        super().keyPressEvent(ev)
+
+    def keyReleaseEvent(self, ev):
+        if ev.key() == QtCore.Qt.Key.Key_Space and not ev.isAutoRepeat():
+            self.view.pan_key_held = False
+            self.viewport().unsetCursor()
+            ev.accept()
+            return
+        super().keyReleaseEvent(ev)
+
+    def focusOutEvent(self, ev):
+        self.view.pan_key_held = False
+        self.viewport().unsetCursor()
+        super().focusOutEvent(ev)
