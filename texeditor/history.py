@@ -1,0 +1,372 @@
+"""History: the action log of one Document, with undo, redo and non-destructive editing of past steps.
+
+It sits between the tools (GUI, CLI) that submit Actions and the Document they change. Undo of a
+step swaps back what the step overwrote (its footprint); snapshots bound the replay after an edit.
+"""
+
+from __future__ import annotations
+
+import time
+from bisect import bisect_right
+from typing import Callable, Iterable
+
+from .actions import Action
+from .document import Document, State
+from .errors import Cancelled, InputError, ReplayError
+
+Progress = Callable[[float], None] | None
+Cancel = Callable[[], bool] | None
+
+
+def replay(actions: Iterable[Action], dpjs: dict, *, progress: Progress = None,
+           cancel: Cancel = None) -> Document:
+    """Rebuild a document from its log and DPJs (ref → DPJ); a step that fails is a ReplayError."""
+    actions = list(actions)
+    doc = Document()
+    doc.dpjs.update(dpjs)
+    for k, action in enumerate(actions):
+        _run(doc, action, k, len(actions), progress, cancel)
+        doc._log.append(action)
+    return doc
+
+
+def _run(doc: Document, action: Action, k: int, n: int, progress: Progress, cancel: Cancel):
+    """Apply step k of n (prepare first, so a long synthesis reports progress and can stop)."""
+    if cancel is not None and cancel():
+        raise Cancelled("replay cancelled")
+    sub = None if progress is None else (lambda f: progress((k + f) / n))
+    try:
+        action.prepare(doc, sub, cancel)
+        action.apply(doc)
+        if progress is not None:
+            progress((k + 1) / n)
+    except InputError as exc:
+        raise ReplayError(f"step {k + 1} ({action.label()}) cannot be replayed: {exc}") from None
+
+
+class History:
+    """The log of a document: ``actions[:index]`` are applied, the rest is the redo tail.
+
+    Every applied step keeps an undo record (what it overwrote) while ``undo_memory`` allows;
+    a snapshot of the whole state is kept every ``snapshot_every`` steps, or sooner after
+    ``snapshot_cost`` seconds of work, within ``snapshot_memory`` bytes (thinned evenly when
+    full). Undo never replays from step 0: it swaps a record back or replays from a snapshot.
+    """
+
+    def __init__(self, document: Document | None = None, *, snapshot_every: int = 32,
+                 snapshot_memory: int = 128 * 2**20, undo_memory: int = 256 * 2**20,
+                 snapshot_cost: float = 0.05):
+        if snapshot_every < 1 or snapshot_memory < 0 or undo_memory < 0:
+            raise InputError("snapshot_every must be ≥ 1 and memory budgets ≥ 0")
+        self.snapshot_every, self.snapshot_memory = snapshot_every, snapshot_memory
+        self.undo_memory, self.snapshot_cost = undo_memory, snapshot_cost
+        self._doc = document if document is not None else Document()
+        self._actions: list[Action] = list(self._doc._log)
+        self._index = len(self._actions)
+        self._records: dict[int, list] = {}    # step → atoms (undo form below index, redo above)
+        self._record_bytes = 0
+        self._snaps: dict[int, State] = {0: Document()._state()}
+        self._snap_keys = [0]
+        self._snap_bytes = 0
+        self._costs: dict[int, float] = {}
+        self._subscribers: list[Callable[[], None]] = []
+        if self._index:
+            self._add_snapshot(self._index, self._doc._state())
+
+    @classmethod
+    def from_log(cls, actions: Iterable[Action], dpjs: dict, *, progress: Progress = None,
+                 cancel: Cancel = None, **options) -> "History":
+        """Replay a log (ref → DPJ for its syntheses) into a new History, step by step."""
+        history = cls(**options)
+        history._doc.dpjs.update(dpjs)
+        actions = list(actions)
+        for k, action in enumerate(actions):
+            history._advance(action, k, replaying=(len(actions), progress, cancel))
+        return history
+
+    # -- reading ------------------------------------------------------------------------------
+    @property
+    def document(self) -> Document:
+        return self._doc
+
+    @property
+    def actions(self) -> tuple[Action, ...]:
+        return tuple(self._actions)
+
+    @property
+    def applied(self) -> tuple[Action, ...]:
+        """The recipe of the current document: ``actions[:index]``."""
+        return tuple(self._actions[:self._index])
+
+    @property
+    def index(self) -> int:
+        return self._index
+
+    @property
+    def can_undo(self) -> bool:
+        return self._index > 0
+
+    @property
+    def can_redo(self) -> bool:
+        return self._index < len(self._actions)
+
+    @property
+    def memory(self) -> dict:
+        """Bytes held by undo records and snapshots (for a status line or a benchmark)."""
+        return {"undo_records": self._record_bytes, "snapshots": self._snap_bytes,
+                "records": len(self._records), "snapshot_count": len(self._snap_keys)}
+
+    def labels(self) -> list[str]:
+        return [a.label() for a in self._actions]
+
+    # -- changing -----------------------------------------------------------------------------
+    def subscribe(self, callback: Callable[[], None]) -> Callable[[], None]:
+        """Call ``callback()`` after every change; returns a function that unsubscribes."""
+        self._subscribers.append(callback)
+        return lambda: self._subscribers.remove(callback) if callback in self._subscribers else None
+
+    def add_dpj(self, dpj) -> str:
+        ref = self._doc.add_dpj(dpj)
+        self._notify()
+        return ref
+
+    def apply(self, action: Action) -> None:
+        """Apply a new step after the current one; the redo tail is dropped."""
+        if not isinstance(action, Action):
+            raise InputError(f"only an Action can be applied, got {type(action).__name__}")
+        self._truncate(self._index)
+        self._advance(action, self._index)
+        self._notify()
+
+    def undo(self) -> bool:
+        if not self.can_undo:
+            return False
+        self._goto(self._index - 1)
+        self._notify()
+        return True
+
+    def redo(self) -> bool:
+        if not self.can_redo:
+            return False
+        self._goto(self._index + 1)
+        self._notify()
+        return True
+
+    def goto(self, index: int) -> None:
+        """Move to the state after ``index`` steps (0 = empty), keeping the whole log."""
+        if not 0 <= index <= len(self._actions):
+            raise InputError(f"step {index} is outside 0..{len(self._actions)}")
+        self._goto(index)
+        self._notify()
+
+    def replace(self, i: int, action: Action) -> None:
+        """Edit step i (new parameters) and replay the steps after it: non-destructive history."""
+        self._check_step(i)
+        self._edit(i, [action] + self._actions[i + 1:], self._index)
+
+    def remove(self, i: int) -> None:
+        """Delete step i and replay the later ones."""
+        self._check_step(i)
+        self._edit(i, self._actions[i + 1:], self._index - (i < self._index))
+
+    def insert(self, i: int, action: Action) -> None:
+        """Insert a step before step i (i = len(actions) appends to the tail)."""
+        if not 0 <= i <= len(self._actions):
+            raise InputError(f"step {i} is outside 0..{len(self._actions)}")
+        self._edit(i, [action] + self._actions[i:], self._index + (i < self._index))
+
+    # -- internals: stepping ------------------------------------------------------------------
+    def _check_step(self, i: int) -> None:
+        if not 0 <= i < len(self._actions):
+            raise InputError(f"step {i} is outside 0..{len(self._actions) - 1}")
+
+    def _advance(self, action: Action, k: int, replaying=None) -> None:
+        """Apply action as step k (= index) on the live document, recording its undo atoms.
+
+        ``replaying`` = (n, progress, cancel) when rebuilding a stored log of n steps: failures
+        are then ReplayErrors and long steps report progress and can be cancelled.
+        """
+        records, costs = {}, {}
+        self._step(self._doc, action, k, records, costs, replaying)
+        if k < len(self._actions):
+            self._actions[k] = action
+        else:
+            self._actions.append(action)
+        self._doc._log.append(action)
+        self._index = k + 1
+        self._costs.update(costs)
+        for step, atoms in records.items():
+            self._keep_record(step, atoms)
+        self._maybe_snapshot(self._index, self._doc)
+        self._trim_records()
+
+    @staticmethod
+    def _step(doc, action, k, records, costs, replaying=None) -> None:
+        atoms: list = []
+        doc._recorder = atoms
+        start = time.perf_counter()
+        try:
+            if replaying is not None:
+                n, progress, cancel = replaying
+                _run(doc, action, k, n, progress, cancel)
+            else:
+                action.prepare(doc)
+                action.apply(doc)
+        except BaseException:
+            for atom in reversed(atoms):     # a failed action leaves the document as it was
+                atom.swap(doc)
+            raise
+        finally:
+            doc._recorder = None
+        costs[k] = time.perf_counter() - start
+        records[k] = atoms
+
+    def _goto(self, target: int) -> None:
+        while self._index > target and (self._index - 1) in self._records:
+            self._swap(self._index - 1, reverse=True)
+            self._index -= 1
+            self._doc._log.pop()
+        while self._index < target and self._index in self._records:
+            self._swap(self._index, reverse=False)
+            self._doc._log.append(self._actions[self._index])
+            self._index += 1
+        if self._index != target:
+            self._jump(target)
+
+    def _swap(self, step: int, reverse: bool) -> None:
+        atoms = self._records[step]
+        before = _atoms_bytes(atoms)
+        for atom in (reversed(atoms) if reverse else atoms):
+            atom.swap(self._doc)
+        self._record_bytes += _atoms_bytes(atoms) - before
+
+    def _jump(self, target: int) -> None:
+        """Reach ``target`` by replay from the nearest snapshot (or the live state, if nearer)."""
+        start = self._snap_keys[bisect_right(self._snap_keys, target) - 1]
+        if self._index <= target and start < self._index:
+            start = self._index
+        else:
+            self._doc._restore(self._snaps[start])
+        lo, hi = min(start, self._index), max(self._index, target)
+        for step in [s for s in self._records if lo <= s < hi]:
+            self._drop_record(step)
+        self._doc._log[:] = self._actions[:start]
+        self._index = start
+        for k in range(start, target):
+            self._advance(self._actions[k], k)
+
+    # -- internals: editing past steps --------------------------------------------------------
+    def _edit(self, i: int, tail: list, new_index: int) -> None:
+        """Make ``actions[i:] = tail`` and stand at ``new_index``, replaying on a scratch copy
+        first so that a step made invalid by the edit leaves the history untouched."""
+        for action in tail:
+            if not isinstance(action, Action):
+                raise InputError(f"only an Action can be in a log, got {type(action).__name__}")
+        actions = self._actions[:i] + list(tail)
+        if i >= new_index:                   # only the redo tail changes: nothing to replay
+            self._actions = actions
+            self._truncate_records(i)
+            self._notify()
+            return
+        start = self._snap_keys[bisect_right(self._snap_keys, min(i, new_index)) - 1]
+        scratch = Document()
+        scratch.dpjs = self._doc.dpjs
+        scratch._restore(self._snaps[start])
+        records, costs, snaps = {}, {}, {}
+        keys = [s for s in self._snap_keys if s <= i]
+        for k in range(start, new_index):
+            try:
+                self._step(scratch, actions[k], k, records, costs)
+            except InputError as exc:
+                raise InputError(f"after this edit, step {k + 1} ({actions[k].label()}) "
+                                 f"fails: {exc}") from None
+            if k + 1 > i and self._wants_snapshot(k + 1, keys, costs):
+                snaps[k + 1] = scratch._state()
+                keys.append(k + 1)
+        self._actions = actions
+        self._truncate_records(start)
+        for key in [s for s in self._snap_keys if s > i]:
+            self._drop_snapshot(key)
+        self._costs = {k: c for k, c in self._costs.items() if k < i}
+        self._costs.update(costs)
+        self._doc._restore(State(scratch._levels, scratch._palette, scratch._dpj_ref), copy=False)
+        self._doc._log[:] = actions[:new_index]
+        self._index = new_index
+        for step, atoms in records.items():
+            self._keep_record(step, atoms)
+        for key, state in snaps.items():
+            self._add_snapshot(key, state)
+        self._trim_records()
+        self._notify()
+
+    def _truncate(self, index: int) -> None:
+        del self._actions[index:]
+        self._truncate_records(index)
+
+    def _truncate_records(self, index: int) -> None:
+        """Forget what was learnt from steps index and later (records, snapshots, costs)."""
+        for step in [s for s in self._records if s >= index]:
+            self._drop_record(step)
+        for key in [s for s in self._snap_keys if s > index]:
+            self._drop_snapshot(key)
+
+    # -- internals: memory --------------------------------------------------------------------
+    def _keep_record(self, step: int, atoms: list) -> None:
+        if step in self._records:
+            self._drop_record(step)
+        self._records[step] = atoms
+        self._record_bytes += _atoms_bytes(atoms)
+
+    def _drop_record(self, step: int) -> None:
+        self._record_bytes -= _atoms_bytes(self._records.pop(step))
+
+    def _trim_records(self) -> None:
+        """Over budget, forget the records farthest from the current step first."""
+        while self._record_bytes > self.undo_memory and self._records:
+            first, last = min(self._records), max(self._records)
+            far = first if self._index - first >= last - self._index else last
+            self._drop_record(far)
+
+    def _wants_snapshot(self, k: int, keys: list, costs: dict) -> bool:
+        """Snapshot state k when the last one is snapshot_every steps or snapshot_cost s back."""
+        last = keys[bisect_right(keys, k) - 1]
+        if last == k:
+            return False
+        if k - last >= self.snapshot_every:
+            return True
+        return sum(costs.get(j, self._costs.get(j, 0.0)) for j in range(last, k)) \
+            >= self.snapshot_cost
+
+    def _maybe_snapshot(self, k: int, doc: Document) -> None:
+        if self._wants_snapshot(k, self._snap_keys, self._costs):
+            self._add_snapshot(k, doc._state())
+
+    def _add_snapshot(self, k: int, state: State) -> None:
+        if k in self._snaps:
+            self._drop_snapshot(k)
+        self._snaps[k] = state
+        self._snap_keys.insert(bisect_right(self._snap_keys, k), k)
+        self._snap_bytes += state.nbytes
+        while self._snap_bytes > self.snapshot_memory and len(self._snap_keys) > 1:
+            self._drop_snapshot(self._thinnest())
+
+    def _thinnest(self) -> int:
+        """The snapshot whose removal leaves the smallest gap (keeps the rest evenly spread)."""
+        keys, end = self._snap_keys, max(len(self._actions), self._snap_keys[-1]) + 1
+        gaps = [(keys[j + 1] if j + 1 < len(keys) else end) - keys[j - 1]
+                for j in range(1, len(keys))]
+        return keys[1 + gaps.index(min(gaps))]
+
+    def _drop_snapshot(self, k: int) -> None:
+        if k == 0:
+            return
+        self._snap_bytes -= self._snaps.pop(k).nbytes
+        self._snap_keys.remove(k)
+
+    def _notify(self) -> None:
+        for callback in list(self._subscribers):
+            callback()
+
+
+def _atoms_bytes(atoms: list) -> int:
+    return sum(a.nbytes for a in atoms)
