@@ -48,7 +48,8 @@ def check_window(window: tuple[int, int], levels: int) -> tuple[int, int]:
 
 def encode(configs: np.ndarray, levels: int) -> np.ndarray:
     """Codes of configurations (n, v, u) (or any (n, ...)): row-major digits in base G."""
-    flat = np.asarray(configs).reshape(len(configs), -1)
+    configs = np.asarray(configs)
+    flat = configs.reshape(len(configs), int(np.prod(configs.shape[1:])))
     codes = np.zeros(len(flat), dtype=np.int64)
     for k in range(flat.shape[1]):
         codes = codes * levels + flat[:, k]

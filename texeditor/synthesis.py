@@ -336,8 +336,12 @@ def _sample_row(out, r, strict, t, state, work):
 
 @njit(cache=True, nogil=True)
 def _clear(big_r, tail, lo, hi):
-    for e in range(lo, hi):
-        big_r[tail[e]] = 0.0
+    """Zero what entries lo..hi wrote into R: sparsely, or all of R when that is shorter."""
+    if len(big_r) <= hi - lo:
+        big_r[:] = 0.0
+    else:
+        for e in range(lo, hi):
+            big_r[tail[e]] = 0.0
 
 
 @njit(cache=True, nogil=True)

@@ -1,0 +1,125 @@
+"""The headless command line: acquire, synth, dpj-info; bad input exits 2 on one line."""
+
+import io
+import json
+import pickle  # only to build a hostile file; the program itself never unpickles
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from skimage import data, io as skio
+
+from texeditor import DPJ
+from texeditor.cli import main
+
+
+@pytest.fixture
+def photo(tmp_path):
+    path = tmp_path / "gravel.png"
+    skio.imsave(path, data.gravel()[:128, :128], check_contrast=False)
+    return path
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_acquire_synth_and_info(tmp_path, photo, capsys):
+    dpj_path = tmp_path / "g.dpj"
+    code, out, _ = run(capsys, "acquire", photo, "--window", "3x2", "--levels", "4",
+                       "--quantizer", "lloyd", "--wrap", "-o", dpj_path)
+    assert code == 0 and "non-zero configurations" in out
+    dpj = DPJ.load(dpj_path)
+    assert dpj.window == (3, 2) and dpj.levels == 4 and dpj.meta["quantizer"] == "lloyd"
+
+    code, out, _ = run(capsys, "synth", dpj_path, "--size", "64x48", "--seed", "3",
+                       "-o", tmp_path / "t.npy")
+    assert code == 0 and "repairs" in out
+    levels = np.load(tmp_path / "t.npy", allow_pickle=False)
+    assert levels.shape == (48, 64) and levels.dtype == np.uint8 and levels.max() < 4
+
+    code, _, _ = run(capsys, "synth", dpj_path, "--size", "64x48", "--seed", "3",
+                     "-o", tmp_path / "t.png")
+    picture = skio.imread(tmp_path / "t.png")
+    assert code == 0 and picture.shape[:2] == (48, 64)
+    # the PNG shows each level in the photo's palette grey
+    assert np.array_equal(picture, dpj.palette[levels][:, :, 0])
+
+    code, out, _ = run(capsys, "dpj-info", dpj_path, "--json")
+    report = json.loads(out)
+    assert code == 0 and report["is_valid"] and report["horizontal_residual"] < 1e-12
+
+
+def _hostile_dpjs(tmp_path):
+    good = {"levels": 2, "window": [2, 2]}
+
+    def npz(name, **arrays):
+        buf = io.BytesIO()
+        np.savez(buf, **arrays)
+        (tmp_path / name).write_bytes(buf.getvalue())
+        return tmp_path / name
+
+    meta = np.array(json.dumps(good))
+    yield npz("shape.dpj", configs=np.zeros((2, 2, 3), np.uint8), probs=np.ones(2) / 2, meta=meta)
+    yield npz("nan.dpj", configs=np.zeros((1, 2, 2), np.uint8), probs=np.array([np.nan]), meta=meta)
+    yield npz("neg.dpj", configs=np.zeros((1, 2, 2), np.uint8), probs=np.array([-1.0]), meta=meta)
+    yield npz("level.dpj", configs=np.full((1, 2, 2), 5, np.uint8), probs=np.ones(1), meta=meta)
+    yield npz("pickle.dpj", configs=np.zeros((1, 2, 2), np.uint8),
+              probs=np.array([{"x": 1}], dtype=object), meta=meta)
+    raw = tmp_path / "raw.dpj"
+    raw.write_bytes(pickle.dumps({"configs": [1, 2, 3]}))
+    yield raw
+
+
+def test_bad_dpj_files_exit_2_on_one_line_without_output(tmp_path, capsys):
+    for path in _hostile_dpjs(tmp_path):
+        out = tmp_path / f"{path.stem}.png"
+        code, _, err = run(capsys, "synth", path, "--size", "8x8", "-o", out)
+        assert code == 2, path
+        assert err.count("\n") == 1 and err.startswith("texeditor: error:") and path.name in err
+        assert not out.exists()
+
+
+def test_bad_images_exit_2(tmp_path, photo, capsys):
+    text = tmp_path / "notes.png"
+    text.write_text("not a picture")
+    empty = tmp_path / "empty.png"
+    empty.write_bytes(b"")
+    flat = tmp_path / "flat.png"
+    skio.imsave(flat, np.full((20, 20), 77, np.uint8), check_contrast=False)
+    tiny = tmp_path / "tiny.png"
+    skio.imsave(tiny, np.arange(4, dtype=np.uint8).reshape(2, 2) * 60, check_contrast=False)
+    cases = [
+        [text], [empty], [tmp_path / "missing.png"], [flat],
+        [tiny, "--window", "3x3"],
+        [photo, "--levels", "17"], [photo, "--levels", "1"],
+        [photo, "--window", "3by3"], [photo, "--quantizer", "median"],
+    ]
+    for extra in cases:
+        out = tmp_path / "out.dpj"
+        code, _, err = run(capsys, "acquire", *extra, "-o", out)
+        assert code == 2, extra
+        assert err.count("\n") == 1 and "Traceback" not in err, (extra, err)
+        assert not out.exists()
+
+
+def test_bad_synth_parameters_exit_2(tmp_path, photo, capsys):
+    dpj_path = tmp_path / "g.dpj"
+    assert run(capsys, "acquire", photo, "--window", "2x2", "-o", dpj_path)[0] == 0
+    for extra in (["--size", "1x1"], ["--size", "big"], ["--seed", "-4"]):
+        code, _, err = run(capsys, "synth", dpj_path, *extra, "-o", tmp_path / "x.png")
+        assert code == 2 and err.count("\n") == 1, extra
+    code, _, err = run(capsys, "synth", dpj_path, "-o", tmp_path / "x.jpg")
+    assert code == 2 and ".png" in err
+
+
+def test_console_script_reports_one_line_and_exit_code(tmp_path):
+    bad = tmp_path / "bad.dpj"
+    bad.write_text("garbage")
+    proc = subprocess.run([sys.executable, "-m", "texeditor.cli", "dpj-info", str(bad)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stderr.strip().count("\n") == 0 and "not a DPJ file" in proc.stderr

@@ -1,0 +1,172 @@
+"""The 2-D Markov sampler: its law on real photos, exact hand-made DPJs, determinism, dead ends."""
+
+import itertools
+import threading
+
+import numpy as np
+import pytest
+from scipy.stats import chisquare
+from skimage import data
+
+from texeditor import DPJ, estimate_dpj, quantize, synthesis, synthesize
+from texeditor.errors import Cancelled, InputError
+from texeditor.estimation import window_codes
+
+PHOTOS = ["brick", "grass", "gravel"]
+
+
+def photo_levels(name, levels, method="band"):
+    return quantize(getattr(data, name)(), levels, method=method).levels
+
+
+def zero_share(levels, dpj):
+    """Share of the output's windows that have zero probability under the DPJ."""
+    codes = window_codes(levels, dpj.window, dpj.levels)
+    return float(np.mean(~np.isin(codes, dpj.codes)))
+
+
+def total_variation(a: DPJ, b: DPJ) -> float:
+    codes = np.union1d(a.codes, b.codes)
+    pa, pb = np.zeros(len(codes)), np.zeros(len(codes))
+    pa[np.searchsorted(codes, a.codes)] = a.probs
+    pb[np.searchsorted(codes, b.codes)] = b.probs
+    return 0.5 * float(np.abs(pa - pb).sum())
+
+
+@pytest.mark.parametrize("name", PHOTOS)
+@pytest.mark.parametrize("levels", [2, 4, 8])
+def test_2x2_output_has_no_forbidden_window_and_no_repair(name, levels):
+    dpj = estimate_dpj(photo_levels(name, levels), (2, 2), levels)
+    result = synthesize(dpj, (512, 512), seed=levels)
+    assert result.repairs == 0
+    assert zero_share(result.levels, dpj) == 0.0
+
+
+@pytest.mark.parametrize("name", PHOTOS)
+def test_3x3_g4_torus_output_has_at_most_0_05_percent_forbidden_windows(name):
+    dpj = estimate_dpj(photo_levels(name, 4), (3, 3), 4, wrap=True)
+    result = synthesize(dpj, (512, 512), seed=11)
+    assert zero_share(result.levels, dpj) <= 0.0005
+
+
+@pytest.mark.parametrize("name", PHOTOS)
+@pytest.mark.parametrize("window,levels,wrap", [((2, 2), 8, False), ((3, 3), 4, True)])
+def test_output_window_law_is_as_close_to_the_dpj_as_the_photo_halves(name, window, levels, wrap):
+    lv = photo_levels(name, levels)
+    dpj = estimate_dpj(lv, window, levels, wrap=wrap)
+    out = synthesize(dpj, (512, 512), seed=5).levels
+    halves = max(total_variation(estimate_dpj(a, window, levels), estimate_dpj(b, window, levels))
+                 for a, b in [(lv[:256], lv[256:]), (lv[:, :256], lv[:, 256:])])
+    # "of the same order": within twice the larger distance between the photo's two halves
+    assert total_variation(estimate_dpj(out, window, levels), dpj) <= 2 * halves
+
+
+def test_one_row_follows_the_exact_conditional_law_given_the_rows_above():
+    """Forward filtering / backward sampling draws a row from P(b | a) exactly (digest §6):
+    compare with the law enumerated by brute force for a random 3x2 DPJ on 5 columns."""
+    g, u, v, w = 2, 3, 2, 5
+    configs = np.array(list(itertools.product(range(g), repeat=u * v)), np.uint8).reshape(-1, v, u)
+    q = np.random.default_rng(1).random(len(configs)) ** 3
+    dpj = DPJ(configs, q / q.sum(), g)
+    above = np.array([0, 1, 1, 0, 1], np.uint8)
+
+    def mu(cols):  # the marginal of the first u-1 columns
+        return dpj.marginal(cols=slice(0, u - 1)).prob(cols)
+
+    exact = {}
+    for b in itertools.product(range(g), repeat=w):
+        full = np.vstack([above, b]).astype(np.uint8)
+        p = dpj.prob(full[:, :u])
+        for n in range(1, w - u + 1):
+            p *= dpj.prob(full[:, n:n + u]) / mu(full[:, n:n + u - 1])
+        exact[b] = p
+    z = sum(exact.values())
+    tables, state = synthesis._tables(dpj), np.array([2024], np.uint64)
+    out, counts, draws = np.zeros((2, w), np.uint8), {}, 20000
+    for _ in range(draws):
+        out[0] = above
+        synthesis._sample_rows(out, 1, 2, tables, state, 0)
+        counts[tuple(out[1])] = counts.get(tuple(out[1]), 0) + 1
+    keys = [b for b in exact if exact[b] > 0]
+    assert set(counts) <= set(keys)
+    observed = [counts.get(b, 0) for b in keys]
+    expected = [draws * exact[b] / z for b in keys]
+    assert chisquare(observed, expected).pvalue > 1e-3
+
+
+def test_checkerboard_dpj_gives_a_perfect_checkerboard():
+    configs = np.array([[[0, 1], [1, 0]], [[1, 0], [0, 1]]], np.uint8)
+    out = synthesize(DPJ(configs, [0.5, 0.5], 2), (37, 53), seed=3).levels
+    rows, cols = np.indices(out.shape)
+    board = (rows + cols) % 2
+    assert np.array_equal(out, board) or np.array_equal(out, 1 - board)
+
+
+def test_horizontal_stripes_dpj_gives_constant_rows_that_alternate():
+    configs = np.array([[[0, 0], [2, 2]], [[2, 2], [0, 0]]], np.uint8)
+    out = synthesize(DPJ(configs, [0.5, 0.5], 3), (40, 30), seed=1).levels
+    assert np.all(out == out[:, :1])  # every row is constant
+    assert set(np.unique(out[:, 0])) == {0, 2}
+    assert np.all(out[1:, 0] != out[:-1, 0])  # and the rows alternate
+
+
+def test_vertical_stripes_of_period_three():
+    # a 3x2 window over the columns 0 1 2 0 1 2 ...: each column is constant
+    configs = np.array([[[0, 1, 2]] * 2, [[1, 2, 0]] * 2, [[2, 0, 1]] * 2], np.uint8)
+    out = synthesize(DPJ(configs, [1 / 3] * 3, 3), (20, 31), seed=4).levels
+    assert np.all(out == out[:1, :])
+    assert np.all((out[0, 1:].astype(int) - out[0, :-1]) % 3 == 1)
+
+
+def test_single_level_window_samples_the_point_law():
+    dpj = DPJ(np.array([[[0]], [[1]]], np.uint8), [0.25, 0.75], 2)
+    out = synthesize(dpj, (200, 200), seed=9).levels
+    assert abs(out.mean() - 0.75) < 0.01
+
+
+def test_same_seed_same_matrix_different_seed_differs():
+    dpj = estimate_dpj(photo_levels("gravel", 4), (3, 3), 4, wrap=True)
+    a = synthesize(dpj, (128, 96), seed=42).levels
+    b = synthesize(dpj, (128, 96), seed=42).levels
+    c = synthesize(dpj, (128, 96), seed=43).levels
+    assert np.array_equal(a, b)
+    assert not np.array_equal(a, c)
+
+
+def test_dead_ends_never_raise_and_are_counted():
+    # a non-stationary hand DPJ: after "0 1" nothing continues, and rows cannot stack
+    configs = np.array([[[0, 1], [1, 1]], [[1, 0], [0, 0]]], np.uint8)
+    result = synthesize(DPJ(configs, [0.5, 0.5], 2), (30, 30), seed=0)
+    assert result.levels.shape == (30, 30)
+    assert result.repairs > 0
+
+
+def test_progress_reaches_one_and_cancel_stops():
+    dpj = estimate_dpj(photo_levels("gravel", 4), (2, 2), 4)
+    seen = []
+    synthesize(dpj, (600, 300), seed=1, progress=seen.append)
+    assert seen == sorted(seen) and seen[-1] == 1.0 and len(seen) > 1
+    stop = threading.Event()
+    calls = []
+
+    def progress(fraction):
+        calls.append(fraction)
+        stop.set()
+
+    with pytest.raises(Cancelled):
+        synthesize(dpj, (600, 300), seed=1, progress=progress, cancel=stop.is_set)
+    assert len(calls) == 1
+
+
+@pytest.mark.parametrize("shape", [(1, 10), (10, 1), (0, 5)])
+def test_size_smaller_than_the_window_is_refused(shape):
+    dpj = estimate_dpj(photo_levels("gravel", 4), (2, 2), 4)
+    with pytest.raises(InputError):
+        synthesize(dpj, shape)
+
+
+def test_empty_or_negative_dpj_is_refused():
+    with pytest.raises(InputError):
+        synthesize(DPJ.empty((2, 2), 3), (10, 10))
+    with pytest.raises(InputError):
+        synthesize(DPJ(np.zeros((1, 2, 2), np.uint8), [-1.0], 2), (10, 10))
