@@ -1,0 +1,191 @@
+"""The File menu of the main window: New, Open (in the worker), Save, Save As, Export PNG, Recent.
+
+A mixin of MainWindow. A `.texture` holds the DPJs and the action log; opening one replays the log,
+so it runs off the GUI thread. Every failure is a dialog and the open document stays as it was.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6 import QtCore, QtWidgets
+
+from texeditor.actions import NewCanvas
+from texeditor.errors import TexeditorError
+from texeditor.history import History
+from texeditor.texturefile import load_texture, save_texture
+
+from .images import export_png
+from .new_dialog import NewDialog
+
+TEXTURE_FILTER = "Textures (*.texture);;All files (*)"
+PNG_FILTER = "PNG images (*.png)"
+MAX_RECENT = 8
+
+
+def settings() -> QtCore.QSettings:
+    return QtCore.QSettings("texeditor", "texeditor")
+
+
+def recent_files() -> list[str]:
+    value = settings().value("recentFiles", [])
+    return [value] if isinstance(value, str) else list(value or [])
+
+
+def remember_recent(path) -> None:
+    path = str(Path(path).resolve())
+    files = [path] + [p for p in recent_files() if p != path]
+    settings().setValue("recentFiles", files[:MAX_RECENT])
+
+
+class FileOps:
+    """New, open, save, export and the unsaved-changes prompt (needs history, runner, path)."""
+
+    # -- modified state -----------------------------------------------------------------------------
+    def mark_clean(self) -> None:
+        self._clean_log = self.history.applied if self.history is not None else ()
+        self._update_title()
+
+    def is_modified(self) -> bool:
+        return self.history is not None and self.history.applied != self._clean_log
+
+    def maybe_save(self) -> bool:
+        """True when the current work may be dropped (saved, discarded, or unmodified)."""
+        if not self.is_modified():
+            return True
+        answer = QtWidgets.QMessageBox.question(
+            self, "Unsaved changes",
+            "The texture has changes that are not saved. Save them first?",
+            QtWidgets.QMessageBox.StandardButton.Save
+            | QtWidgets.QMessageBox.StandardButton.Discard
+            | QtWidgets.QMessageBox.StandardButton.Cancel,
+            QtWidgets.QMessageBox.StandardButton.Save)
+        if answer == QtWidgets.QMessageBox.StandardButton.Save:
+            return self.save()
+        return answer == QtWidgets.QMessageBox.StandardButton.Discard
+
+    def closeEvent(self, ev) -> None:
+        if not self.maybe_save():
+            ev.ignore()
+            return
+        self.runner.cancel()
+        self.runner.wait(10_000)
+        ev.accept()
+
+    # -- new and open -------------------------------------------------------------------------------
+    def new_document(self) -> None:
+        doc = self.history.document if self.history is not None else None
+        h, w = doc.shape if doc is not None and doc.levels.size else (256, 256)
+        dialog = NewDialog(w, h, doc.num_levels if doc is not None else 4, self)
+        if dialog.exec() == QtWidgets.QDialog.DialogCode.Accepted:
+            self.create_document(*dialog.values())
+
+    def create_document(self, width: int, height: int, levels: int) -> bool:
+        """A new History on a blank canvas; the current DPJ is kept so Synthesise still works."""
+        if not self.maybe_save():
+            return False
+        history = History()
+        old = self.history.document.dpj if self.history is not None else None
+        if old is not None and old.levels == levels:
+            history.add_dpj(old)
+        try:
+            history.apply(NewCanvas(width, height, levels))
+        except TexeditorError as exc:
+            self.show_error("Cannot create this canvas", exc)
+            return False
+        self.set_history(history)
+        return True
+
+    def open_file(self, path=None) -> None:
+        if path is None:
+            path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Open a texture", self._folder(),
+                                                            TEXTURE_FILTER)
+            if not path:
+                return
+        if self.runner.busy or not self.maybe_save():
+            return
+        path = Path(path)
+        self.runner.run(f"Opening {path.name}…",
+                        lambda progress, cancel: load_texture(path, progress=progress,
+                                                              cancel=cancel),
+                        lambda result: self._opened(path, result[0]),
+                        on_cancel=lambda: self.statusBar().showMessage("Opening cancelled.", 5000),
+                        on_error=lambda exc: self.show_error(f"Cannot open {path.name}", exc))
+
+    def _opened(self, path: Path, history: History) -> None:
+        self.set_history(history, path)
+        remember_recent(path)
+        self.statusBar().showMessage(f"Opened {path} ({len(history.actions)} steps).", 8000)
+
+    def _fill_recent_menu(self) -> None:
+        self.recent_menu.clear()
+        files = recent_files()
+        for path in files:
+            action = self.recent_menu.addAction(Path(path).name)
+            action.setToolTip(path)
+            action.setStatusTip(path)
+            action.triggered.connect(lambda _checked=False, p=path: self.open_file(p))
+        if not files:
+            self.recent_menu.addAction("No recent files").setEnabled(False)
+
+    # -- save and export ----------------------------------------------------------------------------
+    def save(self) -> bool:
+        if self.path is None:
+            return self.save_as()
+        return self.save_to(self.path)
+
+    def save_as(self) -> bool:
+        start = str(self.path) if self.path is not None else str(Path(self._folder(), "untitled.texture"))
+        path, _ = QtWidgets.QFileDialog.getSaveFileName(self, "Save the texture", start,
+                                                        TEXTURE_FILTER)
+        if not path:
+            return False
+        path = Path(path)
+        if path.suffix.lower() != ".texture":
+            path = path.with_name(path.name + ".texture")
+        return self.save_to(path)
+
+    def save_to(self, path) -> bool:
+        """Write a `.texture` (atomically, by the engine); errors leave the document as it was."""
+        path = Path(path)
+        try:
+            save_texture(path, self.history)
+        except (TexeditorError, OSError) as exc:
+            self.show_error(f"Cannot save {path.name}", exc)
+            return False
+        self.path = path
+        remember_recent(path)
+        self.mark_clean()
+        self.statusBar().showMessage(f"Saved {path}.", 5000)
+        return True
+
+    def export_png(self) -> None:
+        doc = self.history.document
+        if not doc.levels.size:
+            return
+        start = str(Path(self._folder(), (self.path.stem if self.path else "texture") + ".png"))
+        path, _ = QtWidgets.QFileDialog.getSaveFileName(self, "Export as PNG", start, PNG_FILTER)
+        if not path:
+            return
+        h, w = doc.shape
+        scale, ok = QtWidgets.QInputDialog.getInt(
+            self, "Export scale", f"Draw each point as N×N pixels ({w}×{h} points):", 1, 1, 16)
+        if ok:
+            self.export_to(path, scale)
+
+    def export_to(self, path, scale: int = 1) -> bool:
+        path = Path(path)
+        if path.suffix.lower() != ".png":
+            path = path.with_name(path.name + ".png")
+        doc = self.history.document
+        try:
+            export_png(path, doc.levels, doc.palette, scale)
+        except TexeditorError as exc:
+            self.show_error("Cannot export", exc)
+            return False
+        h, w = doc.shape
+        self.statusBar().showMessage(f"Exported {path} ({w * scale}×{h * scale} pixels).", 8000)
+        return True
+
+    def _folder(self) -> str:
+        return str(self.path.parent) if self.path is not None else str(Path.home())

@@ -1,0 +1,164 @@
+"""The history dock: the action log as a list (the texture's recipe), and an editor for a past step.
+
+Clicking a step goes there (undo/redo many at once); "Apply & replay" replaces the selected step
+with edited parameters and replays the later ones — non-destructive history (DESIGN.md).
+"""
+
+from __future__ import annotations
+
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from texeditor.actions import replace_params
+from texeditor.errors import TexeditorError
+
+from .params_form import ParamsForm
+
+
+class LogModel(QtCore.QAbstractListModel):
+    """One row per action of a History; rows at or after ``index`` are the redo tail (greyed)."""
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.history = None
+
+    def set_history(self, history) -> None:
+        self.beginResetModel()
+        self.history = history
+        self.endResetModel()
+
+    def refresh(self) -> None:
+        self.beginResetModel()
+        self.endResetModel()
+
+    def rowCount(self, parent=QtCore.QModelIndex()) -> int:
+        return 0 if self.history is None or parent.isValid() else len(self.history.actions)
+
+    def data(self, index, role=QtCore.Qt.ItemDataRole.DisplayRole):
+        if self.history is None or not index.isValid():
+            return None
+        row = index.row()
+        action = self.history.actions[row]
+        applied = row < self.history.index
+        if role == QtCore.Qt.ItemDataRole.DisplayRole:
+            return f"{row + 1}. {action.label()}"
+        if role == QtCore.Qt.ItemDataRole.ForegroundRole and not applied:
+            return QtGui.QBrush(QtGui.QColor(140, 140, 140))
+        if role == QtCore.Qt.ItemDataRole.FontRole:
+            font = QtGui.QFont()
+            font.setItalic(not applied)
+            font.setBold(row == self.history.index - 1)
+            return font
+        if role == QtCore.Qt.ItemDataRole.ToolTipRole:
+            state = "current state" if row == self.history.index - 1 else (
+                "applied" if applied else "undone: click to redo up to here")
+            return f"{action.label()} ({state})"
+        return None
+
+
+class HistoryDock(QtWidgets.QDockWidget):
+    """Signals: ``stepClicked(steps)`` to go to the state after ``steps`` actions;
+    ``editRequested(i, action)`` to replace step i (0-based) and replay."""
+
+    stepClicked = QtCore.Signal(int)
+    editRequested = QtCore.Signal(int, object)
+
+    def __init__(self, parent=None):
+        super().__init__("History", parent)
+        self.setObjectName("HistoryDock")
+        self.history = None
+        self.model = LogModel(self)
+        self.view = QtWidgets.QListView()
+        self.view.setModel(self.model)
+        self.view.setEditTriggers(QtWidgets.QAbstractItemView.EditTrigger.NoEditTriggers)
+        self.view.clicked.connect(self._clicked)
+        self.view.setUniformItemSizes(True)
+
+        self.group = QtWidgets.QGroupBox("Selected step")
+        box = QtWidgets.QVBoxLayout(self.group)
+        self.form = ParamsForm()
+        self.form.changed.connect(self._form_changed)
+        box.addWidget(self.form)
+        buttons = QtWidgets.QHBoxLayout()
+        self.apply_button = QtWidgets.QPushButton("Apply && replay")
+        self.apply_button.setToolTip("Replace this step with the edited parameters and replay "
+                                     "the steps after it")
+        self.apply_button.clicked.connect(self._apply_edit)
+        self.revert_button = QtWidgets.QPushButton("Revert")
+        self.revert_button.clicked.connect(self._show_selected)
+        buttons.addStretch(1)
+        buttons.addWidget(self.revert_button)
+        buttons.addWidget(self.apply_button)
+        box.addLayout(buttons)
+        self.hint = QtWidgets.QLabel("Click a step to go back to it; its parameters can be "
+                                     "edited here.")
+        self.hint.setWordWrap(True)
+        box.addWidget(self.hint)
+
+        splitter = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)
+        splitter.addWidget(self.view)
+        splitter.addWidget(self.group)
+        splitter.setStretchFactor(0, 2)
+        splitter.setStretchFactor(1, 1)
+        self.setWidget(splitter)
+        self.selected_step: int | None = None
+        self._update_buttons()
+
+    def set_history(self, history) -> None:
+        self.history = history
+        self.model.set_history(history)
+        self.selected_step = None
+        self.refresh()
+
+    def refresh(self) -> None:
+        """Re-read the log (after any change); keep the selected step's form if it still exists."""
+        self.model.refresh()
+        if self.history is None:
+            return
+        if self.selected_step is not None and self.selected_step >= len(self.history.actions):
+            self.selected_step = None
+        current = self.history.index - 1
+        if current >= 0:
+            self.view.setCurrentIndex(self.model.index(current))
+            self.view.scrollTo(self.model.index(current))
+        self._show_selected()
+
+    def row_rect(self, step: int) -> QtCore.QRect:
+        """Where step (0-based) is drawn in the list's viewport (for clicks in tests)."""
+        return self.view.visualRect(self.model.index(step))
+
+    def _clicked(self, index: QtCore.QModelIndex) -> None:
+        self.selected_step = index.row()
+        self._show_selected()
+        self.stepClicked.emit(index.row() + 1)
+
+    def _show_selected(self) -> None:
+        step = self.selected_step
+        if step is None and self.history is not None and self.history.index:
+            step = self.history.index - 1
+        if step is None or self.history is None:
+            self.form.set_action(None)
+            self.group.setTitle("Selected step")
+        else:
+            self.form.set_action(self.history.actions[step], dict(self.history.document.dpjs))
+            self.group.setTitle(f"Step {step + 1}: {self.history.actions[step].TYPE}")
+        self._shown_step = step
+        self._update_buttons()
+
+    def _form_changed(self) -> None:
+        self._update_buttons()
+
+    def _update_buttons(self) -> None:
+        dirty = self.form.action is not None and bool(self.form.values())
+        self.apply_button.setEnabled(dirty)
+        self.revert_button.setEnabled(dirty)
+
+    def _apply_edit(self) -> None:
+        step = getattr(self, "_shown_step", None)
+        if step is None or self.form.action is None:
+            return
+        try:
+            new = replace_params(self.form.action, **self.form.values())
+        except TexeditorError as exc:
+            QtWidgets.QMessageBox.warning(self, "Cannot apply this edit", str(exc))
+            return
+        self.editRequested.emit(step, new)

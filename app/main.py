@@ -1,0 +1,67 @@
+"""Entry point of the application: ``run(argv)`` opens the window (or renders it to a PNG and exits).
+
+`texeditor` with no argument and `texeditor gui [--screenshot OUT.png] [--open FILE]` call it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+
+def parse_args(argv):
+    parser = argparse.ArgumentParser(prog="texeditor gui", description="Open the texture studio.")
+    parser.add_argument("--open", metavar="FILE", type=Path, help="a .texture file to open")
+    parser.add_argument("--screenshot", metavar="OUT.png", type=Path,
+                        help="render the window offscreen to a PNG and exit")
+    parser.add_argument("--size", metavar="WxH", default="1280x800",
+                        help="window size for --screenshot (default 1280x800)")
+    return parser.parse_args(argv)
+
+
+def run(argv=None) -> int:
+    """Start the GUI. ``argv`` excludes the program name (None: ``sys.argv[1:]``); returns the exit
+    code (0; 2 when --open or --screenshot fails in screenshot mode)."""
+    args = parse_args(sys.argv[1:] if argv is None else list(argv))
+    if args.screenshot is not None:
+        os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+
+    from PySide6 import QtWidgets
+
+    app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([sys.argv[0]])
+    app.setApplicationName("texeditor")
+    app.setOrganizationName("texeditor")
+
+    from .main_window import MainWindow
+
+    window = MainWindow()
+    window.headless = args.screenshot is not None
+    if args.screenshot is not None:
+        width, _, height = args.size.partition("x")
+        window.resize(int(width), int(height))
+    window.show()
+    if args.open is not None:
+        window.open_file(args.open)
+    else:
+        window.start_default()
+    if args.screenshot is None:
+        return app.exec()
+
+    window.runner.wait(120_000)
+    app.processEvents()
+    if args.open is not None and window.path is None:
+        print(f"texeditor: cannot open {args.open}", file=sys.stderr)
+        return 2
+    window.grab().save(str(args.screenshot))
+    window.mark_clean()
+    window.close()
+    if not args.screenshot.exists():
+        print(f"texeditor: cannot write {args.screenshot}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(run())

@@ -1,0 +1,357 @@
+"""The main window: the canvas in the centre, docks for synthesis, palette and history, menus.
+
+It is the only place where user intent becomes Actions submitted to the History; long work goes to
+the TaskRunner and comes back as an Action applied here, on the GUI thread.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from texeditor.actions import SetPalette, Synthesize
+from texeditor.errors import TexeditorError
+from texeditor.history import History
+
+from . import resources
+from .acquire_dialog import AcquireDialog
+from .canvas import CanvasView
+from .files import FileOps
+from .history_dock import HistoryDock
+from .palette_dock import PaletteDock
+from .synthesis_dock import SynthesisDock
+from .synthesis_worker import TaskRunner, render_synthesis
+
+APP_NAME = "texeditor"
+
+
+class MainWindow(FileOps, QtWidgets.QMainWindow):
+    def __init__(self, history: History | None = None, path=None):
+        super().__init__()
+        self.setWindowTitle(APP_NAME)
+        self.resize(1280, 800)
+        self.history: History | None = None
+        self.path = None
+        self._clean_log: tuple = ()
+        self._unsubscribe = None
+        self.runner = TaskRunner(self)
+        self.headless = False      # --screenshot: errors go to stderr, never a modal dialog
+
+        self.canvas = CanvasView()
+        self.setCentralWidget(self.canvas)
+        self.synthesis_dock = SynthesisDock(self)
+        self.palette_dock = PaletteDock(self)
+        self.history_dock = HistoryDock(self)
+        right = QtCore.Qt.DockWidgetArea.RightDockWidgetArea
+        for dock in (self.synthesis_dock, self.palette_dock, self.history_dock):
+            self.addDockWidget(right, dock)
+        self.resizeDocks([self.synthesis_dock, self.palette_dock, self.history_dock],
+                         [150, 250, 400], QtCore.Qt.Orientation.Vertical)
+        self.resizeDocks([self.history_dock], [330], QtCore.Qt.Orientation.Horizontal)
+
+        self._build_status_bar()
+        self._build_actions()
+        self._build_menus()
+        self._connect()
+        if history is not None:
+            self.set_history(history, path)
+
+    # -- construction -------------------------------------------------------------------------------
+    def _build_status_bar(self) -> None:
+        bar = self.statusBar()
+        self.progress = QtWidgets.QProgressBar()
+        self.progress.setRange(0, 1000)
+        self.progress.setFixedWidth(180)
+        self.progress.setTextVisible(False)
+        self.cancel_button = QtWidgets.QToolButton()
+        self.cancel_button.setText("Cancel")
+        self.cancel_button.setToolTip("Stop this work (Esc); the document stays as it was")
+        self.cancel_button.clicked.connect(self.runner.cancel)
+        self.task_label = QtWidgets.QLabel()
+        self.cursor_label = QtWidgets.QLabel()
+        self.level_label = QtWidgets.QLabel()
+        self.zoom_label = QtWidgets.QLabel()
+        self.repairs_label = QtWidgets.QLabel()
+        for w in (self.task_label, self.progress, self.cancel_button):
+            bar.addPermanentWidget(w)
+            w.hide()
+        for w, chars in ((self.repairs_label, 0), (self.cursor_label, 14),
+                         (self.level_label, 9), (self.zoom_label, 11)):
+            if chars:
+                w.setMinimumWidth(QtGui.QFontMetrics(w.font()).horizontalAdvance("0" * chars))
+            bar.addPermanentWidget(w)
+        self._show_hover(None)
+
+    def _action(self, text, slot, shortcut=None, tip=None, checkable=False) -> QtGui.QAction:
+        action = QtGui.QAction(text, self)
+        if shortcut is not None:
+            keys = shortcut if isinstance(shortcut, list) else [shortcut]
+            action.setShortcuts([QtGui.QKeySequence(k) for k in keys])
+        if tip:
+            action.setStatusTip(tip)
+            action.setToolTip(tip)
+        action.setCheckable(checkable)
+        action.triggered.connect(slot)
+        self.addAction(action)    # shortcuts work even with menus hidden (offscreen, full screen)
+        return action
+
+    def _build_actions(self) -> None:
+        K = QtGui.QKeySequence.StandardKey
+        a = self._action
+        self.act_new = a("&New…", self.new_document, K.New, "A blank canvas")
+        self.act_open = a("&Open…", lambda: self.open_file(), K.Open, "Open a .texture file")
+        self.act_save = a("&Save", self.save, K.Save, "Save the texture (DPJ + actions)")
+        self.act_save_as = a("Save &As…", self.save_as, K.SaveAs)
+        self.act_export = a("&Export PNG…", self.export_png, "Ctrl+E",
+                            "Write the texture as an image, optionally enlarged")
+        self.act_acquire = a("&Acquire DPJ from image…", self.acquire, "Ctrl+I",
+                             "Estimate a DPJ from a photo (thesis §5.2)")
+        self.act_quit = a("&Quit", self.close, K.Quit)
+        self.act_undo = a("&Undo", self.undo, "Ctrl+Z")
+        self.act_redo = a("&Redo", self.redo, ["Ctrl+Shift+Z", "Ctrl+Y"])
+        self.act_synth = a("&Synthesise", self.synthesise_from_dock, "Ctrl+R",
+                           "Draw a texture from the current DPJ")
+        self.act_cancel = a("&Cancel work", self.runner.cancel, "Esc")
+        self.act_cancel.setEnabled(False)
+        self.act_zoom_in = a("Zoom &in", self.canvas.zoom_in, ["+", "=", "Ctrl++"])
+        self.act_zoom_out = a("Zoom &out", self.canvas.zoom_out, ["-", "Ctrl+-"])
+        self.act_fit = a("&Fit in window", self.canvas.fit, "0")
+        self.act_actual = a("&Actual pixels (100 %)", self.canvas.actual_pixels, "1")
+        self.act_tiled = a("&Tiled preview (3×3)", self.canvas.set_tiled, "W",
+                           "Repeat the texture 3×3 to judge its seams", checkable=True)
+        self.act_tiled.setIconText("Tiled")
+
+    def _build_menus(self) -> None:
+        menu = self.menuBar().addMenu("&File")
+        menu.addActions([self.act_new, self.act_open])
+        self.recent_menu = menu.addMenu("Open &Recent")
+        self.recent_menu.aboutToShow.connect(self._fill_recent_menu)
+        menu.addSeparator()
+        menu.addActions([self.act_save, self.act_save_as, self.act_export])
+        menu.addSeparator()
+        menu.addAction(self.act_acquire)
+        menu.addSeparator()
+        menu.addAction(self.act_quit)
+        menu = self.menuBar().addMenu("&Edit")
+        menu.addActions([self.act_undo, self.act_redo])
+        menu = self.menuBar().addMenu("&Image")
+        menu.addActions([self.act_synth, self.act_cancel])
+        menu = self.menuBar().addMenu("&View")
+        menu.addActions([self.act_zoom_in, self.act_zoom_out, self.act_fit, self.act_actual])
+        menu.addSeparator()
+        menu.addAction(self.act_tiled)
+        menu.addSeparator()
+        for dock in (self.synthesis_dock, self.palette_dock, self.history_dock):
+            menu.addAction(dock.toggleViewAction())
+
+        bar = self.addToolBar("Main")
+        bar.setObjectName("MainToolBar")
+        bar.setToolButtonStyle(QtCore.Qt.ToolButtonStyle.ToolButtonTextOnly)
+        bar.addActions([self.act_new, self.act_open, self.act_save])
+        bar.addSeparator()
+        bar.addActions([self.act_acquire, self.act_synth])
+        bar.addSeparator()
+        bar.addActions([self.act_undo, self.act_redo])
+        bar.addSeparator()
+        bar.addActions([self.act_fit, self.act_tiled])
+
+    def _connect(self) -> None:
+        self.canvas.hovered.connect(self._show_hover)
+        self.canvas.zoomChanged.connect(lambda z: self.zoom_label.setText(f"zoom {z * 100:.0f} %"))
+        self.synthesis_dock.requested.connect(self.synthesise)
+        self.palette_dock.committed.connect(lambda pal: self.submit(SetPalette(pal)))
+        self.palette_dock.preview.connect(self.canvas.set_palette)
+        self.history_dock.stepClicked.connect(self.goto_step)
+        self.history_dock.editRequested.connect(self.edit_step)
+        self.runner.started.connect(self._task_started)
+        self.runner.progress.connect(lambda f: self.progress.setValue(int(f * 1000)))
+        self.runner.finished.connect(self._task_finished)
+
+    # -- the document -------------------------------------------------------------------------------
+    @property
+    def document(self):
+        return self.history.document
+
+    def set_history(self, history: History, path=None) -> None:
+        """Show another document (new, opened, or the start-up one); it starts unmodified."""
+        if self._unsubscribe is not None:
+            self._unsubscribe()
+        self.history, self.path = history, path
+        self._unsubscribe = history.subscribe(self._history_changed)
+        self.history_dock.set_history(history)
+        self.mark_clean()
+        self._history_changed()
+
+    def _history_changed(self) -> None:
+        doc = self.history.document
+        if doc.levels.size:
+            self.canvas.set_image(doc.levels, doc.palette)
+        else:
+            self.canvas.image.clear()
+        self.palette_dock.set_palette(doc.palette)
+        self.history_dock.refresh()
+        self.synthesis_dock.set_dpj(doc.dpj)
+        self.act_undo.setEnabled(self.history.index > 1)
+        self.act_redo.setEnabled(self.history.can_redo)
+        self._update_title()
+
+    def submit(self, action) -> bool:
+        """Apply an Action; a refused one is explained in a dialog and changes nothing."""
+        try:
+            self.history.apply(action)
+        except TexeditorError as exc:
+            self.show_error("This change cannot be made", exc)
+            return False
+        return True
+
+    def undo(self) -> None:
+        if self.history.index > 1:     # the first step is the base texture, as in GIMP
+            self._guarded(self.history.undo)
+
+    def redo(self) -> None:
+        self._guarded(self.history.redo)
+
+    def goto_step(self, steps: int) -> None:
+        self._guarded(lambda: self.history.goto(max(1, steps)))
+
+    def _guarded(self, fn) -> None:
+        try:
+            fn()
+        except TexeditorError as exc:
+            self.show_error("Cannot go to this step", exc)
+
+    def show_error(self, title: str, exc: Exception) -> None:
+        """Errors are dialogs; the document is left as it was."""
+        self.statusBar().showMessage(f"{title}: {exc}", 8000)
+        if self.headless:
+            print(f"texeditor: {title}: {exc}", file=sys.stderr)
+            return
+        QtWidgets.QMessageBox.critical(self, title, str(exc))
+
+    # -- synthesis ----------------------------------------------------------------------------------
+    def synthesise_from_dock(self) -> None:
+        self.synthesise(*self.synthesis_dock.values())
+
+    def synthesise(self, width: int, height: int, seed: int) -> None:
+        """Synthesise from the current DPJ in the worker, then apply a Synthesize action."""
+        doc = self.history.document
+        if doc.dpj is None:
+            QtWidgets.QMessageBox.information(self, "No DPJ", "Acquire a DPJ from an image first "
+                                              "(File ▸ Acquire DPJ from image…).")
+            return
+        if self.runner.busy:
+            return
+        try:
+            action = Synthesize(doc.dpj_ref, width, height, seed)
+        except TexeditorError as exc:
+            self.show_error("Cannot synthesise", exc)
+            return
+        dpj, start = doc.dpj, time.perf_counter()
+        history = self.history
+        self.runner.run(f"Synthesising {width}×{height}…",
+                        lambda progress, cancel: render_synthesis(action, dpj, progress, cancel),
+                        lambda result: self._synthesis_done(history, action, result, start),
+                        on_cancel=lambda: self.statusBar().showMessage(
+                            "Synthesis cancelled: the document is unchanged.", 8000),
+                        on_error=lambda exc: self.show_error("Synthesis failed", exc))
+
+    def _synthesis_done(self, history, action, result, start) -> None:
+        if history is not self.history:
+            return       # another document was opened meanwhile
+        _levels, repairs = result
+        if not self.submit(action):
+            return
+        seconds = time.perf_counter() - start
+        self.repairs_label.setText(f"repairs {repairs:,}")
+        self.repairs_label.setToolTip("Window positions drawn from a backed-off context (dead "
+                                      "ends of the DPJ) in the last synthesis")
+        self.statusBar().showMessage(
+            f"Synthesised {action.width}×{action.height}, seed {action.seed}, in {seconds:.2f} s "
+            f"— {repairs:,} repairs", 10000)
+
+    def edit_step(self, i: int, action) -> None:
+        """Replace step i and replay the rest; syntheses are drawn in the worker first."""
+        if self.runner.busy:
+            return
+        history = self.history
+        later = [action] + list(history.actions[i + 1:])
+        heavy = [a for a in later if isinstance(a, Synthesize)][:4]
+        dpjs = dict(history.document.dpjs)
+
+        def work(progress, cancel):
+            for k, synth in enumerate(heavy):
+                if synth.dpj in dpjs:
+                    synth.render(dpjs[synth.dpj], lambda f, k=k: progress((k + f) / len(heavy)),
+                                 cancel)
+            return None
+
+        def done(_result):
+            if history is self.history:
+                self._guarded(lambda: history.replace(i, action))
+                self.statusBar().showMessage(f"Step {i + 1} edited and the log replayed.", 8000)
+
+        self.runner.run(f"Replaying from step {i + 1}…", work, done,
+                        on_cancel=lambda: self.statusBar().showMessage(
+                            "Edit cancelled: the history is unchanged.", 8000),
+                        on_error=lambda exc: self.show_error("Cannot apply this edit", exc))
+
+    def acquire(self) -> None:
+        dialog = self.make_acquire_dialog()
+        if dialog.exec() == QtWidgets.QDialog.DialogCode.Accepted:
+            self.use_acquired(dialog)
+
+    def make_acquire_dialog(self) -> AcquireDialog:
+        return AcquireDialog(resources.sample_images(), self)
+
+    def use_acquired(self, dialog: AcquireDialog) -> None:
+        """The acquired DPJ becomes the current one (and is synthesised if asked)."""
+        dpj = dialog.dpj
+        self.history.add_dpj(dpj)
+        u, v = dpj.window
+        self.statusBar().showMessage(f"Acquired a {u}×{v} DPJ with G = {dpj.levels} from "
+                                     f"{dialog.path.name}: {len(dpj):,} configurations.", 10000)
+        if dialog.synthesise_now.isChecked():
+            self.synthesise_from_dock()
+
+    def start_default(self) -> None:
+        """Open on a fresh synthesis from a bundled DPJ (the bank comes later)."""
+        history = History()
+        try:
+            history.add_dpj(resources.default_dpj())
+        except TexeditorError as exc:
+            self.show_error("No start-up texture", exc)
+        self.set_history(history)
+        if history.document.dpj is not None:
+            self.synthesise_from_dock()
+
+    # -- status bar ---------------------------------------------------------------------------------
+    def _show_hover(self, info) -> None:
+        if info is None:
+            self.cursor_label.setText("x –, y –")
+            self.level_label.setText("level –")
+        else:
+            x, y, level = info
+            self.cursor_label.setText(f"x {x}, y {y}")
+            self.level_label.setText(f"level {level}")
+
+    def _task_started(self, label: str) -> None:
+        self.task_label.setText(label)
+        self.progress.setValue(0)
+        for w in (self.task_label, self.progress, self.cancel_button):
+            w.show()
+        self.act_cancel.setEnabled(True)
+        self.synthesis_dock.set_busy(True)
+
+    def _task_finished(self) -> None:
+        for w in (self.task_label, self.progress, self.cancel_button):
+            w.hide()
+        self.act_cancel.setEnabled(False)
+        self.synthesis_dock.set_busy(False)
+
+    def _update_title(self) -> None:
+        name = self.path.name if self.path is not None else "Untitled"
+        h, w = self.history.document.shape
+        size = f" ({w}×{h}, G = {self.history.document.num_levels})" if h else ""
+        self.setWindowTitle(f"{name}{'*' if self.is_modified() else ''}{size} — {APP_NAME}")

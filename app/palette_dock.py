@@ -1,0 +1,227 @@
+"""The palette dock: the G levels as swatches, the current level, and the grey-scale controls.
+
+It turns clicks into a current level and colour edits into palettes the main window submits as
+SetPalette Actions; while a slider is dragged it only previews on the canvas (digest §8: the
+extremes of the grey scale are also the contrast control).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6 import QtCore, QtGui, QtWidgets
+
+SWATCH = 34        # pixels per swatch side
+COLUMNS = 8        # swatches per row (G ≤ 16: at most two rows)
+COMMIT_DELAY_MS = 350
+
+
+def grey_scale(levels: int, darkest: int, lightest: int, contrast: int) -> np.ndarray:
+    """G greys from ``darkest`` to ``lightest``; contrast -100..100 bends the ramp into an S
+    (positive: middle levels pushed towards the extremes) or flattens it towards mid-grey."""
+    t = np.linspace(0.0, 1.0, levels)
+    a = np.exp(1.5 * contrast / 100.0)
+    curved = t**a / (t**a + (1 - t) ** a)
+    grey = np.round(darkest + (lightest - darkest) * curved)
+    return np.repeat(np.clip(grey, 0, 255).astype(np.uint8)[:, None], 3, axis=1)
+
+
+def text_colour(rgb) -> QtGui.QColor:
+    r, g, b = (int(c) for c in rgb)
+    return QtGui.QColor("black") if 0.299 * r + 0.587 * g + 0.114 * b > 140 else QtGui.QColor("white")
+
+
+class SwatchBar(QtWidgets.QWidget):
+    """The swatches, numbered by level; click selects, double-click asks for a new colour."""
+
+    levelClicked = QtCore.Signal(int)
+    levelDoubleClicked = QtCore.Signal(int)
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.palette_rgb = np.zeros((2, 3), np.uint8)
+        self.current = 1
+        self.setSizePolicy(QtWidgets.QSizePolicy.Policy.Preferred,
+                           QtWidgets.QSizePolicy.Policy.Fixed)
+        self.setToolTip("Click: current level · Double-click: edit the colour")
+
+    def set_palette(self, palette: np.ndarray) -> None:
+        self.palette_rgb = np.asarray(palette, np.uint8)
+        self.current = min(self.current, len(self.palette_rgb) - 1)
+        self.setFixedHeight(self.sizeHint().height())
+        self.update()
+
+    def swatch_rect(self, level: int) -> QtCore.QRect:
+        row, col = divmod(level, COLUMNS)
+        return QtCore.QRect(2 + col * (SWATCH + 4), 2 + row * (SWATCH + 4), SWATCH, SWATCH)
+
+    def sizeHint(self) -> QtCore.QSize:
+        rows = (len(self.palette_rgb) + COLUMNS - 1) // COLUMNS
+        return QtCore.QSize(COLUMNS * (SWATCH + 4) + 4, rows * (SWATCH + 4) + 4)
+
+    def level_at(self, pos: QtCore.QPoint) -> int | None:
+        for level in range(len(self.palette_rgb)):
+            if self.swatch_rect(level).contains(pos):
+                return level
+        return None
+
+    def paintEvent(self, ev):
+        p = QtGui.QPainter(self)
+        p.setRenderHint(QtGui.QPainter.RenderHint.Antialiasing, False)
+        font = p.font()
+        font.setBold(True)
+        p.setFont(font)
+        for level, rgb in enumerate(self.palette_rgb):
+            rect = self.swatch_rect(level)
+            p.fillRect(rect, QtGui.QColor(*(int(c) for c in rgb)))
+            p.setPen(QtGui.QPen(self.palette().color(QtGui.QPalette.ColorRole.Mid), 1))
+            p.drawRect(rect.adjusted(0, 0, -1, -1))
+            p.setPen(text_colour(rgb))
+            p.drawText(rect, QtCore.Qt.AlignmentFlag.AlignCenter, str(level))
+            if level == self.current:
+                p.setPen(QtGui.QPen(self.palette().color(QtGui.QPalette.ColorRole.Highlight), 3))
+                p.drawRect(rect.adjusted(-1, -1, 0, 0))
+        p.end()
+
+    def mousePressEvent(self, ev):
+        level = self.level_at(ev.position().toPoint())
+        if level is not None and ev.button() == QtCore.Qt.MouseButton.LeftButton:
+            self.current = level
+            self.update()
+            self.levelClicked.emit(level)
+
+    def mouseDoubleClickEvent(self, ev):
+        level = self.level_at(ev.position().toPoint())
+        if level is not None:
+            self.levelDoubleClicked.emit(level)
+
+
+class PaletteDock(QtWidgets.QDockWidget):
+    """Signals: ``committed(palette)`` for a SetPalette action, ``preview(palette)`` while
+    dragging (display only), ``currentLevelChanged(level)``."""
+
+    committed = QtCore.Signal(object)
+    preview = QtCore.Signal(object)
+    currentLevelChanged = QtCore.Signal(int)
+
+    def __init__(self, parent=None):
+        super().__init__("Palette", parent)
+        self.setObjectName("PaletteDock")
+        self.palette_rgb = np.zeros((2, 3), np.uint8)
+        self._value_labels: dict[QtWidgets.QSlider, QtWidgets.QLabel] = {}
+        body = QtWidgets.QWidget()
+        layout = QtWidgets.QVBoxLayout(body)
+        self.swatches = SwatchBar()
+        self.swatches.levelClicked.connect(self._level_clicked)
+        self.swatches.levelDoubleClicked.connect(self.edit_colour)
+        layout.addWidget(self.swatches)
+        self.current_label = QtWidgets.QLabel()
+        layout.addWidget(self.current_label)
+
+        group = QtWidgets.QGroupBox("Grey scale")
+        form = QtWidgets.QFormLayout(group)
+        self.darkest = self._slider(0, 255, 0, "Grey of level 0 (the background)")
+        self.lightest = self._slider(0, 255, 255, "Grey of the highest level")
+        self.contrast = self._slider(-100, 100, 0, "Spread of the middle levels: "
+                                                  "+ towards the extremes, − towards mid-grey")
+        form.addRow("Darkest", self._with_value(self.darkest))
+        form.addRow("Lightest", self._with_value(self.lightest))
+        form.addRow("Contrast", self._with_value(self.contrast))
+        self.reset_button = QtWidgets.QPushButton("Reset to a full grey ramp")
+        self.reset_button.clicked.connect(self.reset_grey_scale)
+        form.addRow(self.reset_button)
+        layout.addWidget(group)
+        layout.addStretch(1)
+        self.setWidget(body)
+
+        self._commit_timer = QtCore.QTimer(self, singleShot=True, interval=COMMIT_DELAY_MS)
+        self._commit_timer.timeout.connect(self._commit_grey_scale)
+
+    # -- building ---------------------------------------------------------------------------------
+    def _slider(self, lo, hi, value, tip) -> QtWidgets.QSlider:
+        s = QtWidgets.QSlider(QtCore.Qt.Orientation.Horizontal)
+        s.setRange(lo, hi)
+        s.setValue(value)
+        s.setToolTip(tip)
+        s.valueChanged.connect(self._grey_scale_moved)
+        s.sliderReleased.connect(self._commit_grey_scale)
+        return s
+
+    def _with_value(self, slider) -> QtWidgets.QWidget:
+        box = QtWidgets.QWidget()
+        row = QtWidgets.QHBoxLayout(box)
+        row.setContentsMargins(0, 0, 0, 0)
+        label = QtWidgets.QLabel(str(slider.value()))
+        label.setMinimumWidth(QtGui.QFontMetrics(label.font()).horizontalAdvance("-100") + 4)
+        label.setAlignment(QtCore.Qt.AlignmentFlag.AlignRight | QtCore.Qt.AlignmentFlag.AlignVCenter)
+        slider.valueChanged.connect(lambda v: label.setText(str(v)))
+        self._value_labels[slider] = label
+        row.addWidget(slider, 1)
+        row.addWidget(label)
+        return box
+
+    # -- state from the document --------------------------------------------------------------------
+    def set_palette(self, palette) -> None:
+        """Show the document's palette (after any change, undo included) without emitting."""
+        self.palette_rgb = np.array(palette, np.uint8)
+        self.swatches.set_palette(self.palette_rgb)
+        grey = self.palette_rgb[:, 0]
+        if np.all(self.palette_rgb == grey[:, None]):
+            for slider, value in ((self.darkest, grey[0]), (self.lightest, grey[-1])):
+                slider.blockSignals(True)
+                slider.setValue(int(value))
+                slider.blockSignals(False)
+        self._refresh_value_labels()
+        self._show_current()
+
+    def _refresh_value_labels(self) -> None:
+        for slider, label in self._value_labels.items():   # valueChanged was blocked
+            label.setText(str(slider.value()))
+
+    @property
+    def current_level(self) -> int:
+        return self.swatches.current
+
+    def _level_clicked(self, level: int) -> None:
+        self._show_current()
+        self.currentLevelChanged.emit(level)
+
+    def _show_current(self) -> None:
+        level = self.swatches.current
+        r, g, b = (int(c) for c in self.palette_rgb[level])
+        self.current_label.setText(f"Current level {level}  ·  #{r:02x}{g:02x}{b:02x}")
+
+    # -- edits ------------------------------------------------------------------------------------
+    def edit_colour(self, level: int) -> None:
+        """Ask for a new colour of one level (a colour dialog); a choice commits a palette."""
+        self.swatches.current = level
+        self._level_clicked(level)
+        old = QtGui.QColor(*(int(c) for c in self.palette_rgb[level]))
+        colour = QtWidgets.QColorDialog.getColor(old, self, f"Colour of level {level}")
+        if not colour.isValid() or colour == old:
+            return
+        palette = self.palette_rgb.copy()
+        palette[level] = (colour.red(), colour.green(), colour.blue())
+        self.committed.emit(palette)
+
+    def grey_scale(self) -> np.ndarray:
+        return grey_scale(len(self.palette_rgb), self.darkest.value(), self.lightest.value(),
+                          self.contrast.value())
+
+    def reset_grey_scale(self) -> None:
+        for slider, value in ((self.darkest, 0), (self.lightest, 255), (self.contrast, 0)):
+            slider.blockSignals(True)
+            slider.setValue(value)
+            slider.blockSignals(False)
+        self._refresh_value_labels()
+        self._commit_grey_scale()
+
+    def _grey_scale_moved(self, _value) -> None:
+        self.preview.emit(self.grey_scale())
+        if not any(s.isSliderDown() for s in (self.darkest, self.lightest, self.contrast)):
+            self._commit_timer.start()    # keyboard or click steps: one action once they settle
+
+    def _commit_grey_scale(self) -> None:
+        self._commit_timer.stop()
+        palette = self.grey_scale()
+        if not np.array_equal(palette, self.palette_rgb):
+            self.committed.emit(palette)

@@ -1,0 +1,69 @@
+"""The synthesis dock: the current DPJ, the size and seed of the next texture, and its button.
+
+Synthesis itself runs in a worker (synthesis_worker.py); this panel only gathers the parameters of
+the Synthesize Action the main window will submit.
+"""
+
+from __future__ import annotations
+
+from PySide6 import QtCore, QtWidgets
+
+from texeditor.actions import MAX_CANVAS_SIDE
+
+from .params_form import SeedEdit, dpj_summary
+
+DEFAULT_SIZE = 256
+DEFAULT_SEED = 1984
+
+
+class SynthesisDock(QtWidgets.QDockWidget):
+    """``requested(width, height, seed)`` when the user asks for a synthesis."""
+
+    requested = QtCore.Signal(int, int, int)
+
+    def __init__(self, parent=None):
+        super().__init__("Synthesis", parent)
+        self.setObjectName("SynthesisDock")
+        body = QtWidgets.QWidget()
+        form = QtWidgets.QFormLayout(body)
+        self.dpj_label = QtWidgets.QLabel()
+        self.dpj_label.setWordWrap(True)
+        self.width_box = self._side()
+        self.height_box = self._side()
+        size_row = QtWidgets.QHBoxLayout()
+        size_row.addWidget(self.width_box, 1)
+        size_row.addWidget(QtWidgets.QLabel("×"))
+        size_row.addWidget(self.height_box, 1)
+        self.seed = SeedEdit(DEFAULT_SEED)
+        self.button = QtWidgets.QPushButton("Synthesise")
+        self.button.setToolTip("Draw a new texture from the current DPJ (Ctrl+R)")
+        self.button.clicked.connect(self._request)
+        form.addRow("DPJ", self.dpj_label)
+        form.addRow("Size", size_row)
+        form.addRow("Seed", self.seed)
+        form.addRow(self.button)
+        self.setWidget(body)
+        self.set_dpj(None)
+
+    def _side(self) -> QtWidgets.QSpinBox:
+        box = QtWidgets.QSpinBox()
+        box.setRange(1, MAX_CANVAS_SIDE)
+        box.setValue(DEFAULT_SIZE)
+        box.setSuffix(" px")
+        return box
+
+    def set_dpj(self, dpj) -> None:
+        self.has_dpj = dpj is not None
+        self.dpj_label.setText(dpj_summary(dpj) if dpj is not None
+                               else "none yet — File ▸ Acquire DPJ from image…")
+        self.button.setEnabled(self.has_dpj and not getattr(self, "busy", False))
+
+    def set_busy(self, busy: bool) -> None:
+        self.busy = busy
+        self.button.setEnabled(self.has_dpj and not busy)
+
+    def values(self) -> tuple[int, int, int]:
+        return self.width_box.value(), self.height_box.value(), self.seed.value()
+
+    def _request(self) -> None:
+        self.requested.emit(*self.values())
