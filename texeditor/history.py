@@ -141,23 +141,29 @@ class History:
     def undo(self) -> bool:
         if not self.can_undo:
             return False
-        self._goto(self._index - 1)
-        self._notify()
+        try:
+            self._goto(self._index - 1)
+        finally:
+            self._notify()
         return True
 
     def redo(self) -> bool:
         if not self.can_redo:
             return False
-        self._goto(self._index + 1)
-        self._notify()
+        try:
+            self._goto(self._index + 1)
+        finally:
+            self._notify()
         return True
 
     def goto(self, index: int) -> None:
         """Move to the state after ``index`` steps (0 = empty), keeping the whole log."""
         if not 0 <= index <= len(self._actions):
             raise InputError(f"step {index} is outside 0..{len(self._actions)}")
-        self._goto(index)
-        self._notify()
+        try:
+            self._goto(index)
+        finally:
+            self._notify()
 
     def replace(self, i: int, action: Action) -> None:
         """Edit step i (new parameters) and replay the steps after it: non-destructive history."""
@@ -253,7 +259,11 @@ class History:
         self._doc._log[:] = self._actions[:start]
         self._index = start
         for k in range(start, target):
-            self._advance(self._actions[k], k)
+            try:
+                self._advance(self._actions[k], k)
+            except InputError as exc:         # a redo tail that an edit made invalid
+                raise InputError(f"step {k + 1} ({self._actions[k].label()}) cannot be redone "
+                                 f"after the edit of an earlier step: {exc}") from None
 
     # -- internals: editing past steps --------------------------------------------------------
     def _edit(self, i: int, tail: list, new_index: int) -> None:

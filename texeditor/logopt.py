@@ -98,21 +98,32 @@ def _drop_covered_by_full(actions, known):
 
 
 def _drop_covered_rects(actions, known):
-    """A SetLevels wholly inside a later SetLevels, with only fills and colours between, goes."""
+    """A SetLevels whose points are all overwritten by later fills, or cut away by later canvas
+    changes, goes. Its rectangle is followed through crops (which move it) and resizes."""
     keep = [True] * len(actions)
     for i, a in enumerate(actions):
-        if not isinstance(a, SetLevels) or known[i].shape is None:
-            continue
-        rect = clip_rect(a.top, a.left, a.height, a.width, known[i].shape)
-        for j in range(i + 1, min(len(actions), i + 1 + LOOKAHEAD)):
-            b = actions[j]
-            if isinstance(b, SetLevels):
-                if _inside(rect, clip_rect(b.top, b.left, b.height, b.width, known[j].shape)):
-                    keep[i] = False
-                    break
-            elif not isinstance(b, SetPalette):
-                break
+        if isinstance(a, SetLevels) and known[i].shape is not None:
+            rect = clip_rect(a.top, a.left, a.height, a.width, known[i].shape)
+            keep[i] = not _overwritten(rect, actions, known, i + 1)
     return [a for a, k in zip(actions, keep) if k]
+
+
+def _overwritten(rect, actions, known, start) -> bool:
+    for j in range(start, min(len(actions), start + LOOKAHEAD)):
+        if rect[2] == 0 or rect[3] == 0:
+            return True
+        b, shape = actions[j], known[j].shape
+        if isinstance(b, SetLevels):
+            if _inside(rect, clip_rect(b.top, b.left, b.height, b.width, shape)):
+                return True
+        elif isinstance(b, ResizeCanvas):
+            rect = clip_rect(*rect, (b.height, b.width))
+        elif isinstance(b, CropCanvas):
+            t, l, h, w = clip_rect(b.top, b.left, b.height, b.width, shape)
+            rect = clip_rect(rect[0] - t, rect[1] - l, rect[2], rect[3], (h, w))
+        elif not isinstance(b, SetPalette):
+            return False
+    return rect[2] == 0 or rect[3] == 0
 
 
 def _inside(inner, outer) -> bool:
