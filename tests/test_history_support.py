@@ -32,7 +32,7 @@ def all_windows_dpj(levels: int, window=(2, 2), seed: int = 0) -> DPJ:
 
 TINY_DPJS = [all_windows_dpj(2), all_windows_dpj(3, (2, 1), seed=1)]
 TINY = {dpj_ref(d): d for d in TINY_DPJS}
-REFS = sorted(TINY)
+REFS = [dpj_ref(d) for d in TINY_DPJS]     # REFS[k] names TINY_DPJS[k]
 
 
 def palettes(levels: int):

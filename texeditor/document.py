@@ -112,6 +112,8 @@ class Document:
     # -- building -------------------------------------------------------------------------------
     def add_dpj(self, dpj: DPJ) -> str:
         """Register a DPJ so actions can refer to it; it becomes the current DPJ."""
+        if not isinstance(dpj, DPJ):
+            raise InputError("only a DPJ can be added to a document")
         ref = dpj_ref(dpj)
         self._add_dpj(dpj, ref)
         return ref

@@ -85,7 +85,10 @@ def save_texture(path, source: History | Document, *, tags=(), description: str 
     """
     doc, actions = _recipe(source)
     data, manifest = texture_bytes(doc, actions, tags=tags, description=description)
-    atomic_write(path, lambda f: f.write(data))
+    try:
+        atomic_write(path, lambda f: f.write(data))
+    except OSError as exc:
+        raise FormatError(f"{path}: cannot write ({exc.strerror or exc})") from None
     return manifest
 
 
