@@ -176,3 +176,12 @@ def test_memo_is_bounded():
     for seed in range(10):
         Synthesize(REFS[0], 4, 4, seed).render(TINY[REFS[0]])
     assert len(_MEMO._items) <= _MEMO.max_items
+
+
+def test_render_result_gives_the_repair_count_and_feeds_apply(monkeypatch):
+    _MEMO.clear()
+    action = Synthesize(REFS[1], 10, 6, 2)
+    result = action.render_result(TINY[REFS[1]])
+    assert result.repairs >= 0 and result.levels.shape == (6, 10)
+    monkeypatch.setattr(synthesis, "synthesize", lambda *a, **k: pytest.fail("synthesised"))
+    assert action.render(TINY[REFS[1]]) is result.levels

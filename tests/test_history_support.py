@@ -18,7 +18,7 @@ from texeditor.dpj import DPJ
 from texeditor.errors import InputError
 from texeditor.history import History
 
-PROPERTY = settings(max_examples=40, deadline=None, derandomize=True,
+PROPERTY = settings(max_examples=75, deadline=None, derandomize=True,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 
 

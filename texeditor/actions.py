@@ -327,11 +327,24 @@ class Synthesize(Action):
 
     def render(self, dpj, progress=None, cancel=None) -> np.ndarray:
         """Synthesise (slow; safe in a worker thread) and remember the result for apply()."""
+        self._check_dpj(dpj)
+        levels = _MEMO.get(self._key())
+        return levels if levels is not None else self._synthesize(dpj, progress, cancel)
+
+    def render_result(self, dpj, progress=None, cancel=None):
+        """Like render() but always synthesises and returns the SynthesisResult (repairs...)."""
+        from .synthesis import synthesize
+        self._check_dpj(dpj)
+        result = synthesize(dpj, (self.height, self.width), seed=self.seed,
+                            progress=progress, cancel=cancel)
+        result.levels.flags.writeable = False
+        _MEMO.put(self._key(), result.levels)
+        return result
+
+    def _check_dpj(self, dpj) -> None:
         from .document import dpj_ref
         if dpj_ref(dpj) != self.dpj:
             raise InputError(f"this DPJ is not {self.dpj}, the one the action refers to")
-        levels = _MEMO.get(self._key())
-        return levels if levels is not None else self._synthesize(dpj, progress, cancel)
 
     def prepare(self, doc, progress=None, cancel=None) -> None:
         if _MEMO.get(self._key()) is None:
