@@ -4,12 +4,15 @@ DPJ → normalised level matrix. The first v rows follow the horizontal chain of
 every later row is drawn exactly given the v-1 rows above it, by forward filtering and backward
 sampling over the row. The numba kernels release the GIL, so a worker thread leaves a GUI live.
 
-Dead ends (a row that no configuration of the DPJ can continue) never raise and never hang:
-1. the row above is redrawn, up to ``max_redraws`` times (every window stays a DPJ entry);
-2. failing that, each window position that cannot continue *backs off* to the DPJ marginal with
-   one context row fewer, down to the plain horizontal chain of the bottom row; each such
-   position counts as one repair.
-"""
+Dead ends (a window position that no configuration of the DPJ can continue, given the rows
+above and the points already chosen to its left) never raise and never hang:
+1. a segment of the rows above around the dead end is redrawn from its exact law given
+   everything around it, and the row's forward pass resumes just before it — wider and deeper
+   segments as tries fail, up to ``max_redraws`` tries; every window stays a DPJ entry, and
+   the cost stays local, so time grows linearly with the number of points;
+2. failing that, the position *backs off* to the DPJ marginal with one context row fewer, down
+   to the plain horizontal chain of the bottom row (at worst a restart of it); each such
+   position counts as one repair."""
 
 from __future__ import annotations
 
@@ -24,8 +27,9 @@ from .dpj import DPJ, encode
 from .errors import Cancelled, InputError
 
 MAX_PIXELS = 2**28
-ROWS_PER_CALL_PIXELS = 2**16
-MAX_REDRAW_DEPTH = 4           # rows above a dead end that may be redrawn together   # work per kernel call: how often progress and cancel are checked
+ROWS_PER_CALL_PIXELS = 2**16   # work per kernel call: how often progress and cancel are checked
+DIRECT_INDEX_MAX = 2**20       # context spaces up to this size get a direct look-up table
+MAX_REDRAW_DEPTH = 4           # rows above a dead end that may be redrawn together
 
 
 @dataclass(frozen=True)
@@ -88,27 +92,33 @@ def _check_request(dpj: DPJ, shape) -> tuple[int, int]:
 # -- tables: the DPJ rearranged for the kernels ------------------------------------------------
 
 class _Tables(NamedTuple):
+    """The DPJ and its back-off marginals, flattened into a few arrays for numba.
+
+    The entries of every back-off level k (the DPJ marginal over its bottom v-k rows) are
+    concatenated, grouped by context (the rows above the bottom row), and within a context by
+    their last u-1 points, so backward sampling reads one contiguous block.
+    """
     levels: int
     u: int
     v: int
-    first_cum: np.ndarray      # cumulative q over the full model's entries (first window)
-    first_q: np.ndarray        # q over the full model's entries
-    first_configs: np.ndarray  # (n, v, u) configurations of the full model
-    pfx_codes: np.ndarray      # unique codes of the first u-1 columns (horizontal chain states)
-    pfx_start: np.ndarray
-    pfx_end: np.ndarray
+    ient: np.ndarray           # (4, entries) int64: HEAD, TAIL, BCODE, ROT of each entry
+    fent: np.ndarray           # (2, entries) float64: Q (probability), M (horizontal transition)
+    ctx: np.ndarray            # (3, contexts) int64: CODE (sorted per level), START, END entries
+    lvl: np.ndarray            # (2, v) int64: OFF and LEN of each level's contexts in ctx
+    direct: np.ndarray         # level-0 context code → index in ctx (-1: unseen), when small
+    first_q: np.ndarray        # the full model's q, its cumulative sum and configurations:
+    first_cum: np.ndarray      # the first v rows are its horizontal chain
+    first_configs: np.ndarray
+    pfx: np.ndarray            # (3, states) int64: CODE of the first u-1 columns, START, END
     pfx_entry: np.ndarray      # full-model entries grouped by their first u-1 columns
-    bcode: np.ndarray          # per entry of every back-off level: code of the bottom row
-    rot: np.ndarray            # the same code read from its second point (last u-1 points first)
-    head: np.ndarray           # code of the first u-1 points (the index of R it reads)
-    tail: np.ndarray           # code of the last u-1 points (the index of R it feeds)
-    q: np.ndarray              # per entry: probability
-    m: np.ndarray              # per entry: horizontal transition q / μ(first u-1 columns)
-    ctx_codes: np.ndarray      # per level: sorted unique codes of the rows above (the context)
-    ctx_start: np.ndarray
-    ctx_end: np.ndarray
-    level_off: np.ndarray      # per back-off level: offset and length in ctx_*
-    level_len: np.ndarray
+
+
+# rows of the packed tables
+HEAD, TAIL, BCODE, ROT = 0, 1, 2, 3
+Q, M = 0, 1
+CODE, START, END = 0, 1, 2
+OFF, LEN = 0, 1
+LO, HI, TOFF = 0, 1, 2  # rows of the per-position work array: entries weighed, where T starts
 
 
 _cache: dict[int, tuple[weakref.ref, _Tables]] = {}
@@ -155,14 +165,25 @@ def _build_tables(dpj: DPJ) -> _Tables:
     order = np.argsort(pfx, kind="stable")
     upfx, pfirst = np.unique(pfx[order], return_index=True)
     cat = np.concatenate
+    bcode = cat(bcode)
+    ient = np.stack([bcode // g, bcode % g ** (u - 1), bcode, cat(rot)])
+    ctx_table = np.stack([cat(ctx), cat(start), cat(end)]).astype(np.int64)
     return _Tables(
-        levels=g, u=u, v=v, first_cum=np.cumsum(dpj.probs), first_q=dpj.probs, first_configs=dpj.configs,
-        pfx_codes=upfx, pfx_start=pfirst, pfx_end=np.append(pfirst[1:], len(pfx)),
-        pfx_entry=order.astype(np.int64), bcode=cat(bcode), rot=cat(rot),
-        head=cat(bcode) // g, tail=cat(bcode) % g ** (u - 1), q=cat(q), m=cat(m),
-        ctx_codes=cat(ctx), ctx_start=cat(start).astype(np.int64),
-        ctx_end=cat(end).astype(np.int64), level_off=np.array(off, np.int64),
-        level_len=np.array(length, np.int64))
+        levels=g, u=u, v=v, ient=ient, fent=np.stack([cat(q), cat(m)]), ctx=ctx_table,
+        lvl=np.array([off, length], np.int64), direct=_direct_index(ctx[0], g ** (u * (v - 1))),
+        first_q=dpj.probs, first_cum=np.cumsum(dpj.probs), first_configs=dpj.configs,
+        pfx=np.stack([upfx, pfirst, np.append(pfirst[1:], len(pfx))]).astype(np.int64),
+        pfx_entry=order.astype(np.int64))
+
+
+def _direct_index(contexts: np.ndarray, space: int) -> np.ndarray:
+    """A look-up table from every possible context code, when they are few (no binary search
+    in the hot loop); empty otherwise."""
+    if space > DIRECT_INDEX_MAX:
+        return np.zeros(0, np.int64)
+    table = np.full(space, -1, np.int64)
+    table[contexts] = np.arange(len(contexts))
+    return table
 
 
 def _rotated(bcode: np.ndarray, g: int, u: int) -> np.ndarray:
@@ -183,11 +204,13 @@ def _transitions(model: DPJ) -> np.ndarray:
 
 
 # -- kernels --------------------------------------------------------------------------------
-# In the row sampler, T_n (the forward filter at window position n) is kept unnormalised in tbuf,
-# one block per position; R (its sum over the first point, indexed by the last u-1 points) is
-# normalised, which keeps the numbers in range along a row of any width.
+# In a row, T_n (the forward filter at window position n) is kept unnormalised in the T buffer
+# tb, one block per position; R (T_n summed over its first point, indexed by the code of its
+# last u-1 points) is normalised, which keeps the numbers in range along a row of any width.
+# Per-position functions take plain arrays, not the _Tables tuple: reading a tuple's field costs
+# a reference-count update each time, which would dominate the inner loops.
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _uniform(state):
     """SplitMix64: a tiny, explicit, machine-independent generator (state is one uint64)."""
     state[0] += np.uint64(0x9E3779B97F4A7C15)
@@ -218,43 +241,42 @@ def _find(codes, lo, n, key):
 
 
 @njit(cache=True, nogil=True)
-def _draw_first(t, state):
-    e = np.searchsorted(t.first_cum, _uniform(state) * t.first_cum[-1], side="right")
-    return min(e, len(t.first_cum) - 1)
+def _draw_first(first_cum, state):
+    e = np.searchsorted(first_cum, _uniform(state) * first_cum[-1], side="right")
+    return min(e, len(first_cum) - 1)
 
 
 @njit(cache=True, nogil=True)
 def _first_rows(out, t, state):
     """Rows 0..v-1: the horizontal chain of whole column states (first window from q)."""
     g, u, v = t.levels, t.u, t.v
+    first_q, first_cum, configs, pfx, pfx_entry = (t.first_q, t.first_cum, t.first_configs,
+                                                   t.pfx, t.pfx_entry)
     repairs = 0
-    e = _draw_first(t, state)
-    for i in range(v):
-        for j in range(u):
-            out[i, j] = t.first_configs[e, i, j]
+    e = _draw_first(first_cum, state)
+    out[:v, :u] = configs[e]
     for c in range(u, out.shape[1]):
         key = 0
         for i in range(v):
             for j in range(c - u + 1, c):
                 key = key * g + out[i, j]
-        p = _find(t.pfx_codes, 0, len(t.pfx_codes), key)
+        p = _find(pfx[CODE], 0, pfx.shape[1], key)
         if p < 0:  # a state the chain cannot leave (non-stationary DPJ): draw afresh
             repairs += 1
-            e = _draw_first(t, state)
+            e = _draw_first(first_cum, state)
         else:
-            lo, hi = t.pfx_start[p], t.pfx_end[p]
+            lo, hi = pfx[START, p], pfx[END, p]
             total = 0.0
             for k in range(lo, hi):
-                total += t.first_q[t.pfx_entry[k]]
+                total += first_q[pfx_entry[k]]
             x = _uniform(state) * total
-            e = t.pfx_entry[hi - 1]
+            e = pfx_entry[hi - 1]
             for k in range(lo, hi):
-                x -= t.first_q[t.pfx_entry[k]]
+                x -= first_q[pfx_entry[k]]
                 if x < 0.0:
-                    e = t.pfx_entry[k]
+                    e = pfx_entry[k]
                     break
-        for i in range(v):
-            out[i, c] = t.first_configs[e, i, u - 1]
+        out[:v, c] = configs[e, :, u - 1]
     return repairs
 
 
@@ -269,69 +291,59 @@ def _context(out, r, n, u, rows, g):
 
 
 @njit(cache=True, nogil=True)
-def _reserve(tbuf, used, extra):
-    if used + extra <= len(tbuf):
-        return tbuf
+def _reserve(tb, used, extra):
+    if used + extra <= len(tb):
+        return tb
     grown = np.empty(2 * (used + extra), np.float64)
-    grown[:used] = tbuf[:used]
+    grown[:used] = tb[:used]
     return grown
 
 
-@njit(cache=True, nogil=True)
-def _sample_row(out, r, strict, t, state, work):
-    """Draw row r given the rows above: forward filtering, backward sampling (digest §6).
+OK, DEAD_END, GROW = 0, 1, 2
 
-    Returns (ok, repairs). With ``strict`` only the full DPJ is used and a dead end returns
-    ok = False with row r untouched; otherwise positions back off to smaller contexts.
-    """
-    g, u, v = t.levels, t.u, t.v
-    big_r, pos_lo, pos_hi, pos_off = work.big_r, work.pos_lo, work.pos_hi, work.pos_off
-    npos = out.shape[1] - u + 1
-    repairs = 0
-    toff = 0
-    for n in range(npos):
-        total = 0.0
-        lo = hi = 0
-        for k in range(1 if strict else v):
-            ci = _find(t.ctx_codes, t.level_off[k], t.level_len[k],
-                       _context(out, r, n, u, v - 1 - k, g))
-            if ci < 0:
-                continue
-            lo, hi = t.ctx_start[ci], t.ctx_end[ci]
-            work.tbuf[0] = _reserve(work.tbuf[0], toff, hi - lo)
-            tb = work.tbuf[0]
-            for e in range(lo, hi):
-                x = t.q[e] if n == 0 else big_r[t.head[e]] * t.m[e]
-                tb[toff + e - lo] = x
-                total += x
-            if total > 0.0:
-                repairs += k > 0
+
+@njit(cache=True, nogil=True)
+def _chain_weights(tb, toff, lo, hi, big_r, head, m):
+    """T_n(e) = R(first u-1 points of e) · m(e)."""
+    total = 0.0
+    for e in range(lo, hi):
+        x = big_r[head[e]] * m[e]
+        tb[toff + e - lo] = x
+        total += x
+    return total
+
+
+@njit(cache=True, nogil=True)
+def _plain_weights(tb, toff, lo, hi, weight):
+    """T_n(e) = q(e) at a row's start or a restart, m(e) after fixed points."""
+    total = 0.0
+    for e in range(lo, hi):
+        tb[toff + e - lo] = weight[e]
+        total += weight[e]
+    return total
+
+
+@njit(cache=True, nogil=True)
+def _keep_fixed(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode):
+    """Zero the weight of entries disagreeing with the fixed points (outside [c0, c1))."""
+    total = 0.0
+    for e in range(lo, hi):
+        code = bcode[e]
+        for j in range(u - 1, -1, -1):
+            col = n + j
+            if (col < c0 or col >= c1) and out[r, col] != code % g:
+                tb[toff + e - lo] = 0.0
                 break
-        if total == 0.0:
-            if strict:
-                if n > 0:
-                    _clear(big_r, t.tail, pos_lo[n - 1], pos_hi[n - 1])
-                return False, 0
-            # nothing continues the row: restart the bottom-row chain here
-            ci = t.level_off[v - 1]
-            lo, hi = t.ctx_start[ci], t.ctx_end[ci]
-            work.tbuf[0] = _reserve(work.tbuf[0], toff, hi - lo)
-            tb = work.tbuf[0]
-            for e in range(lo, hi):
-                tb[toff + e - lo] = t.q[e]
-                total += t.q[e]
-            repairs += 1
-        if n > 0:
-            _clear(big_r, t.tail, pos_lo[n - 1], pos_hi[n - 1])
-        tb = work.tbuf[0]
-        inv = 1.0 / total
-        for e in range(lo, hi):
-            big_r[t.tail[e]] += tb[toff + e - lo] * inv
-        pos_lo[n], pos_hi[n], pos_off[n] = lo, hi, toff
-        toff += hi - lo
-    _clear(big_r, t.tail, pos_lo[npos - 1], pos_hi[npos - 1])
-    _backward(out, r, t, work, npos, state)
-    return True, repairs
+            code //= g
+        total += tb[toff + e - lo]
+    return total
+
+
+@njit(cache=True, nogil=True)
+def _accumulate(big_r, tail, tb, toff, lo, hi, scale):
+    """R(last u-1 points) += T_n(e) / sum T_n: the filter carried to the next position."""
+    for e in range(lo, hi):
+        big_r[tail[e]] += tb[toff + e - lo] * scale
 
 
 @njit(cache=True, nogil=True)
@@ -345,28 +357,60 @@ def _clear(big_r, tail, lo, hi):
 
 
 @njit(cache=True, nogil=True)
-def _backward(out, r, t, work, npos, state):
-    """Draw the last window from T, then each earlier point given the u-1 points after it."""
-    g, u = t.levels, t.u
-    gu1 = g ** (u - 1)
-    tb = work.tbuf[0]
-    n = npos - 1
-    e = _pick(tb, work.pos_off[n], work.pos_lo[n], work.pos_hi[n], state)
-    code = t.bcode[e]
-    for j in range(u - 1, -1, -1):
-        out[r, n + j] = code % g
-        code //= g
-    for n in range(npos - 2, -1, -1):
-        need = 0
-        for j in range(n + 1, n + u):
-            need = need * g + out[r, j]
-        lo, hi = work.pos_lo[n], work.pos_hi[n]
-        a = _lower_bound(t.rot, lo, hi, need * g)
-        b = _lower_bound(t.rot, a, hi, need * g + g)
-        off = work.pos_off[n] + a - lo
-        if a == b or _mass(tb, off, b - a) == 0.0:
-            a, b, off = lo, hi, work.pos_off[n]  # the far side was a restart: any point
-        out[r, n] = t.bcode[_pick(tb, off, a, b, state)] // gu1
+def _forward(out, r, n, n_first, c0, c1, lenient_at, t, work):
+    """The forward filter over row r from position n to the last window touching [c0, c1).
+
+    Positions before n must already be in ``work`` (a resumed pass). Returns (status, n,
+    repairs): OK, or DEAD_END / GROW at position n. Only at ``lenient_at`` may a position back
+    off to the DPJ marginal with fewer rows above, and at worst restart the bottom-row chain.
+    """
+    g, u, v, direct, lvl = t.levels, t.u, t.v, t.direct, t.lvl
+    head, tail, bcode = t.ient[HEAD], t.ient[TAIL], t.ient[BCODE]
+    q, m = t.fent[Q], t.fent[M]
+    code, start, end = t.ctx[CODE], t.ctx[START], t.ctx[END]
+    big_r, pos, inv, tb = work.big_r, work.pos, work.inv, work.tb[0]
+    n_last = min(out.shape[1] - u, c1 - 1)
+    repairs = 0
+    while n <= n_last:
+        toff = pos[TOFF, n]
+        total, lo, hi = 0.0, 0, 0
+        levels = v if n == lenient_at else 1
+        for k in range(levels + (n == lenient_at)):
+            restart = k == levels
+            key = 0 if restart else _context(out, r, n, u, v - 1 - k, g)
+            if k == 0 and len(direct):
+                ci = direct[key]
+            else:
+                kk = v - 1 if restart else k
+                ci = _find(code, lvl[OFF, kk], lvl[LEN, kk], key)
+            if ci < 0:
+                continue
+            lo, hi = start[ci], end[ci]
+            if toff + hi - lo > len(tb):
+                pos[HI, n] = toff + hi - lo  # the room needed
+                return GROW, n, repairs
+            if n == 0 or restart:
+                total = _plain_weights(tb, toff, lo, hi, q)
+            elif n == n_first:
+                total = _plain_weights(tb, toff, lo, hi, m)
+            else:
+                total = _chain_weights(tb, toff, lo, hi, big_r, head, m)
+            if n < c0 or n + u > c1:
+                total = _keep_fixed(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode)
+            if total > 0.0:
+                repairs += k > 0
+                break
+        if total == 0.0:
+            return DEAD_END, n, repairs
+        if n > n_first:
+            _clear(big_r, tail, pos[LO, n - 1], pos[HI, n - 1])
+        pos[LO, n], pos[HI, n], inv[n] = lo, hi, 1.0 / total
+        _accumulate(big_r, tail, tb, toff, lo, hi, 1.0 / total)
+        if n + 1 < pos.shape[1]:
+            pos[TOFF, n + 1] = toff + hi - lo
+        n += 1
+    _clear(big_r, tail, pos[LO, n_last], pos[HI, n_last])
+    return OK, n_last, repairs
 
 
 @njit(cache=True, nogil=True)
@@ -392,47 +436,140 @@ def _pick(tb, off, lo, hi, state):
     return last
 
 
+@njit(cache=True, nogil=True)
+def _backward(out, r, n_last, c0, t, work, state):
+    """Draw the last window from T, then each earlier new point given the u-1 points after it."""
+    g, u, bcode, rot = t.levels, t.u, t.ient[BCODE], t.ient[ROT]
+    pos, tb = work.pos, work.tb[0]
+    gu1 = g ** (u - 1)
+    code = bcode[_pick(tb, pos[TOFF, n_last], pos[LO, n_last], pos[HI, n_last], state)]
+    for j in range(u - 1, -1, -1):  # fixed points among these agree: _keep_fixed saw to it
+        out[r, n_last + j] = code % g
+        code //= g
+    for n in range(n_last - 1, c0 - 1, -1):
+        need = 0
+        for j in range(n + 1, n + u):
+            need = need * g + out[r, j]
+        lo, hi = pos[LO, n], pos[HI, n]
+        a = _lower_bound(rot, lo, hi, need * g)
+        b = _lower_bound(rot, a, hi, need * g + g)
+        off = pos[TOFF, n] + a - lo
+        if a == b or _mass(tb, off, b - a) == 0.0:
+            a, b, off = lo, hi, pos[TOFF, n]  # the far side was a restart: any point
+        out[r, n] = bcode[_pick(tb, off, a, b, state)] // gu1
+
+
 class _Work(NamedTuple):
-    big_r: np.ndarray
-    tbuf: list
-    pos_lo: np.ndarray
-    pos_hi: np.ndarray
-    pos_off: np.ndarray
+    big_r: np.ndarray     # R, indexed by the code of u-1 points
+    pos: np.ndarray       # (3, positions) int64: LO, HI entries weighed, TOFF of their T in tb
+    inv: np.ndarray       # per position: 1 / sum T_n
+    tb: list              # the T buffer, in a list so it can grow in place
+    saved: np.ndarray     # rows above as they were, to restore after a failed redraw
+
+
+@njit(cache=True, nogil=True)
+def _new_work(g, u, w, depth):
+    npos = w - u + 1
+    return _Work(np.zeros(g ** (u - 1), np.float64), np.zeros((3, npos), np.int64),
+                 np.zeros(npos, np.float64), [np.empty(npos * 8, np.float64)],
+                 np.empty((depth, w), np.uint8))
+
+
+@njit(cache=True, nogil=True)
+def _run(out, r, n, n_first, c0, c1, lenient_at, t, work):
+    """_forward, growing the T buffer as often as it asks."""
+    while True:
+        status, n, repairs = _forward(out, r, n, n_first, c0, c1, lenient_at, t, work)
+        if status != GROW:
+            return status, n, repairs
+        pos = work.pos
+        work.tb[0] = _reserve(work.tb[0], pos[TOFF, n], pos[HI, n] - pos[TOFF, n])
+
+
+@njit(cache=True, nogil=True)
+def _redraw_segment(out, r, c0, c1, t, work, state):
+    """Redraw row r on columns [c0, c1) from its exact law given everything around it.
+
+    Returns ok; on a dead end the row is left untouched.
+    """
+    n_first = max(0, c0 - t.u + 1)
+    work.pos[TOFF, n_first] = 0
+    status, n, _ = _run(out, r, n_first, n_first, c0, c1, -1, t, work)
+    if status == DEAD_END:
+        if n > n_first:
+            _clear(work.big_r, t.ient[TAIL], work.pos[LO, n - 1], work.pos[HI, n - 1])
+        return False
+    _backward(out, r, n, max(c0, n_first), t, work, state)
+    return True
+
+
+@njit(cache=True, nogil=True)
+def _redraw_above(out, r, n, tries, t, seg, state):
+    """A dead end at position n of row r: redraw a segment of the rows above around n, wider
+    and deeper as tries fail. Returns the first column changed, or -1 if nothing changed."""
+    u = t.u
+    depth = min(1 + tries // 4, MAX_REDRAW_DEPTH, r - t.v + 1)
+    half = u * (2 + 2 * (tries // 4))
+    c0, c1 = max(0, n - half), min(out.shape[1], n + u + half)
+    seg.saved[:depth, c0:c1] = out[r - depth:r, c0:c1]
+    for ra in range(r - depth, r):
+        if not _redraw_segment(out, ra, c0, c1, t, seg, state):
+            out[r - depth:r, c0:c1] = seg.saved[:depth, c0:c1]
+            return -1
+    return c0
+
+
+@njit(cache=True, nogil=True)
+def _draw_row(out, r, t, work, seg, state, max_redraws):
+    """Draw row r given the v-1 rows above it. Returns (repairs, redraws).
+
+    A dead end at position n redraws the rows above around n and resumes the forward pass just
+    before the redrawn columns (the filter there is unchanged); after ``max_redraws`` failed
+    tries at the same place, that position backs off instead.
+    """
+    u, w = t.u, out.shape[1]
+    tail, pos = t.ient[TAIL], work.pos
+    repairs = redraws = tries = 0
+    n, lenient_at, frontier = 0, -1, -1
+    pos[TOFF, 0] = 0
+    while True:
+        status, n, rep = _run(out, r, n, 0, 0, w, lenient_at, t, work)
+        repairs += rep
+        if status == OK:
+            break
+        if n > frontier:  # a dead end further along the row: a fresh budget of tries
+            frontier, tries = n, 0
+        if tries >= max_redraws or t.v == 1:
+            lenient_at = n  # resume at n (R still holds the filter of n - 1), backing off
+            continue
+        c0 = _redraw_above(out, r, n, tries, t, seg, state)
+        tries += 1
+        redraws += 1
+        resume = n if c0 < 0 else max(0, min(n, c0 - u + 1))
+        if n > 0:  # R back to the filter just before the resumed position
+            _clear(work.big_r, tail, pos[LO, n - 1], pos[HI, n - 1])
+        if resume > 0:
+            p = resume - 1
+            _accumulate(work.big_r, tail, work.tb[0], pos[TOFF, p], pos[LO, p], pos[HI, p],
+                        work.inv[p])
+        n = resume
+    _backward(out, r, w - u, 0, t, work, state)
+    return repairs, redraws
 
 
 @njit(cache=True, nogil=True)
 def _sample_rows(out, r0, r1, t, state, max_redraws):
     """Rows r0..r1-1 (the first call, r0 = 0, also draws the first v rows)."""
     w = out.shape[1]
-    npos = w - t.u + 1
-    work = _Work(np.zeros(t.levels ** (t.u - 1), np.float64), [np.empty(npos * 8, np.float64)],
-                 np.empty(npos, np.int64), np.empty(npos, np.int64), np.empty(npos, np.int64))
-    saved = np.empty((MAX_REDRAW_DEPTH, w), np.uint8)
+    work = _new_work(t.levels, t.u, w, 1)
+    seg = _new_work(t.levels, t.u, w, MAX_REDRAW_DEPTH)
     repairs = redraws = 0
     start = r0
     if r0 == 0:
         repairs += _first_rows(out, t, state)
         start = t.v
     for r in range(start, r1):
-        ok, rep = _sample_row(out, r, True, t, state, work)
-        tries = 0
-        while not ok and tries < max_redraws and t.v > 1:
-            # redraw the rows above, going deeper as tries fail (row v-1 is the highest one
-            # that has v-1 rows above it)
-            depth = min(1 + tries // 4, MAX_REDRAW_DEPTH, r - t.v + 1)
-            tries += 1
-            redraws += 1
-            saved[:depth] = out[r - depth:r]
-            ok = True
-            for ra in range(r - depth, r):
-                ok, rep = _sample_row(out, ra, True, t, state, work)
-                if not ok:
-                    break
-            if not ok:
-                out[r - depth:r] = saved[:depth]
-                continue
-            ok, rep = _sample_row(out, r, True, t, state, work)
-        if not ok:
-            ok, rep = _sample_row(out, r, False, t, state, work)
-            repairs += rep
+        rep, red = _draw_row(out, r, t, work, seg, state, max_redraws)
+        repairs += rep
+        redraws += red
     return repairs, redraws
