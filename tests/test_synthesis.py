@@ -94,6 +94,39 @@ def test_one_row_follows_the_exact_conditional_law_given_the_rows_above():
     assert chisquare(observed, expected).pvalue > 1e-3
 
 
+def test_a_redrawn_segment_follows_its_exact_law_given_everything_around_it():
+    """Dead ends are repaired by redrawing a segment of the rows above: that segment must be
+    drawn from its conditional law given the points left and right of it and the rows above."""
+    g, u, v, w, c0, c1 = 2, 2, 2, 7, 2, 5
+    configs = np.array(list(itertools.product(range(g), repeat=u * v)), np.uint8).reshape(-1, v, u)
+    q = np.random.default_rng(3).random(len(configs)) ** 2
+    dpj = DPJ(configs, q / q.sum(), g)
+    mu = dpj.marginal(cols=slice(0, u - 1))
+    above = np.array([1, 0, 0, 1, 1, 0, 1], np.uint8)
+    row = np.array([0, 1, 9, 9, 9, 1, 0], np.uint8)  # 9: the points to redraw
+
+    exact = {}
+    for seg in itertools.product(range(g), repeat=c1 - c0):
+        full = np.vstack([above, np.concatenate([row[:c0], seg, row[c1:]])]).astype(np.uint8)
+        p = 1.0
+        for n in range(max(1, c0 - u + 1), c1):  # the chain factors that involve the segment
+            p *= dpj.prob(full[:, n:n + u]) / mu.prob(full[:, n:n + u - 1])
+        exact[seg] = p
+    z = sum(exact.values())
+    tables, state = synthesis._tables(dpj), np.array([77], np.uint64)
+    work = synthesis._new_work(g, u, w, 1)
+    out, counts, draws = np.zeros((2, w), np.uint8), {}, 20000
+    for _ in range(draws):
+        out[0], out[1] = above, row
+        assert synthesis._redraw_segment(out, 1, c0, c1, tables, work, state)
+        assert np.array_equal(out[1, :c0], row[:c0]) and np.array_equal(out[1, c1:], row[c1:])
+        key = tuple(out[1, c0:c1])
+        counts[key] = counts.get(key, 0) + 1
+    keys = [k for k in exact if exact[k] > 0]
+    observed = [counts.get(k, 0) for k in keys]
+    assert chisquare(observed, [draws * exact[k] / z for k in keys]).pvalue > 1e-3
+
+
 def test_checkerboard_dpj_gives_a_perfect_checkerboard():
     configs = np.array([[[0, 1], [1, 0]], [[1, 0], [0, 1]]], np.uint8)
     out = synthesize(DPJ(configs, [0.5, 0.5], 2), (37, 53), seed=3).levels
