@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -153,6 +154,9 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:
         print(f"texeditor: error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # `texeditor dpj-info X | head`: the reader left, not an error
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
     except KeyboardInterrupt:
         print("texeditor: interrupted", file=sys.stderr)
         return 130
