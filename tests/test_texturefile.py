@@ -1,5 +1,6 @@
 """The `.texture` file: round trips, and truncated, corrupted or hostile files (issue 3)."""
 
+import io
 import json
 import os
 import struct
@@ -289,6 +290,25 @@ def test_log_using_a_dpj_the_file_lacks(tmp_path):
 def test_damaged_dpj_member(saved, tmp_path):
     path = replace_member(saved, tmp_path, "dpj.npz", b"PK\x03\x04 garbage")
     with pytest.raises(FormatError, match="dpj.npz"):
+        tf.load_texture(path)
+
+
+def npy_header(shape, dtype) -> bytes:
+    buf = io.BytesIO()
+    np.lib.format.write_array_header_1_0(buf, {"descr": np.lib.format.dtype_to_descr(
+        np.dtype(dtype)), "fortran_order": False, "shape": shape})
+    return buf.getvalue()
+
+
+def test_dpj_member_declaring_huge_arrays(saved, tmp_path):
+    """An .npy header may declare terabytes: refused before numpy allocates anything."""
+    inner = io.BytesIO()
+    with zipfile.ZipFile(inner, "w") as zf:
+        zf.writestr("configs.npy", npy_header((10**12, 2, 2), "u1"))
+        zf.writestr("probs.npy", npy_header((10**12,), "<f8"))
+        zf.writestr("meta.npy", npy_header((), "<U10") + b"x" * 40)
+    path = replace_member(saved, tmp_path, "dpj.npz", inner.getvalue())
+    with pytest.raises(FormatError, match="declares"):
         tf.load_texture(path)
 
 
