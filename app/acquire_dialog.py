@@ -136,7 +136,7 @@ class AcquireDialog(QtWidgets.QDialog):
         try:
             image = load_image(path)
         except TexeditorError as exc:
-            self.image = None
+            self.image, self.dpj = None, None
             self.photo_view.clear()
             self.levels_view.clear()
             self.photo_view.setText("cannot read this file")

@@ -73,12 +73,16 @@ class FileOps:
         ev.accept()
 
     # -- new and open -------------------------------------------------------------------------------
-    def new_document(self) -> None:
+    def new_document(self) -> NewDialog:
+        """Ask for size and G (window-modal, without a nested event loop), then create."""
         doc = self.history.document if self.history is not None else None
         h, w = doc.shape if doc is not None and doc.levels.size else (256, 256)
         dialog = NewDialog(w, h, doc.num_levels if doc is not None else 4, self)
-        if dialog.exec() == QtWidgets.QDialog.DialogCode.Accepted:
-            self.create_document(*dialog.values())
+        dialog.accepted.connect(lambda: self.create_document(*dialog.values()))
+        dialog.finished.connect(dialog.deleteLater)
+        self.new_dialog = dialog
+        dialog.open()
+        return dialog
 
     def create_document(self, width: int, height: int, levels: int) -> bool:
         """A new History on a blank canvas; the current DPJ is kept so Synthesise still works."""

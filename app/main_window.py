@@ -297,13 +297,14 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
                             "Edit cancelled: the history is unchanged.", 8000),
                         on_error=lambda exc: self.show_error("Cannot apply this edit", exc))
 
-    def acquire(self) -> None:
-        dialog = self.make_acquire_dialog()
-        if dialog.exec() == QtWidgets.QDialog.DialogCode.Accepted:
-            self.use_acquired(dialog)
-
-    def make_acquire_dialog(self) -> AcquireDialog:
-        return AcquireDialog(resources.sample_images(), self)
+    def acquire(self) -> AcquireDialog:
+        """Open the acquisition dialog (window-modal, without a nested event loop)."""
+        dialog = AcquireDialog(resources.sample_images(), self)
+        dialog.accepted.connect(lambda: self.use_acquired(dialog))
+        dialog.finished.connect(dialog.deleteLater)
+        self.acquire_dialog = dialog
+        dialog.open()
+        return dialog
 
     def use_acquired(self, dialog: AcquireDialog) -> None:
         """The acquired DPJ becomes the current one (and is synthesised if asked)."""

@@ -1,0 +1,234 @@
+"""The main window driven like a user would: keys, clicks, the wheel; asserts are on the document."""
+
+import numpy as np
+import pytest
+from PySide6 import QtCore, QtWidgets
+
+from texeditor.actions import SetPalette, Synthesize
+
+from .events import wheel
+
+CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
+SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier
+LEFT = QtCore.Qt.MouseButton.LeftButton
+
+
+def type_into(qtbot, widget, text):
+    """Select all in a spin box or line edit with the keyboard and type a new value."""
+    widget.setFocus()
+    qtbot.keyClick(widget, QtCore.Qt.Key.Key_A, CTRL)
+    qtbot.keyClicks(widget, text)
+
+
+def test_starts_on_a_synthesis_from_the_dpj(window):
+    doc = window.history.document
+    assert doc.shape == (48, 64)
+    assert isinstance(window.history.actions[0], Synthesize)
+    assert window.canvas.levels.shape == (48, 64)
+    assert "repairs" in window.repairs_label.text()
+
+
+def test_synthesise_button_applies_a_synthesize_action(qtbot, window):
+    dock = window.synthesis_dock
+    type_into(qtbot, dock.width_box, "80")
+    type_into(qtbot, dock.height_box, "40")
+    type_into(qtbot, dock.seed.edit, "12345")
+    qtbot.mouseClick(dock.button, LEFT)
+    assert window.runner.wait(60_000)
+    doc = window.history.document
+    assert doc.shape == (40, 80)
+    last = window.history.actions[-1]
+    assert isinstance(last, Synthesize) and last.seed == 12345
+    assert np.array_equal(window.canvas.levels, doc.levels)
+    assert "repairs" in window.statusBar().currentMessage()
+
+
+def test_new_seed_button_gives_another_texture(qtbot, window):
+    before = window.history.document.levels.copy()
+    qtbot.mouseClick(window.synthesis_dock.seed.button, LEFT)
+    assert window.synthesis_dock.seed.value() != 7
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_R, CTRL)
+    assert window.runner.wait(60_000)
+    assert not np.array_equal(before, window.history.document.levels)
+
+
+def test_cancel_midway_leaves_the_document_unchanged(qtbot, window):
+    before = window.history.document.levels.copy()
+    steps = len(window.history.actions)
+    dock = window.synthesis_dock
+    dock.width_box.setValue(2048)
+    dock.height_box.setValue(2048)
+    seen = []
+    window.runner.progress.connect(seen.append)
+    with qtbot.waitSignal(window.runner.progress, timeout=30_000):
+        qtbot.mouseClick(dock.button, LEFT)
+    assert window.cancel_button.isVisible() and not dock.button.isEnabled()
+    qtbot.mouseClick(window.cancel_button, LEFT)
+    assert window.runner.wait(30_000)
+    assert seen and seen[-1] < 1.0               # it really stopped midway
+    assert len(window.history.actions) == steps
+    assert np.array_equal(window.history.document.levels, before)
+    assert "cancelled" in window.statusBar().currentMessage()
+    assert not window.cancel_button.isVisible() and dock.button.isEnabled()
+
+
+def test_escape_cancels(qtbot, window):
+    steps = len(window.history.actions)
+    window.synthesis_dock.width_box.setValue(2048)
+    window.synthesis_dock.height_box.setValue(2048)
+    with qtbot.waitSignal(window.runner.progress, timeout=30_000):
+        qtbot.keyClick(window, QtCore.Qt.Key.Key_R, CTRL)
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Escape)
+    assert window.runner.wait(30_000)
+    assert len(window.history.actions) == steps
+
+
+def test_undo_redo_with_keys_and_history_clicks(qtbot, window):
+    first = window.history.document.levels.copy()
+    window.synthesis_dock.seed.set_value(99)
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_R, CTRL)
+    assert window.runner.wait(60_000)
+    second = window.history.document.levels.copy()
+    assert not np.array_equal(first, second)
+
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Z, CTRL)
+    assert np.array_equal(window.history.document.levels, first)
+    assert np.array_equal(window.canvas.levels, first)
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Z, CTRL)        # the base step stays
+    assert window.history.index == 1
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Z, CTRL | SHIFT)
+    assert np.array_equal(window.history.document.levels, second)
+
+    view = window.history_dock.view
+    qtbot.mouseClick(view.viewport(), LEFT, pos=window.history_dock.row_rect(0).center())
+    assert window.history.index == 1
+    assert np.array_equal(window.canvas.levels, first)
+    qtbot.mouseClick(view.viewport(), LEFT, pos=window.history_dock.row_rect(1).center())
+    assert window.history.index == 2
+    assert np.array_equal(window.canvas.levels, second)
+
+
+def test_edit_a_past_seed_and_replay(qtbot, window):
+    # step 1: the synthesis (seed 7); step 2: a palette change that must survive the replay
+    red = np.array([[0, 0, 0], [200, 0, 0], [0, 200, 0], [0, 0, 200]], np.uint8)
+    window.submit(SetPalette(red))
+    before = window.canvas.levels.copy()
+    dock = window.history_dock
+    qtbot.mouseClick(dock.view.viewport(), LEFT, pos=dock.row_rect(0).center())
+    assert dock.group.title().startswith("Step 1")
+    assert not dock.apply_button.isEnabled()
+    window.history.redo()                              # stand at the end again; edit step 1
+    dock.selected_step = 0
+    dock.refresh()
+    type_into(qtbot, dock.form.editor("seed").edit, "4242")
+    assert dock.apply_button.isEnabled()
+    qtbot.mouseClick(dock.apply_button, LEFT)
+    assert window.runner.wait(60_000)
+    history = window.history
+    assert history.actions[0].seed == 4242
+    assert isinstance(history.actions[1], SetPalette) and history.index == 2
+    assert not np.array_equal(window.canvas.levels, before)
+    assert np.array_equal(history.document.palette, red)
+    assert window.canvas.displayed_colour(0, 0) == tuple(red[history.document.levels[0, 0]])
+
+
+def test_wheel_zoom_and_keyboard_zoom(qtbot, window):
+    canvas = window.canvas
+    canvas.fit()
+    fitted = canvas.zoom()
+    wheel(canvas.viewport(), QtCore.QPoint(100, 100), 2)
+    assert canvas.zoom() > fitted * 1.3
+    assert "zoom" in window.zoom_label.text()
+    canvas.setFocus()
+    qtbot.keyClick(canvas, QtCore.Qt.Key.Key_0)
+    assert abs(canvas.zoom() - fitted) / fitted < 0.02
+    qtbot.keyClick(canvas, QtCore.Qt.Key.Key_Plus)
+    assert canvas.zoom() > fitted * 1.3
+    qtbot.keyClick(canvas, QtCore.Qt.Key.Key_Minus)
+    assert abs(canvas.zoom() - fitted) / fitted < 0.02
+    qtbot.keyClick(canvas, QtCore.Qt.Key.Key_1)
+    assert abs(canvas.zoom() - 1.0) < 0.01
+
+
+def test_tiled_preview_toggle(qtbot, window):
+    canvas = window.canvas
+    canvas.setFocus()
+    qtbot.keyClick(canvas, QtCore.Qt.Key.Key_W)
+    assert canvas.tiled and canvas.echo.isVisible() and window.act_tiled.isChecked()
+    assert canvas.view.viewRect().width() >= 3 * 64
+    button = window.findChild(QtWidgets.QToolBar).widgetForAction(window.act_tiled)
+    qtbot.mouseClick(button, LEFT)
+    assert not canvas.tiled and not canvas.echo.isVisible()
+
+
+def test_status_bar_follows_the_cursor(qtbot, window):
+    canvas = window.canvas
+    scene = canvas.view.mapViewToScene(QtCore.QPointF(10.5, 5.5))
+    qtbot.mouseMove(canvas.viewport(), canvas.mapFromScene(scene))
+    qtbot.waitUntil(lambda: window.cursor_label.text() == "x 10, y 5")
+    level = window.history.document.levels[5, 10]
+    assert window.level_label.text() == f"level {level}"
+
+
+def test_acquire_from_a_photo(qtbot, window, photo_path):
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_I, CTRL)
+    dialog = window.acquire_dialog
+    qtbot.waitExposed(dialog)
+    assert dialog.path == photo_path and dialog.dpj is not None
+    type_into(qtbot, dialog.u, "2")
+    type_into(qtbot, dialog.v, "2")
+    type_into(qtbot, dialog.levels, "5")
+    dialog.method.setFocus()
+    qtbot.keyClick(dialog.method, QtCore.Qt.Key.Key_Down)   # Lloyd–Max
+    qtbot.mouseClick(dialog.wrap, LEFT)
+    dialog.recompute()
+    assert dialog.dpj.window == (2, 2) and dialog.dpj.levels == 5
+    assert dialog.dpj.meta["quantiser"] == "lloyd" and dialog.dpj.meta["wrap"] is True
+    assert "non-zero configurations" in dialog.info.text()
+    assert f"{len(dialog.dpj):,}" in dialog.info.text()
+    assert not dialog.photo_view.pixmap().isNull() and not dialog.levels_view.pixmap().isNull()
+    acquired = dialog.dpj
+    qtbot.mouseClick(dialog.ok_button, LEFT)
+    assert window.runner.wait(60_000)
+    doc = window.history.document
+    assert doc.dpj == acquired
+    assert doc.num_levels == 5 and doc.levels.max() < 5
+    assert isinstance(window.history.actions[-1], Synthesize)
+    assert "2×2" in window.synthesis_dock.dpj_label.text()
+
+
+def test_acquire_refuses_an_unreadable_file_in_place(qtbot, window, tmp_path, monkeypatch):
+    bad = tmp_path / "not-a-photo.png"
+    bad.write_bytes(b"hello")
+    dialog = window.acquire()
+    monkeypatch.setattr(QtWidgets.QFileDialog, "getOpenFileName", lambda *a, **k: (str(bad), ""))
+    qtbot.mouseClick(dialog.browse, LEFT)
+    assert dialog.dpj is None and not dialog.ok_button.isEnabled()
+    assert "not-a-photo" in dialog.info.text()
+    dialog.reject()
+
+
+def test_new_document_dialog(qtbot, window):
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_N, CTRL)
+    dialog = window.new_dialog
+    type_into(qtbot, dialog.width_box, "30")
+    type_into(qtbot, dialog.height_box, "20")
+    type_into(qtbot, dialog.levels_box, "4")
+    qtbot.keyClick(dialog, QtCore.Qt.Key.Key_Return)
+    doc = window.history.document
+    assert doc.shape == (20, 30) and not doc.levels.any()
+    assert len(window.history.actions) == 1
+    assert doc.dpj is not None            # the DPJ carries over: Synthesise still works
+
+
+@pytest.mark.parametrize("answer, closes", [("Cancel", False), ("Discard", True)])
+def test_unsaved_changes_prompt_on_close(qtbot, window, monkeypatch, answer, closes):
+    window.submit(SetPalette(np.full((4, 3), 50, np.uint8)))
+    assert window.is_modified() and window.windowTitle().startswith("Untitled*")
+    asked = []
+    button = getattr(QtWidgets.QMessageBox.StandardButton, answer)
+    monkeypatch.setattr(QtWidgets.QMessageBox, "question",
+                        lambda *a, **k: asked.append(a) or button)
+    assert window.close() is closes
+    assert asked
+    assert window.isVisible() is not closes
