@@ -12,6 +12,7 @@ from texeditor.actions import replace_params
 from texeditor.errors import TexeditorError
 
 from .params_form import ParamsForm
+from .widgets import scrolled
 
 
 class LogModel(QtCore.QAbstractListModel):
@@ -96,7 +97,7 @@ class HistoryDock(QtWidgets.QDockWidget):
 
         splitter = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)
         splitter.addWidget(self.view)
-        splitter.addWidget(self.group)
+        splitter.addWidget(scrolled(self.group))
         splitter.setStretchFactor(0, 2)
         splitter.setStretchFactor(1, 1)
         self.setWidget(splitter)

@@ -10,6 +10,8 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from .widgets import scrolled
+
 SWATCH = 34        # pixels per swatch side
 COLUMNS = 8        # swatches per row (G ≤ 16: at most two rows)
 COMMIT_DELAY_MS = 350
@@ -131,7 +133,7 @@ class PaletteDock(QtWidgets.QDockWidget):
         form.addRow(self.reset_button)
         layout.addWidget(group)
         layout.addStretch(1)
-        self.setWidget(body)
+        self.setWidget(scrolled(body))
 
         self._commit_timer = QtCore.QTimer(self, singleShot=True, interval=COMMIT_DELAY_MS)
         self._commit_timer.timeout.connect(self._commit_grey_scale)

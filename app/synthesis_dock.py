@@ -11,6 +11,7 @@ from PySide6 import QtCore, QtWidgets
 from texeditor.actions import MAX_CANVAS_SIDE
 
 from .params_form import SeedEdit, dpj_summary
+from .widgets import scrolled
 
 DEFAULT_SIZE = 256
 DEFAULT_SEED = 1984
@@ -42,7 +43,7 @@ class SynthesisDock(QtWidgets.QDockWidget):
         form.addRow("Size", size_row)
         form.addRow("Seed", self.seed)
         form.addRow(self.button)
-        self.setWidget(body)
+        self.setWidget(scrolled(body))
         self.set_dpj(None)
 
     def _side(self) -> QtWidgets.QSpinBox:

@@ -36,3 +36,9 @@ def drag(widget, button, a, b, steps: int = 5) -> None:
         QtTest.QTest.qWait(25)
         mouse(widget, Type.MouseMove, p, none, button)
     mouse(widget, Type.MouseButtonRelease, QtCore.QPoint(*b), button, none)
+
+
+def move(widget, pos: QtCore.QPoint) -> None:
+    """The mouse moves over a widget with no button held (hover)."""
+    none = QtCore.Qt.MouseButton.NoButton
+    mouse(widget, QtCore.QEvent.Type.MouseMove, pos, none, none)

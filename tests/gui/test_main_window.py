@@ -6,7 +6,7 @@ from PySide6 import QtCore, QtWidgets
 
 from texeditor.actions import SetPalette, Synthesize
 
-from .events import wheel
+from .events import move, wheel
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier
@@ -163,8 +163,11 @@ def test_tiled_preview_toggle(qtbot, window):
 
 def test_status_bar_follows_the_cursor(qtbot, window):
     canvas = window.canvas
-    scene = canvas.view.mapViewToScene(QtCore.QPointF(10.5, 5.5))
-    qtbot.mouseMove(canvas.viewport(), canvas.mapFromScene(scene))
+    qtbot.wait(50)                       # let the layout and the view range settle
+    target = canvas.mapFromScene(canvas.view.mapViewToScene(QtCore.QPointF(10.5, 5.5)))
+    move(canvas.viewport(), target + QtCore.QPoint(40, 40))
+    qtbot.wait(40)                       # pyqtgraph drops moves closer than its rate limit
+    move(canvas.viewport(), target)
     qtbot.waitUntil(lambda: window.cursor_label.text() == "x 10, y 5")
     level = window.history.document.levels[5, 10]
     assert window.level_label.text() == f"level {level}"

@@ -1,0 +1,140 @@
+"""Files (save, reopen, recent, export, errors) and the palette dock, through the real widgets."""
+
+import numpy as np
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from app.files import recent_files
+from app.main import run
+from texeditor.actions import SetPalette
+
+CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
+LEFT = QtCore.Qt.MouseButton.LeftButton
+
+
+def choose(monkeypatch, name, path):
+    monkeypatch.setattr(QtWidgets.QFileDialog, name, lambda *a, **k: (str(path), ""))
+
+
+def test_save_then_reopen_gives_the_same_matrix(qtbot, window, tmp_path, monkeypatch):
+    window.submit(SetPalette(np.array([[9, 9, 9], [90, 0, 0], [0, 90, 0], [0, 0, 90]], np.uint8)))
+    levels = window.history.document.levels.copy()
+    palette = window.history.document.palette.copy()
+    actions = window.history.actions
+    target = tmp_path / "my texture"                       # the suffix is added
+    choose(monkeypatch, "getSaveFileName", target)
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_S, CTRL)
+    saved = tmp_path / "my texture.texture"
+    assert saved.exists() and window.path == saved
+    assert not window.is_modified() and "*" not in window.windowTitle()
+    assert recent_files()[0] == str(saved.resolve())
+
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_N, CTRL)       # a blank canvas in between
+    qtbot.keyClick(window.new_dialog, QtCore.Qt.Key.Key_Return)
+    assert not window.history.document.levels.any()
+
+    choose(monkeypatch, "getOpenFileName", saved)
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_O, CTRL)
+    assert window.runner.wait(60_000)
+    doc = window.history.document
+    assert np.array_equal(doc.levels, levels) and np.array_equal(doc.palette, palette)
+    assert window.history.actions == actions
+    assert np.array_equal(window.canvas.levels, levels)
+    assert window.path == saved and not window.errors
+
+
+def test_open_recent_menu(qtbot, window, tmp_path):
+    path = tmp_path / "a.texture"
+    assert window.save_to(path)
+    window._fill_recent_menu()
+    entries = [a for a in window.recent_menu.actions() if a.text() == "a.texture"]
+    assert entries
+    window.submit(SetPalette(np.zeros((4, 3), np.uint8)))
+    window.mark_clean()
+    entries[0].trigger()
+    assert window.runner.wait(60_000)
+    assert window.path == path and window.history.document.palette.any()
+
+
+def test_a_damaged_file_is_a_dialog_and_the_document_stays(qtbot, window, tmp_path):
+    bad = tmp_path / "bad.texture"
+    bad.write_bytes(b"PK\x03\x04 not really a zip")
+    before = window.history.document.levels.copy()
+    steps = window.history.actions
+    window.open_file(bad)
+    assert window.runner.wait(60_000)
+    assert window.errors and "bad.texture" in window.errors[-1][0]
+    assert window.history.actions == steps
+    assert np.array_equal(window.history.document.levels, before)
+    assert window.path is None
+
+
+def test_saving_to_an_impossible_place_is_a_dialog(window, tmp_path):
+    assert not window.save_to(tmp_path / "no-such-folder" / "x.texture")
+    assert window.errors and window.path is None
+
+
+def test_export_png_with_upscale(qtbot, window, tmp_path, monkeypatch):
+    choose(monkeypatch, "getSaveFileName", tmp_path / "out.png")
+    monkeypatch.setattr(QtWidgets.QInputDialog, "getInt", lambda *a, **k: (3, True))
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_E, CTRL)
+    image = QtGui.QImage(str(tmp_path / "out.png"))
+    assert (image.width(), image.height()) == (64 * 3, 48 * 3)
+    doc = window.history.document
+    for x, y in ((0, 0), (10, 7), (63, 47)):
+        expected = tuple(int(c) for c in doc.palette[doc.levels[y, x]])
+        colour = image.pixelColor(3 * x + 1, 3 * y + 2)
+        assert (colour.red(), colour.green(), colour.blue()) == expected
+
+
+def test_swatch_click_selects_and_double_click_edits_the_colour(qtbot, window, monkeypatch):
+    dock = window.palette_dock
+    bar = dock.swatches
+    qtbot.mouseClick(bar, LEFT, pos=bar.swatch_rect(2).center())
+    assert dock.current_level == 2 and "level 2" in dock.current_label.text()
+    monkeypatch.setattr(QtWidgets.QColorDialog, "getColor",
+                        lambda *a, **k: QtGui.QColor(250, 10, 20))
+    old = window.history.document.palette.copy()
+    qtbot.mouseDClick(bar, LEFT, pos=bar.swatch_rect(3).center())
+    doc = window.history.document
+    assert tuple(doc.palette[3]) == (250, 10, 20)
+    assert isinstance(window.history.actions[-1], SetPalette)
+    y, x = np.argwhere(doc.levels == 3)[0]
+    assert window.canvas.displayed_colour(x, y) == (250, 10, 20)
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Z, CTRL)
+    assert np.array_equal(window.history.document.palette, old)
+    assert tuple(bar.palette_rgb[3]) == tuple(old[3])
+
+
+def test_grey_scale_sliders_preview_then_commit_one_action(qtbot, window):
+    dock = window.palette_dock
+    steps = len(window.history.actions)
+    dock.lightest.setFocus()
+    for _ in range(5):
+        qtbot.keyClick(dock.lightest, QtCore.Qt.Key.Key_PageDown)
+    assert len(window.history.actions) == steps                  # still settling: preview only
+    qtbot.waitUntil(lambda: len(window.history.actions) == steps + 1, timeout=3000)
+    palette = window.history.document.palette
+    assert palette[-1, 0] == dock.lightest.value() and palette[0, 0] == dock.darkest.value()
+    dock.contrast.setValue(60)
+    qtbot.waitUntil(lambda: len(window.history.actions) == steps + 2, timeout=3000)
+    greys = window.history.document.palette[:, 0].astype(int)
+    assert np.all(np.diff(greys) > 0)
+    qtbot.mouseClick(dock.reset_button, LEFT)
+    assert window.history.document.palette[0, 0] == 0
+    assert window.history.document.palette[-1, 0] == 255
+
+
+def test_screenshot_entry_point(tmp_path, qapp):
+    out = tmp_path / "shot.png"
+    assert run(["--screenshot", str(out), "--size", "900x600"]) == 0
+    image = QtGui.QImage(str(out))
+    assert (image.width(), image.height()) == (900, 600)
+
+
+def test_screenshot_of_an_opened_file(tmp_path, qapp, window):
+    path = tmp_path / "x.texture"
+    assert window.save_to(path)
+    out = tmp_path / "shot.png"
+    assert run(["--screenshot", str(out), "--open", str(path)]) == 0
+    assert out.exists()
+    assert run(["--screenshot", str(out), "--open", str(tmp_path / "missing.texture")]) == 2
