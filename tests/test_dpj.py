@@ -138,3 +138,18 @@ def test_foreign_members_and_non_zip_are_refused():
         z.writestr("configs.npy", b"x" * 10)
     with pytest.raises(FormatError):
         DPJ.from_bytes(buf.getvalue())
+
+
+def test_a_header_declaring_terabytes_is_refused_before_allocating():
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(
+        header, {"descr": "|u1", "fortran_order": False, "shape": (10**12, 2, 2)})
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w") as z:
+        z.writestr("configs.npy", header.getvalue() + b"\0" * 16)
+        for key in ("probs", "meta"):
+            member = io.BytesIO()
+            np.save(member, GOOD[key])
+            z.writestr(f"{key}.npy", member.getvalue())
+    with pytest.raises(FormatError, match="declares"):
+        DPJ.from_bytes(buf.getvalue())

@@ -9,9 +9,10 @@ from __future__ import annotations
 
 import io
 import json
+import math
 import zipfile
+import zlib
 from dataclasses import asdict, dataclass
-from pathlib import Path
 
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -380,6 +381,7 @@ def _parse_dpj(data: bytes, name: str) -> DPJ:
                           f"{sorted(names)}")
     if sum(i.file_size for i in infos) > MAX_FILE_BYTES:
         raise FormatError(f"{name}: declared content is larger than {MAX_FILE_BYTES} bytes")
+    _check_npy_headers(zf, name)
     try:
         with np.load(io.BytesIO(data), allow_pickle=False) as npz:
             configs, probs, meta_raw = npz["configs"], npz["probs"], npz["meta"]
@@ -404,6 +406,32 @@ def _parse_dpj(data: bytes, name: str) -> DPJ:
     palette = meta.pop("palette", None)
     meta.pop("format_version", None)
     return DPJ(configs, probs, levels, palette=palette, meta=meta)
+
+
+_NPY_HEADERS = {(1, 0): np.lib.format.read_array_header_1_0,
+                (2, 0): np.lib.format.read_array_header_2_0}
+
+
+def _check_npy_headers(zf: zipfile.ZipFile, name: str) -> None:
+    """Refuse object arrays (pickles) and headers that declare more data than the member holds:
+    numpy would allocate the declared shape before finding the data missing."""
+    try:
+        for info in zf.infolist():
+            with zf.open(info) as f:
+                read_header = _NPY_HEADERS.get(np.lib.format.read_magic(f))
+                if read_header is None:
+                    raise FormatError(f"{name}: {info.filename} has an unknown .npy version")
+                shape, _, dtype = read_header(f, max_header_size=10_000)
+            if dtype.hasobject:
+                raise FormatError(f"{name}: {info.filename} holds Python objects: unsafe, refused")
+            if math.prod(shape) * dtype.itemsize > info.file_size:
+                raise FormatError(f"{name}: {info.filename} declares {shape} {dtype}, more than "
+                                  f"its {info.file_size} bytes")
+    except FormatError:
+        raise
+    except (zipfile.BadZipFile, zlib.error, OSError, EOFError, ValueError, TypeError,
+            SyntaxError) as exc:
+        raise FormatError(f"{name}: damaged DPJ member ({_short(exc)})") from None
 
 
 def _parse_meta(raw: np.ndarray, name: str) -> dict:
