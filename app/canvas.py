@@ -285,6 +285,10 @@ class CanvasView(pg.GraphicsView):
             return
         super().keyReleaseEvent(ev)
 
+    def leaveEvent(self, ev):
+        self.hovered.emit(None)
+        super().leaveEvent(ev)
+
     def focusOutEvent(self, ev):
         self.view.pan_key_held = False
         self.viewport().unsetCursor()

@@ -90,17 +90,15 @@ class HistoryDock(QtWidgets.QDockWidget):
         buttons.addWidget(self.revert_button)
         buttons.addWidget(self.apply_button)
         box.addLayout(buttons)
-        self.hint = QtWidgets.QLabel("Click a step to go back to it; its parameters can be "
-                                     "edited here.")
-        self.hint.setWordWrap(True)
-        box.addWidget(self.hint)
+        self.view.setToolTip("Click a step to go back to it; edit its parameters below")
 
-        splitter = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)
-        splitter.addWidget(self.view)
-        splitter.addWidget(scrolled(self.group))
-        splitter.setStretchFactor(0, 2)
-        splitter.setStretchFactor(1, 1)
-        self.setWidget(splitter)
+        body = QtWidgets.QWidget()
+        layout = QtWidgets.QVBoxLayout(body)
+        layout.setContentsMargins(4, 4, 4, 4)
+        self.view.setMinimumHeight(60)
+        layout.addWidget(self.view, 1)
+        layout.addWidget(self.group)
+        self.setWidget(scrolled(body))
         self.selected_step: int | None = None
         self._update_buttons()
 

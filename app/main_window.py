@@ -47,9 +47,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         right = QtCore.Qt.DockWidgetArea.RightDockWidgetArea
         for dock in (self.synthesis_dock, self.palette_dock, self.history_dock):
             self.addDockWidget(right, dock)
-        self.resizeDocks([self.synthesis_dock, self.palette_dock, self.history_dock],
-                         [150, 250, 400], QtCore.Qt.Orientation.Vertical)
-        self.resizeDocks([self.history_dock], [330], QtCore.Qt.Orientation.Horizontal)
+        self._docks_sized = False
 
         self._build_status_bar()
         self._build_actions()
@@ -168,6 +166,15 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.runner.started.connect(self._task_started)
         self.runner.progress.connect(lambda f: self.progress.setValue(int(f * 1000)))
         self.runner.finished.connect(self._task_finished)
+
+    def showEvent(self, ev) -> None:
+        super().showEvent(ev)
+        if not self._docks_sized:      # synthesis and palette at their natural height
+            self._docks_sized = True
+            docks = [self.synthesis_dock, self.palette_dock, self.history_dock]
+            heights = [d.widget().widget().sizeHint().height() + 24 for d in docks[:2]] + [400]
+            self.resizeDocks(docks, heights, QtCore.Qt.Orientation.Vertical)
+            self.resizeDocks([self.history_dock], [340], QtCore.Qt.Orientation.Horizontal)
 
     # -- the document -------------------------------------------------------------------------------
     @property
@@ -288,9 +295,15 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             return None
 
         def done(_result):
-            if history is self.history:
-                self._guarded(lambda: history.replace(i, action))
-                self.statusBar().showMessage(f"Step {i + 1} edited and the log replayed.", 8000)
+            if history is not self.history:
+                return
+
+            def replay():            # the later steps are replayed on top: go to the end
+                history.replace(i, action)
+                history.goto(len(history.actions))
+            self._guarded(replay)
+            self.statusBar().showMessage(f"Step {i + 1} edited and the {len(later) - 1} later "
+                                         "step(s) replayed.", 8000)
 
         self.runner.run(f"Replaying from step {i + 1}…", work, done,
                         on_cancel=lambda: self.statusBar().showMessage(

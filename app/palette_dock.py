@@ -128,11 +128,21 @@ class PaletteDock(QtWidgets.QDockWidget):
         form.addRow("Darkest", self._with_value(self.darkest))
         form.addRow("Lightest", self._with_value(self.lightest))
         form.addRow("Contrast", self._with_value(self.contrast))
+        self.colour_note = QtWidgets.QLabel("The palette has colours: these sliders replace "
+                                            "them with greys.")
+        self.colour_note.setWordWrap(True)
+        policy = self.colour_note.sizePolicy()
+        policy.setRetainSizeWhenHidden(True)    # the dock keeps one height, grey or colour
+        self.colour_note.setSizePolicy(policy)
+        self.colour_note.setStyleSheet("color: palette(mid);")
+        form.addRow(self.colour_note)
         self.reset_button = QtWidgets.QPushButton("Reset to a full grey ramp")
         self.reset_button.clicked.connect(self.reset_grey_scale)
         form.addRow(self.reset_button)
         layout.addWidget(group)
         layout.addStretch(1)
+        body.setSizePolicy(QtWidgets.QSizePolicy.Policy.Preferred,
+                           QtWidgets.QSizePolicy.Policy.Maximum)
         self.setWidget(scrolled(body))
 
         self._commit_timer = QtCore.QTimer(self, singleShot=True, interval=COMMIT_DELAY_MS)
@@ -167,7 +177,9 @@ class PaletteDock(QtWidgets.QDockWidget):
         self.palette_rgb = np.array(palette, np.uint8)
         self.swatches.set_palette(self.palette_rgb)
         grey = self.palette_rgb[:, 0]
-        if np.all(self.palette_rgb == grey[:, None]):
+        is_grey = bool(np.all(self.palette_rgb == grey[:, None]))
+        self.colour_note.setVisible(not is_grey)
+        if is_grey:
             for slider, value in ((self.darkest, grey[0]), (self.lightest, grey[-1])):
                 slider.blockSignals(True)
                 slider.setValue(int(value))

@@ -24,7 +24,7 @@ def new_seed() -> int:
 def dpj_summary(dpj) -> str:
     u, v = dpj.window
     source = dpj.meta.get("name") or dpj.meta.get("source") or "DPJ"
-    return f"{source}: {u}×{v}, G = {dpj.levels}, {len(dpj)} configurations"
+    return f"{source}: {u}×{v}, G = {dpj.levels}, {len(dpj):,} configurations"
 
 
 class SeedEdit(QtWidgets.QWidget):
@@ -110,6 +110,9 @@ class ParamsForm(QtWidgets.QWidget):
             self.editors[spec.name] = (kind, w)
         elif kind == "ref" and dpjs:
             w = QtWidgets.QComboBox()
+            w.setSizeAdjustPolicy(
+                QtWidgets.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            w.setMinimumContentsLength(12)
             for ref, dpj in dpjs.items():
                 w.addItem(dpj_summary(dpj), ref)
             w.setCurrentIndex(max(0, w.findData(value)))

@@ -1,0 +1,131 @@
+"""Render screenshots of the application's main states into docs/img/ (offscreen, no display).
+
+    python3 docs/make_screenshots.py [--out docs/img]
+
+Each state is reached through the same code paths a user triggers (dialogs, docks, actions).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+
+from PySide6 import QtCore, QtWidgets  # noqa: E402
+
+SIZE = (1280, 800)
+
+
+def settle(app, ms: int = 150) -> None:
+    deadline = QtCore.QDeadlineTimer(ms)
+    while not deadline.hasExpired():
+        app.processEvents(QtCore.QEventLoop.ProcessEventsFlag.AllEvents, 20)
+
+
+def save(widget, path: Path) -> None:
+    widget.grab().save(str(path))
+    print(path.relative_to(ROOT) if path.is_relative_to(ROOT) else path)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "img")
+    args = parser.parse_args(argv)
+    out = args.out.resolve()
+    out.mkdir(parents=True, exist_ok=True)
+
+    import numpy as np
+
+    from app import resources
+    from app.main_window import MainWindow
+    from texeditor.actions import SetPalette
+
+    app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
+    app.setApplicationName("texeditor")
+    window = MainWindow()
+    window.headless = True
+    window.resize(*SIZE)
+    window.show()
+    window.start_default()
+    window.runner.wait()
+    settle(app)
+
+    # 1. the window as it opens: a texture synthesised from a bundled DPJ
+    save(window, out / "main-window.png")
+
+    # 2. the 3×3 tiled preview, to judge the seams
+    window.act_tiled.trigger()
+    settle(app)
+    save(window, out / "tiled-preview.png")
+    window.act_tiled.trigger()
+
+    # 3. zoomed in far: the pixel grid and the cursor read-out
+    canvas = window.canvas
+    canvas.set_zoom(22, center=QtCore.QPointF(40, 40))
+    settle(app)
+    target = canvas.mapFromScene(canvas.view.mapViewToScene(QtCore.QPointF(40.5, 40.5)))
+    canvas.hovered.emit((40, 40, int(window.history.document.levels[40, 40])))
+    QtWidgets.QApplication.sendEvent(canvas.viewport(), _move_event(canvas.viewport(), target))
+    settle(app)
+    save(window, out / "zoom-grid.png")
+    canvas.fit()
+
+    # 4. the acquisition dialog on a sample photo
+    dialog = window.acquire()
+    dialog.levels.setValue(5)
+    dialog.recompute()
+    settle(app, 300)
+    save(dialog, out / "acquire-dialog.png")
+    dialog.ok_button.click()
+    window.runner.wait()
+    settle(app)
+
+    # 5. a coloured palette, then a past step selected with an edited seed (non-destructive)
+    g = window.history.document.num_levels
+    colours = np.array([[38, 30, 22], [112, 74, 44], [170, 120, 70], [214, 180, 120],
+                        [245, 230, 200], [90, 110, 60], [60, 80, 110], [200, 90, 60]])[:g]
+    window.submit(SetPalette(colours))
+    window.palette_dock.swatches.current = min(2, g - 1)
+    window.palette_dock._level_clicked(window.palette_dock.swatches.current)
+    settle(app)
+    save(window, out / "palette.png")
+    dock = window.history_dock
+    dock.view.clicked.emit(dock.model.index(1))       # as a click on step 2 does
+    dock.form.editor("seed").set_value(2024)
+    settle(app)
+    save(window, out / "history-edit.png")
+    dock.apply_button.click()
+    window.runner.wait()
+    settle(app)
+
+    # 6. a long synthesis in progress: the progress bar and Cancel, the window still live
+    window.synthesis_dock.width_box.setValue(4096)
+    window.synthesis_dock.height_box.setValue(4096)
+    window.synthesise_from_dock()
+    while window.runner.busy and window.progress.value() < 250:
+        app.processEvents(QtCore.QEventLoop.ProcessEventsFlag.AllEvents, 20)
+    settle(app, 50)
+    save(window, out / "synthesising.png")
+    window.runner.cancel()
+    window.runner.wait()
+
+    window.mark_clean()
+    window.close()
+    return 0
+
+
+def _move_event(widget, pos):
+    from PySide6 import QtGui
+    none = QtCore.Qt.MouseButton.NoButton
+    return QtGui.QMouseEvent(QtCore.QEvent.Type.MouseMove, QtCore.QPointF(pos),
+                             QtCore.QPointF(widget.mapToGlobal(pos)), none, none,
+                             QtCore.Qt.KeyboardModifier.NoModifier)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
