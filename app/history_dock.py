@@ -139,7 +139,7 @@ class HistoryDock(QtWidgets.QDockWidget):
             self.group.setTitle("Selected step")
         else:
             self.form.set_action(self.history.actions[step], dict(self.history.document.dpjs))
-            self.group.setTitle(f"Step {step + 1}: {self.history.actions[step].TYPE}")
+            self.group.setTitle(f"Step {step + 1}: {self.history.actions[step].label()}")
         self._shown_step = step
         self._update_buttons()
 

@@ -169,12 +169,18 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
 
     def showEvent(self, ev) -> None:
         super().showEvent(ev)
-        if not self._docks_sized:      # synthesis and palette at their natural height
+        if not self._docks_sized:
             self._docks_sized = True
-            docks = [self.synthesis_dock, self.palette_dock, self.history_dock]
-            heights = [d.widget().widget().sizeHint().height() + 24 for d in docks[:2]] + [400]
-            self.resizeDocks(docks, heights, QtCore.Qt.Orientation.Vertical)
-            self.resizeDocks([self.history_dock], [340], QtCore.Qt.Orientation.Horizontal)
+            QtCore.QTimer.singleShot(0, self._size_docks)   # once the layout has settled
+
+    def _size_docks(self) -> None:
+        """Synthesis and palette at their natural height; the history takes the rest."""
+        docks = [self.synthesis_dock, self.palette_dock, self.history_dock]
+        heights = [d.widget().widget().sizeHint().height() + d.height() - d.widget().height() + 2
+                   for d in docks[:2]]
+        rest = max(200, sum(d.height() for d in docks) - sum(heights))
+        self.resizeDocks(docks, heights + [rest], QtCore.Qt.Orientation.Vertical)
+        self.resizeDocks([self.history_dock], [340], QtCore.Qt.Orientation.Horizontal)
 
     # -- the document -------------------------------------------------------------------------------
     @property

@@ -119,7 +119,7 @@ class PaletteDock(QtWidgets.QDockWidget):
         self.current_label = QtWidgets.QLabel()
         layout.addWidget(self.current_label)
 
-        group = QtWidgets.QGroupBox("Grey scale")
+        group = self.grey_group = QtWidgets.QGroupBox("Grey scale")
         form = QtWidgets.QFormLayout(group)
         self.darkest = self._slider(0, 255, 0, "Grey of level 0 (the background)")
         self.lightest = self._slider(0, 255, 255, "Grey of the highest level")
@@ -128,14 +128,6 @@ class PaletteDock(QtWidgets.QDockWidget):
         form.addRow("Darkest", self._with_value(self.darkest))
         form.addRow("Lightest", self._with_value(self.lightest))
         form.addRow("Contrast", self._with_value(self.contrast))
-        self.colour_note = QtWidgets.QLabel("The palette has colours: these sliders replace "
-                                            "them with greys.")
-        self.colour_note.setWordWrap(True)
-        policy = self.colour_note.sizePolicy()
-        policy.setRetainSizeWhenHidden(True)    # the dock keeps one height, grey or colour
-        self.colour_note.setSizePolicy(policy)
-        self.colour_note.setStyleSheet("color: palette(mid);")
-        form.addRow(self.colour_note)
         self.reset_button = QtWidgets.QPushButton("Reset to a full grey ramp")
         self.reset_button.clicked.connect(self.reset_grey_scale)
         form.addRow(self.reset_button)
@@ -178,7 +170,7 @@ class PaletteDock(QtWidgets.QDockWidget):
         self.swatches.set_palette(self.palette_rgb)
         grey = self.palette_rgb[:, 0]
         is_grey = bool(np.all(self.palette_rgb == grey[:, None]))
-        self.colour_note.setVisible(not is_grey)
+        self.grey_group.setTitle("Grey scale" if is_grey else "Grey scale (replaces the colours)")
         if is_grey:
             for slider, value in ((self.darkest, grey[0]), (self.lightest, grey[-1])):
                 slider.blockSignals(True)

@@ -13,6 +13,7 @@ from texeditor.errors import TexeditorError
 
 PHOTO_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp"}
 START_WINDOW, START_LEVELS = (3, 3), 4
+START_NAME = "gravel"      # the bundled DPJ the window opens on, when present
 
 
 def resources_dir() -> Path:
@@ -33,7 +34,7 @@ def bundled_dpjs() -> list[Path]:
 def default_dpj():
     """The DPJ the window starts on: the first bundled one that loads, else one estimated."""
     from texeditor.dpj import DPJ
-    for path in bundled_dpjs():
+    for path in sorted(bundled_dpjs(), key=lambda p: (not p.stem.startswith(START_NAME), p.name)):
         try:
             dpj = DPJ.load(path)
         except TexeditorError:

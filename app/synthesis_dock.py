@@ -28,7 +28,6 @@ class SynthesisDock(QtWidgets.QDockWidget):
         body = QtWidgets.QWidget()
         form = QtWidgets.QFormLayout(body)
         self.dpj_label = QtWidgets.QLabel()
-        self.dpj_label.setWordWrap(True)
         self.width_box = self._side()
         self.height_box = self._side()
         size_row = QtWidgets.QHBoxLayout()
@@ -55,8 +54,12 @@ class SynthesisDock(QtWidgets.QDockWidget):
 
     def set_dpj(self, dpj) -> None:
         self.has_dpj = dpj is not None
-        self.dpj_label.setText(dpj_summary(dpj) if dpj is not None
-                               else "none yet — File ▸ Acquire DPJ from image…")
+        if dpj is None:        # always two lines, so the dock keeps its height
+            self.dpj_label.setText("none yet\nFile ▸ Acquire DPJ from image…")
+        else:
+            name, _, details = dpj_summary(dpj).partition(": ")
+            self.dpj_label.setText(f"{name}\n{details}")
+        self.dpj_label.setToolTip(dpj_summary(dpj) if dpj is not None else "")
         self.button.setEnabled(self.has_dpj and not getattr(self, "busy", False))
 
     def set_busy(self, busy: bool) -> None:
