@@ -24,7 +24,9 @@ MAX_RECENT = 8
 
 
 def settings() -> QtCore.QSettings:
-    return QtCore.QSettings("texeditor", "texeditor")
+    """The user's settings (the default format, so tests can redirect them to a temporary file)."""
+    return QtCore.QSettings(QtCore.QSettings.defaultFormat(), QtCore.QSettings.Scope.UserScope,
+                            "texeditor", "texeditor")
 
 
 def recent_files() -> list[str]:

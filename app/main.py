@@ -52,8 +52,7 @@ def run(argv=None) -> int:
     window.runner.wait(120_000)
     app.processEvents()
     if args.open is not None and window.path is None:
-        print(f"texeditor: cannot open {args.open}", file=sys.stderr)
-        return 2
+        return 2                 # the reason was printed by the window
     window.grab().save(str(args.screenshot))
     window.mark_clean()
     window.close()
