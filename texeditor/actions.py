@@ -521,3 +521,5 @@ class _Memo:
 
 
 _MEMO = _Memo()
+
+from . import region_actions  # noqa: E402,F401  (registers the region operators)
