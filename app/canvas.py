@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6 import QtCore, QtGui, QtWidgets
+from PySide6 import QtCore, QtGui
 
 GRID_MIN_ZOOM = 12.0          # screen pixels per cell before the pixel grid is drawn
 ZOOM_STEP = math.sqrt(2.0)    # one +/- key press

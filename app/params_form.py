@@ -137,11 +137,7 @@ class ParamsForm(QtWidgets.QWidget):
         """The edited parameters that differ from the action's own."""
         out = {}
         for name, (kind, w) in self.editors.items():
-            if kind in ("int",):
-                value = w.value()
-            elif kind == "seed":
-                value = w.value()
-            elif kind == "float":
+            if kind in ("int", "seed", "float"):
                 value = w.value()
             elif kind == "bool":
                 value = w.isChecked()

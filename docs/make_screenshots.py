@@ -41,7 +41,6 @@ def main(argv=None) -> int:
 
     import numpy as np
 
-    from app import resources
     from app.main_window import MainWindow
     from texeditor.actions import SetPalette
 
