@@ -122,20 +122,7 @@ class TaskRunner(QtCore.QObject):
 def render_synthesis(action, dpj, progress=None, cancel=None) -> tuple:
     """Synthesise for a Synthesize action in the worker: (levels, repairs).
 
-    The engine's ``Synthesize.render`` keeps the result for ``apply()`` but not the repair count
-    the status bar shows, so call the sampler and hand the result to the action's memo.
-    """
-    from texeditor import actions
-    from texeditor.document import dpj_ref
-    from texeditor.synthesis import synthesize
-
-    if dpj_ref(dpj) != action.dpj:
-        raise ValueError("the DPJ does not match the action's reference")
-    result = synthesize(dpj, (action.height, action.width), seed=action.seed,
-                        progress=progress, cancel=cancel)
-    levels = result.levels
-    levels.flags.writeable = False
-    memo = getattr(actions, "_MEMO", None)
-    if memo is not None:
-        memo.put(action._key(), levels)   # apply() on the GUI thread then costs nothing
-    return levels, result.repairs
+    The engine keeps the result for the action's ``apply()`` on the GUI thread, which then costs
+    nothing."""
+    result = action.render_result(dpj, progress=progress, cancel=cancel)
+    return result.levels, result.repairs

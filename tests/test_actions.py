@@ -28,7 +28,7 @@ def test_json_round_trip(action):
 
 
 def test_labels_are_short_and_human():
-    assert Synthesize(REFS[0], 512, 512, 7).label() == "Synthesize 512×512, seed 7"
+    assert Synthesize(REFS[0], 512, 512, 7).label() == "Synthesise 512×512, seed 7"
     assert NewCanvas(64, 32, 4).label() == "New canvas 64×32, G = 4"
     assert SetLevels(3, 4, 1, 1, 2).label() == "Set (3, 4) to 2"
     assert all(len(a.label()) < 60 for a in EXAMPLES)

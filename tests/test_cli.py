@@ -123,3 +123,42 @@ def test_console_script_reports_one_line_and_exit_code(tmp_path):
                           capture_output=True, text=True)
     assert proc.returncode == 2
     assert proc.stderr.strip().count("\n") == 0 and "not a DPJ file" in proc.stderr
+
+
+def test_texture_synth_render_log_and_optimize(tmp_path, capsys):
+    from texeditor import synthesize
+    from texeditor.resources import bundled_dpj
+
+    dpj_path = bundled_dpj("grass-2x2-g8")
+    tex = tmp_path / "a.texture"
+    assert run(capsys, "synth", dpj_path, "--size", "40x30", "--seed", "8", "-o", tex)[0] == 0
+    code, out, _ = run(capsys, "log", tex)
+    assert code == 0 and out.strip() == "1. Synthesise 40×30, seed 8"
+    assert run(capsys, "render", tex, "-o", tmp_path / "a.npy")[0] == 0
+    expected = synthesize(DPJ.load(dpj_path), (30, 40), seed=8).levels
+    assert np.array_equal(np.load(tmp_path / "a.npy", allow_pickle=False), expected)
+    assert run(capsys, "render", tex, "--scale", "3", "-o", tmp_path / "a.png")[0] == 0
+    assert skio.imread(tmp_path / "a.png").shape[:2] == (90, 120)
+    code, out, _ = run(capsys, "log", tex, "--optimize", "-o", tmp_path / "b.texture")
+    assert code == 0 and "same result" in out
+
+
+def test_render_refuses_a_texture_whose_hash_does_not_match(tmp_path, capsys):
+    import zipfile
+
+    from texeditor.resources import bundled_dpj
+
+    tex, bad = tmp_path / "a.texture", tmp_path / "bad.texture"
+    assert run(capsys, "synth", bundled_dpj("grass-2x2-g8"), "--size", "20x20", "-o", tex)[0] == 0
+    with zipfile.ZipFile(tex) as src, zipfile.ZipFile(bad, "w") as dst:
+        for info in src.infolist():
+            data = src.read(info)
+            if info.filename == "manifest.json":
+                manifest = json.loads(data)
+                manifest["result_sha256"] = "0" * 64
+                data = json.dumps(manifest).encode()
+            dst.writestr(info, data)
+    out = tmp_path / "x.png"
+    code, _, err = run(capsys, "render", bad, "-o", out)
+    assert code == 2 and err.count("\n") == 1 and "SHA-256" in err
+    assert not out.exists()

@@ -119,7 +119,7 @@ def test_random_logs_round_trip_through_the_file_format(data):
 
 def test_describe_log_numbers_the_actions():
     lines = tf.describe_log(sample_history().actions)
-    assert lines[0] == "1. Synthesize 24×16, seed 3" and lines[1].startswith("2. Set 4×4")
+    assert lines[0] == "1. Synthesise 24×16, seed 3" and lines[1].startswith("2. Set 4×4")
 
 
 def test_optimize_texture_writes_a_shorter_log_with_the_same_result(saved, tmp_path):

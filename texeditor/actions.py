@@ -382,7 +382,7 @@ class Synthesize(Action):
         return True
 
     def label(self) -> str:
-        return f"Synthesize {self.width}×{self.height}, seed {self.seed}"
+        return f"Synthesise {self.width}×{self.height}, seed {self.seed}"
 
 
 @register

@@ -78,15 +78,42 @@ def cmd_synth(args) -> int:
 
 
 def _synth_texture(dpj, width, height, seed, out) -> int:
-    from .actions import Synthesize
-    from .history import History
-    from .texturefile import save_texture
+    from .texturefile import save_texture, synthesize_texture
 
-    history = History()
-    ref = history.add_dpj(dpj)
-    history.apply(Synthesize(dpj=ref, width=width, height=height, seed=seed))
+    history = synthesize_texture(dpj, width, height, seed=seed)
     save_texture(out, history)
-    print(f"{out}: {width}x{height}, seed {seed}, one Synthesize action")
+    print(f"{out}: {width}x{height}, seed {seed}, one Synthesize action in its log")
+    return 0
+
+
+def cmd_render(args) -> int:
+    from .export import write_npy, write_png
+    from .texturefile import render_texture
+
+    out = _output(args.output, (".png", ".npy"))
+    doc = render_texture(args.texture)  # replays and checks the stored hash
+    if out.suffix.lower() == ".png":
+        write_png(out, doc.levels, doc.palette, scale=args.scale)
+    else:
+        write_npy(out, doc.levels)
+    height, width = doc.shape
+    print(f"{out}: {width}x{height}, {len(doc.actions)} actions replayed, hash verified")
+    return 0
+
+
+def cmd_log(args) -> int:
+    from .texturefile import describe_log, optimize_texture, read_texture
+
+    if args.optimize:
+        if not args.output:
+            raise InputError("--optimize needs -o NEW.texture")
+        before, after = optimize_texture(args.texture, _output(args.output, (".texture",)))
+        print(f"{args.output}: {before} actions optimised to {after}, same result")
+        return 0
+    if args.output:
+        raise InputError("-o is only for --optimize")
+    tex = read_texture(args.texture)
+    print("\n".join(describe_log(tex.actions)) or "(no actions)")
     return 0
 
 
@@ -133,6 +160,18 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("dpj")
     i.add_argument("--json", action="store_true")
     i.set_defaults(func=cmd_dpj_info)
+
+    r = sub.add_parser("render", help="replay a .texture and write the picture or the levels")
+    r.add_argument("texture")
+    r.add_argument("--scale", type=int, default=1, help="PNG upscale: each point as NxN pixels")
+    r.add_argument("-o", "--output", required=True, help="OUT.png or OUT.npy")
+    r.set_defaults(func=cmd_render)
+
+    lg = sub.add_parser("log", help="list the actions of a .texture (or write an optimised copy)")
+    lg.add_argument("texture")
+    lg.add_argument("--optimize", action="store_true", help="simplify the log (same result)")
+    lg.add_argument("-o", "--output", help="NEW.texture, with --optimize")
+    lg.set_defaults(func=cmd_log)
 
     g = sub.add_parser("gui", help="open the application window")
     g.add_argument("--screenshot", help="render the window offscreen to this PNG and exit")
