@@ -72,6 +72,34 @@ def _coordinate(doc: str, default=dataclasses.MISSING):
     return param("float", -MAX_CANVAS_SIDE, MAX_CANVAS_SIDE, default=default, doc=doc)
 
 
+def changed_boxes(changed: np.ndarray, *, min_gap: int = 8, max_boxes: int = 16) -> list:
+    """Boxes (top, left, bottom, right) covering the True points: their bounding box, cut along
+    empty bands of at least ``min_gap`` rows or columns into at most ``max_boxes`` boxes."""
+    boxes, todo = [], [(0, changed.shape[0], 0, changed.shape[1])]
+    while todo:
+        t, b, l, r = todo.pop()
+        box = transforms.bbox(changed[t:b, l:r])
+        if box is None:
+            continue
+        t, l, b, r = t + box[0], l + box[1], t + box[2], l + box[3]
+        sub = changed[t:b, l:r]
+        if len(boxes) + len(todo) + 2 <= max_boxes:
+            rows = np.flatnonzero(sub.any(axis=1))
+            gap = np.flatnonzero(np.diff(rows) > min_gap)
+            if len(gap):
+                cut = t + int(rows[gap[0]]) + 1
+                todo += [(cut, b, l, r), (t, cut, l, r)]
+                continue
+            cols = np.flatnonzero(sub.any(axis=0))
+            gap = np.flatnonzero(np.diff(cols) > min_gap)
+            if len(gap):
+                cut = l + int(cols[gap[0]]) + 1
+                todo += [(t, b, cut, r), (t, b, l, cut)]
+                continue
+        boxes.append((t, l, b, r))
+    return boxes
+
+
 # -- the common base -------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
@@ -117,8 +145,9 @@ class RegionAction(Action):
 
     @staticmethod
     def _commit(doc, new: np.ndarray) -> None:
-        changed = new != doc.levels
-        doc._write_where(changed, new)
+        """Write the points that changed, box by box (a far move records two small patches)."""
+        for t, l, b, r in changed_boxes(new != doc.levels):
+            doc._write(t, l, new[t:b, l:r])
 
     def _what(self) -> str:
         """The selection in a label: "region at (3, 2)", "every point like (3, 2)"..."""
