@@ -22,7 +22,7 @@ SCOPES = ("region", "global")
 KINDS = ("region", "region_in_region", "regions_in_region", "neighbours", "partial")
 CONNECTIVITIES = (4, 8)
 LABEL_MARGIN = 32                 # points around a region searched for its neighbours at once
-MAX_NEIGHBOUR_BYTES = 256 * 2**20
+MAX_NEIGHBOUR_BYTES = 2 * 2**30     # nominal: zeroed pages are committed only where written
 
 __all__ = ["SCOPES", "KINDS", "CONNECTIVITIES", "extractext", "shift_mask", "transfert", "valeur",
            "etendre", "compresser", "trouver", "difference", "enclosed", "fill", "translate",
@@ -493,8 +493,9 @@ def _regions_at(levels, seeds, connectivity, out):
 def extract_neighbours(levels, point, *, scope: str = "region",
                        connectivity: int = 4) -> list[np.ndarray]:
     """EXTRAIRE LIMITROPHES: each region sharing a frontier with the one at ``point``, as a
-    separate presence mask, in the order ISOLER finds them (see :func:`neighbour_labels`, the
-    compact form for many neighbours). An empty list when the region touches no other.
+    separate presence mask, in the order ISOLER finds them. An empty list when the region
+    touches no other. Each mask is canvas-sized (only the pages around its region are touched);
+    :func:`neighbour_labels` is the compact form, and the only one for thousands of neighbours.
 
     >>> grid = np.array([[0, 0, 1],
     ...                  [2, 2, 1]], np.uint8)
