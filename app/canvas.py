@@ -7,6 +7,7 @@ cursor; edits reach the document as Actions submitted by the main window, never 
 from __future__ import annotations
 
 import math
+import weakref
 
 import numpy as np
 import pyqtgraph as pg
@@ -42,25 +43,36 @@ def view_zoom(view: pg.ViewBox) -> float:
 class CanvasViewBox(pg.ViewBox):
     """A ViewBox with editor habits: wheel zooms around the cursor, middle-drag or space-drag pans.
 
-    A plain left drag is left to the tools (none yet) and the right button to a future context
-    menu, so neither moves the view by accident.
+    The left button belongs to the current tool (see CanvasView.tool_drag), except for the
+    hand tool, which pans; the right button is left to a future context menu.
     """
 
-    def __init__(self):
+    def __init__(self, canvas):
         super().__init__(lockAspect=True, invertY=True, enableMenu=False, defaultPadding=0.02)
         self.pan_key_held = False
+        self._canvas = weakref.ref(canvas)  # weak: a cycle with the view crashes Qt at close
 
     def mouseDragEvent(self, ev, axis=None):
         button = ev.button()
+        left = button == QtCore.Qt.MouseButton.LeftButton
+        tool = self._canvas().tool
         panning = button == QtCore.Qt.MouseButton.MiddleButton or (
-            button == QtCore.Qt.MouseButton.LeftButton and self.pan_key_held)
+            left and (self.pan_key_held or (tool is not None and tool.PANS)))
         if panning:
             super().mouseDragEvent(ev, axis)
+        elif left and tool is not None:
+            ev.accept()
+            self._canvas().tool_drag(ev)
         else:
             ev.ignore()
 
     def mouseClickEvent(self, ev):
-        ev.ignore()
+        tool = self._canvas().tool
+        if ev.button() == QtCore.Qt.MouseButton.LeftButton and tool is not None and not tool.PANS:
+            ev.accept()
+            self._canvas().tool_click(ev)
+        else:
+            ev.ignore()
 
 
 class TileEcho(pg.GraphicsObject):
@@ -142,15 +154,20 @@ class CanvasView(pg.GraphicsView):
         super().__init__(parent, background=BACKGROUND)
         self.setFocusPolicy(QtCore.Qt.FocusPolicy.StrongFocus)
         self.setMouseTracking(True)
-        self.view = CanvasViewBox()
+        self.tool = None            # the current tool (app.tools.Tool); set by the main window
+        self._gesture = None        # the running drag generator
+        self.view = CanvasViewBox(self)
         self.setCentralItem(self.view)
         self.image = pg.ImageItem(axisOrder="row-major")
+        self.overlay = pg.ImageItem(axisOrder="row-major")   # tool previews: ghosts, selections
         self.echo = TileEcho(self.image)
         self.echo.setVisible(False)
         self.grid = PixelGrid(self.view)
         self.view.addItem(self.echo)
         self.view.addItem(self.image)
         self.view.addItem(self.grid)
+        self.view.addItem(self.overlay)
+        self.overlay.setZValue(5)
         self.grid.setZValue(10)
         self.view.sigRangeChanged.connect(self._range_changed)
         self.scene().sigMouseMoved.connect(self._mouse_moved)
@@ -260,8 +277,61 @@ class CanvasView(pg.GraphicsView):
             return None
         return x % w, y % h
 
+    def point_at(self, scene_pos) -> tuple[int, int]:
+        """The (x, y) cell under a scene position, even outside the canvas (a drag may leave
+        it); folded back into the texture in tiled mode, so strokes wrap around."""
+        p = self.view.mapSceneToView(scene_pos)
+        x, y = math.floor(p.x()), math.floor(p.y())
+        if self._tiled and self._levels is not None:
+            h, w = self._levels.shape
+            if -w <= x < 2 * w and -h <= y < 2 * h:
+                return x % w, y % h
+        return x, y
+
+    # -- tools --------------------------------------------------------------------------------------
+    def tool_click(self, ev) -> None:
+        if self._levels is not None:
+            self.tool.click(self.point_at(ev.scenePos()), ev.modifiers())
+
+    def tool_drag(self, ev) -> None:
+        """Run the tool's gesture generator: start on the first event, send each move, close on
+        release (a tool error never leaves a gesture half-open)."""
+        if self._levels is None:
+            return
+        if ev.isStart():
+            self._gesture = self.tool.drag(self.point_at(ev.buttonDownScenePos()), ev.modifiers())
+            if not self._next(None):
+                return
+        if self._gesture is not None:
+            self._next(self.point_at(ev.scenePos()))
+            if ev.isFinish():
+                gesture, self._gesture = self._gesture, None
+                gesture.close()
+
+    def _next(self, cell) -> bool:
+        try:
+            if cell is None:
+                next(self._gesture)
+            else:
+                self._gesture.send(cell)
+            return True
+        except StopIteration:
+            self._gesture = None
+            return False
+
+    def set_overlay(self, rgba: np.ndarray | None) -> None:
+        """Show (H, W, 4) uint8 over the texture, or nothing."""
+        if rgba is None:
+            self.overlay.clear()
+            self.overlay.setVisible(False)
+        else:
+            self.overlay.setImage(rgba, autoLevels=False, levels=(0, 255))
+            self.overlay.setVisible(True)
+
     def _mouse_moved(self, scene_pos):
         cell = self.cell_at(scene_pos)
+        if self.tool is not None and self._gesture is None:
+            self.tool.hover(cell)
         if cell is None:
             self.hovered.emit(None)
         else:

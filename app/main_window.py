@@ -23,6 +23,8 @@ from .history_dock import HistoryDock
 from .palette_dock import PaletteDock
 from .synthesis_dock import SynthesisDock
 from .synthesis_worker import TaskRunner, render_synthesis
+from .tool_dock import ToolOptionsDock
+from .tools import tool_classes
 
 APP_NAME = "texeditor"
 
@@ -44,14 +46,18 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.synthesis_dock = SynthesisDock(self)
         self.palette_dock = PaletteDock(self)
         self.history_dock = HistoryDock(self)
+        self.tool_dock = ToolOptionsDock(self)
         right = QtCore.Qt.DockWidgetArea.RightDockWidgetArea
         for dock in (self.synthesis_dock, self.palette_dock, self.history_dock):
             self.addDockWidget(right, dock)
+        self.addDockWidget(QtCore.Qt.DockWidgetArea.LeftDockWidgetArea, self.tool_dock)
+        self.tools = [cls(self) for cls in tool_classes()]
         self._docks_sized = False
 
         self._build_status_bar()
         self._build_actions()
         self._build_menus()
+        self._build_tools()
         self._connect()
         if history is not None:
             self.set_history(history, path)
@@ -141,7 +147,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         menu.addSeparator()
         menu.addAction(self.act_tiled)
         menu.addSeparator()
-        for dock in (self.synthesis_dock, self.palette_dock, self.history_dock):
+        for dock in (self.tool_dock, self.synthesis_dock, self.palette_dock, self.history_dock):
             menu.addAction(dock.toggleViewAction())
 
         bar = self.addToolBar("Main")
@@ -154,6 +160,42 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         bar.addActions([self.act_undo, self.act_redo])
         bar.addSeparator()
         bar.addActions([self.act_fit, self.act_tiled])
+
+    def _build_tools(self) -> None:
+        """The Tools bar on the left: one checkable button per tool, with its shortcut."""
+        bar = QtWidgets.QToolBar("Tools")
+        bar.setObjectName("ToolsToolBar")
+        bar.setToolButtonStyle(QtCore.Qt.ToolButtonStyle.ToolButtonTextOnly)
+        self.addToolBar(QtCore.Qt.ToolBarArea.LeftToolBarArea, bar)
+        group = QtGui.QActionGroup(self)
+        menu = self.menuBar().addMenu("&Tools")
+        for tool in self.tools:
+            tip = f"{tool.TIP} ({tool.SHORTCUT})" if tool.SHORTCUT else tool.TIP
+            tool.qaction = self._action(tool.NAME, lambda _=False, t=tool: self.set_tool(t),
+                                        tool.SHORTCUT or None, tip, checkable=True)
+            group.addAction(tool.qaction)
+            bar.addAction(tool.qaction)
+            menu.addAction(tool.qaction)
+        self.set_tool(self.tools[0])
+
+    def set_tool(self, tool) -> None:
+        """Make ``tool`` current: its button checked, its options shown."""
+        if self.canvas.tool is not None and self.canvas.tool is not tool:
+            self.canvas.tool.deactivate()
+        self.canvas.tool = tool
+        if hasattr(tool, "qaction"):
+            tool.qaction.setChecked(True)
+        self.tool_dock.show_tool(tool)
+        tool.activate()
+
+    @property
+    def tool(self):
+        return self.canvas.tool
+
+    @property
+    def current_level(self) -> int:
+        """The level tools paint with: the palette's selected swatch."""
+        return self.palette_dock.swatches.current
 
     def _connect(self) -> None:
         self.canvas.hovered.connect(self._show_hover)
@@ -180,7 +222,8 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
                    for d in docks[:2]]
         rest = max(200, sum(d.height() for d in docks) - sum(heights))
         self.resizeDocks(docks, heights + [rest], QtCore.Qt.Orientation.Vertical)
-        self.resizeDocks([self.history_dock], [340], QtCore.Qt.Orientation.Horizontal)
+        self.resizeDocks([self.history_dock, self.tool_dock], [340, 190],
+                         QtCore.Qt.Orientation.Horizontal)
 
     # -- the document -------------------------------------------------------------------------------
     @property

@@ -42,3 +42,17 @@ def move(widget, pos: QtCore.QPoint) -> None:
     """The mouse moves over a widget with no button held (hover)."""
     none = QtCore.Qt.MouseButton.NoButton
     mouse(widget, QtCore.QEvent.Type.MouseMove, pos, none, none)
+
+
+def cell_pos(canvas, x: float, y: float) -> QtCore.QPoint:
+    """The canvas widget position of the centre of cell (x, y)."""
+    scene = canvas.view.mapViewToScene(QtCore.QPointF(x + 0.5, y + 0.5))
+    return canvas.mapFromScene(scene)
+
+
+def click(widget, pos: QtCore.QPoint) -> None:
+    QtTest.QTest.mouseClick(widget, QtCore.Qt.MouseButton.LeftButton, NO_MODIFIER, pos)
+
+
+def press_key(widget, key) -> None:
+    QtTest.QTest.keyClick(widget, key)

@@ -1,0 +1,87 @@
+"""Canvas tools: each turns mouse gestures on the canvas into Actions.
+
+A tool never touches arrays: it builds an Action and calls ``window.submit(action)``. Gestures
+follow napari's pattern: ``drag`` is a generator that does the press's work, then receives each
+later cell with ``send`` and ends when the button is released (``close``). Previews (a ghost,
+a selection tint) go to the canvas overlay, never into the document.
+
+To add a tool: subclass :class:`Tool` in a module of this package and list it in ``TOOLS`` of
+``tool_classes``.
+"""
+
+from __future__ import annotations
+
+from typing import Generator
+
+from PySide6 import QtCore, QtWidgets
+
+Cell = tuple[int, int]   # (x, y): column, row — possibly outside the canvas while dragging
+
+
+class Tool:
+    """The base tool: does nothing on click or drag. Subclasses set NAME, SHORTCUT and TIP."""
+
+    NAME = ""
+    SHORTCUT = ""
+    TIP = ""
+    PANS = False        # a left drag pans the view (the hand tool)
+
+    def __init__(self, window):
+        self.window = window
+        self._options: QtWidgets.QWidget | None = None
+
+    # -- what the main window asks ----------------------------------------------------------------
+    def options(self) -> QtWidgets.QWidget:
+        """The tool's options panel (built once)."""
+        if self._options is None:
+            self._options = self.build_options() or _no_options(self.TIP)
+        return self._options
+
+    def build_options(self) -> QtWidgets.QWidget | None:
+        return None
+
+    def activate(self) -> None:
+        """Called when the tool becomes current."""
+
+    def deactivate(self) -> None:
+        self.window.canvas.set_overlay(None)
+
+    # -- gestures -----------------------------------------------------------------------------------
+    def click(self, cell: Cell, modifiers: QtCore.Qt.KeyboardModifier) -> None:
+        """A press and release without moving."""
+
+    def drag(self, cell: Cell, modifiers: QtCore.Qt.KeyboardModifier) -> Generator[None, Cell, None]:
+        """A drag from ``cell``: yields once per cell received, returns on release."""
+        yield
+
+    def hover(self, cell: Cell | None) -> None:
+        """The pointer moved with no button pressed (None: it left the canvas)."""
+
+    # -- helpers for subclasses -----------------------------------------------------------------------
+    @property
+    def document(self):
+        return self.window.document
+
+    def inside(self, cell: Cell) -> bool:
+        h, w = self.document.shape
+        return 0 <= cell[0] < w and 0 <= cell[1] < h
+
+
+class HandTool(Tool):
+    NAME = "Hand"
+    SHORTCUT = "H"
+    TIP = "Drag to pan the view (the wheel zooms; middle-drag or Space-drag pan with any tool)"
+    PANS = True
+
+
+def _no_options(tip: str) -> QtWidgets.QWidget:
+    label = QtWidgets.QLabel(tip or "This tool has no options.")
+    label.setWordWrap(True)
+    label.setAlignment(QtCore.Qt.AlignmentFlag.AlignTop)
+    return label
+
+
+def tool_classes() -> list[type[Tool]]:
+    """Every tool, in toolbar order."""
+    TOOLS: list[type[Tool]] = [HandTool]
+    return TOOLS
