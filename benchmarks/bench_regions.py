@@ -1,4 +1,4 @@
-"""Region operator timings on a 2048² synthesised texture (issue 5): prints figures, asserts nothing.
+"""Region operator timings on a 2048² synthesised texture (issue 5): prints figures only.
 
 Target: fill, each extraction and translate in ≤ 30 ms per operation. The texture is synthesised
 from resources/dpj/gravel-3x3-g4.dpj; each operation runs at the same random points, and both the
@@ -125,7 +125,7 @@ def main() -> None:
         ("RotateSelection 30°", lambda p: RotateSelection(p[0], p[1], 30)),
     ]:
         row(name, timed(action_timer(doc, make), points))
-    assert np.array_equal(doc.levels, levels), "undo in the benchmark must restore the texture"
+    print(f"(each Action undone after timing; texture restored: {np.array_equal(doc.levels, levels)})")
 
     print("-- whole-texture and global-scope operators (no target; for reference)")
     few = points[:3]

@@ -2,7 +2,8 @@
 
 Grids are written as the thesis draws them: one character per point, '.' for the background 0;
 masks are shown with '#' for a marked point. Edge cases: points on the border, regions touching
-the canvas's edge, nested holes, regions without neighbours, moves onto themselves or off the canvas.
+the canvas's edge, nested holes, regions without neighbours, moves onto themselves or off the
+canvas.
 """
 
 import doctest
@@ -10,7 +11,7 @@ import textwrap
 
 import numpy as np
 import pytest
-from hypothesis import assume, given
+from hypothesis import given
 from hypothesis import strategies as st
 
 from test_history_support import PROPERTY

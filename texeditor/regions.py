@@ -68,7 +68,8 @@ def _structure(connectivity: int) -> np.ndarray:
 def _grow(box, margin: int, shape) -> tuple[slice, slice]:
     t, l, b, r = box
     h, w = shape
-    return slice(max(t - margin, 0), min(b + margin, h)), slice(max(l - margin, 0), min(r + margin, w))
+    return (slice(max(t - margin, 0), min(b + margin, h)),
+            slice(max(l - margin, 0), min(r + margin, w)))
 
 
 def _empty(shape) -> np.ndarray:
@@ -454,7 +455,8 @@ def _regions_at(levels, seeds, connectivity, out):
     h, w = levels.shape
     window = _grow(bbox(seeds), LABEL_MARGIN, levels.shape)
     (r0, r1), (c0, c1) = (window[0].start, window[0].stop), (window[1].start, window[1].stop)
-    labels = _label(levels[window], background=256, connectivity=_sk(connectivity))
+    labels = _label(levels[window].astype(np.int16), background=-1,     # -1: no background
+                    connectivity=_sk(connectivity))
     ids = labels[seeds[window]]
     uniq, first = np.unique(ids, return_index=True)
     order = uniq[np.argsort(first, kind="stable")]
@@ -587,7 +589,7 @@ def delete(levels, mask, *, background: int = 0) -> np.ndarray:
 
 
 def _manipulate(levels, mask, matrix, centre, fill, wrap) -> np.ndarray:
-    """Carry a selection through ``matrix`` about its centre (an empty selection changes nothing)."""
+    """Carry a selection through ``matrix`` about its centre (an empty one changes nothing)."""
     levels = as_levels(levels)
     mask = as_mask(mask, levels.shape)
     if not mask.any():
