@@ -319,14 +319,17 @@ class CanvasView(pg.GraphicsView):
             self._gesture = None
             return False
 
-    def set_overlay(self, rgba: np.ndarray | None) -> None:
-        """Show (H, W, 4) uint8 over the texture, or nothing."""
+    def set_overlay(self, rgba: np.ndarray | None, origin: tuple[int, int] = (0, 0)) -> None:
+        """Show an (h, w, 4) uint8 picture over the texture with its top-left cell at ``origin``
+        (x, y) — a tool's preview, often just the bounding box of what moves — or nothing."""
         if rgba is None:
             self.overlay.clear()
             self.overlay.setVisible(False)
-        else:
-            self.overlay.setImage(rgba, autoLevels=False, levels=(0, 255))
-            self.overlay.setVisible(True)
+            return
+        self.overlay.setImage(rgba, autoLevels=False, levels=(0, 255))
+        h, w = rgba.shape[:2]
+        self.overlay.setRect(QtCore.QRectF(origin[0], origin[1], w, h))
+        self.overlay.setVisible(True)
 
     def _mouse_moved(self, scene_pos):
         cell = self.cell_at(scene_pos)

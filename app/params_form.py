@@ -80,6 +80,10 @@ class ParamsForm(QtWidgets.QWidget):
 
     def _editor(self, spec, dpjs) -> QtWidgets.QWidget:
         kind, value = spec.kind, spec.value
+        if value is None:      # an optional parameter left to its automatic value
+            w = QtWidgets.QLabel(self._describe(kind, value))
+            w.setEnabled(False)
+            return w
         if kind == "int":
             w = QtWidgets.QSpinBox()
             w.setRange(int(max(spec.minimum if spec.minimum is not None else -INT32, -INT32)),

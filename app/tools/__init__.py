@@ -83,5 +83,7 @@ def _no_options(tip: str) -> QtWidgets.QWidget:
 
 def tool_classes() -> list[type[Tool]]:
     """Every tool, in toolbar order."""
-    TOOLS: list[type[Tool]] = [HandTool]
+    from .regions import CopyTool, ExtractTool, FillTool, TranslateTool
+
+    TOOLS: list[type[Tool]] = [HandTool, FillTool, TranslateTool, CopyTool, ExtractTool]
     return TOOLS

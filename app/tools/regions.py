@@ -1,0 +1,312 @@
+"""The region tools of thesis §3.4: Fill, Translate, Copy and Extract (the selection and what
+can be done to it: recolour, delete, flip, scale, rotate, duplicate, global transforms).
+
+Each click or drag becomes one Action of `texeditor.region_actions`; the canvas overlay shows the
+ghost of a moved region and the current selection, never the document itself.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6 import QtWidgets
+
+from texeditor import region_actions as ra
+from texeditor import regions
+from texeditor.errors import TexeditorError
+
+from . import Tool
+
+KINDS = [("Region", "region"), ("Region in region", "region_in_region"),
+         ("Regions in region", "regions_in_region"), ("Neighbours", "neighbours"),
+         ("Partial region", "partial")]
+SELECTION_TINT = (40, 200, 255)
+
+
+def mask_overlay(mask: np.ndarray, colour, alpha: int = 110):
+    """An RGBA picture of a presence mask cut to its bounding box: the inside tinted, the
+    frontier opaque (a still 'marching ants' line). Returns (rgba, (x, y)) or (None, None)."""
+    rows, cols = np.nonzero(mask)
+    if rows.size == 0:
+        return None, None
+    r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
+    box = np.pad(mask[r0:r1, c0:c1], 1)
+    inner = box[1:-1, 1:-1]
+    edge = inner & ~(box[:-2, 1:-1] & box[2:, 1:-1] & box[1:-1, :-2] & box[1:-1, 2:])
+    rgba = np.zeros(inner.shape + (4,), np.uint8)
+    rgba[inner, :3] = colour
+    rgba[inner, 3] = alpha
+    rgba[edge, 3] = 255
+    return rgba, (int(c0), int(r0))
+
+
+class RegionOptions(QtWidgets.QWidget):
+    """Scope, connectivity and (for moves and selections) the extraction kind and wrap-around."""
+
+    def __init__(self, *, kind=False, wrap=False, fill=False):
+        super().__init__()
+        form = QtWidgets.QFormLayout(self)
+        form.setContentsMargins(0, 0, 0, 0)
+        self.kind = QtWidgets.QComboBox()
+        for text, value in KINDS:
+            self.kind.addItem(text, value)
+        self.kind.setToolTip("What the click extracts (thesis §3.4.2)")
+        self.scope = QtWidgets.QComboBox()
+        self.scope.addItem("Connected region", "region")
+        self.scope.addItem("Every point of the level", "global")
+        self.scope.setToolTip("Region: the connected region at the point; global: every point "
+                              "of its level (EXTRACTEXT)")
+        self.connectivity = QtWidgets.QComboBox()
+        self.connectivity.addItem("4 (edges)", 4)
+        self.connectivity.addItem("8 (edges and corners)", 8)
+        self.wrap = QtWidgets.QCheckBox("Wrap around the edges")
+        self.wrap.setToolTip("What leaves one side comes back on the other: tiles stay seamless")
+        self.fill = QtWidgets.QSpinBox()
+        self.fill.setRange(0, 15)
+        self.fill.setToolTip("The level left behind where the region was (0 = background)")
+        if kind:
+            form.addRow("Extract", self.kind)
+        form.addRow("Scope", self.scope)
+        form.addRow("Connectivity", self.connectivity)
+        if fill:
+            form.addRow("Leave behind", self.fill)
+        if wrap:
+            form.addRow(self.wrap)
+
+    def recipe(self) -> dict:
+        """The selection's recipe fields shared by the region Actions."""
+        return {"scope": self.scope.currentData(), "connectivity": self.connectivity.currentData()}
+
+
+class FillTool(Tool):
+    NAME = "Fill"
+    SHORTCUT = "F"
+    TIP = "Click a region to fill it with the current level (REMPLIR)"
+
+    def build_options(self):
+        self.opts = RegionOptions()
+        return self.opts
+
+    def click(self, cell, modifiers):
+        self.options()
+        if self.inside(cell):
+            x, y = cell
+            self.window.submit(ra.Fill(y, x, self.window.current_level, **self.opts.recipe()))
+
+
+class TranslateTool(Tool):
+    """Drag from a region to where it goes; the ghost follows the pointer (TRANSLATER)."""
+
+    NAME = "Translate"
+    SHORTCUT = "M"
+    TIP = "Drag a region to move it; what it leaves behind gets the chosen level"
+    KEEP_SOURCE = False
+
+    def build_options(self):
+        self.opts = RegionOptions(kind=True, wrap=True, fill=not self.KEEP_SOURCE)
+        return self.opts
+
+    def drag(self, cell, modifiers):
+        self.options()
+        if not self.inside(cell):
+            return
+        x0, y0 = cell
+        recipe = {**self.opts.recipe(), "kind": self.opts.kind.currentData()}
+        try:
+            mask = regions.select(self.document.levels, (y0, x0), **recipe)
+        except TexeditorError as exc:
+            self.window.show_error("Nothing to move here", exc)
+            return
+        colour = self.document.palette[self.document.levels[y0, x0]]
+        wrap = self.opts.wrap.isChecked()
+        x, y = cell
+        try:
+            while True:
+                x, y = yield
+                ghost = regions.shift_mask(mask, (y - y0, x - x0), wrap=wrap)
+                rgba, origin = mask_overlay(ghost, colour, alpha=170)
+                self.window.canvas.set_overlay(rgba, origin or (0, 0))
+        except GeneratorExit:
+            self.window.canvas.set_overlay(None)
+            if (x, y) != (x0, y0):
+                self.window.submit(self.action(y0, x0, y, x, recipe, wrap))
+            raise
+
+    def action(self, row, col, to_row, to_col, recipe, wrap):
+        return ra.Translate(row, col, to_row, to_col, fill=self.opts.fill.value(), wrap=wrap,
+                            **recipe)
+
+
+class CopyTool(TranslateTool):
+    NAME = "Copy"
+    SHORTCUT = "C"
+    TIP = "Drag a region to copy it elsewhere (COPIER)"
+    KEEP_SOURCE = True
+
+    def action(self, row, col, to_row, to_col, recipe, wrap):
+        return ra.Copy(row, col, to_row, to_col, wrap=wrap, **recipe)
+
+
+class ExtractTool(Tool):
+    """Click to extract a selection; the panel then acts on it (thesis §3.4.2f, §3.4.3)."""
+
+    NAME = "Extract"
+    SHORTCUT = "E"
+    TIP = "Click to select what the chosen extraction finds; then change, move or transform it"
+
+    def __init__(self, window):
+        super().__init__(window)
+        self.selection: dict | None = None     # the recipe: row, col, kind, scope, connectivity
+        self._unsubscribe = None
+
+    def build_options(self):
+        box = QtWidgets.QWidget()
+        layout = QtWidgets.QVBoxLayout(box)
+        layout.setContentsMargins(0, 0, 0, 0)
+        self.opts = RegionOptions(kind=True, wrap=True)
+        layout.addWidget(self.opts)
+        self.status = QtWidgets.QLabel("No selection: click the canvas.")
+        self.status.setWordWrap(True)
+        layout.addWidget(self.status)
+        self.panel = SelectionPanel(self)
+        layout.addWidget(self.panel)
+        self.panel.setEnabled(False)
+        return box
+
+    def activate(self):
+        self.options()
+        self._unsubscribe = self.window.history.subscribe(self.refresh)
+        self.refresh()
+
+    def deactivate(self):
+        if self._unsubscribe is not None:
+            self._unsubscribe()
+            self._unsubscribe = None
+        super().deactivate()
+
+    def click(self, cell, modifiers):
+        self.options()
+        if not self.inside(cell):
+            self.clear()
+            return
+        x, y = cell
+        self.selection = {"row": y, "col": x, "kind": self.opts.kind.currentData(),
+                          **self.opts.recipe()}
+        self.refresh()
+
+    def clear(self) -> None:
+        self.selection = None
+        self.refresh()
+
+    def mask(self) -> np.ndarray | None:
+        if self.selection is None:
+            return None
+        s = self.selection
+        h, w = self.document.shape
+        if not (0 <= s["row"] < h and 0 <= s["col"] < w):
+            return None
+        return regions.select(self.document.levels, (s["row"], s["col"]), kind=s["kind"],
+                              scope=s["scope"], connectivity=s["connectivity"])
+
+    def refresh(self) -> None:
+        """Redraw the selection over the current document (after any change, undo included)."""
+        if self.window.tool is not self:
+            return
+        mask = self.mask()
+        rgba, origin = (None, None) if mask is None else mask_overlay(mask, SELECTION_TINT)
+        self.window.canvas.set_overlay(rgba, origin or (0, 0))
+        count = 0 if mask is None else int(mask.sum())
+        self.panel.setEnabled(count > 0)
+        if self.selection is None:
+            self.status.setText("No selection: click the canvas.")
+        else:
+            s = self.selection
+            self.status.setText(f"{count} points selected ({ra._KIND_NAMES[s['kind']]} at "
+                                f"x {s['col']}, y {s['row']}).")
+
+    def submit(self, action_type, **params) -> None:
+        """Apply a selection Action built from the recipe (and the wrap option)."""
+        if self.selection is None:
+            return
+        fields = {f for f in action_type.__dataclass_fields__}
+        recipe = {k: v for k, v in self.selection.items() if k in fields}
+        if "wrap" in fields:
+            params.setdefault("wrap", self.opts.wrap.isChecked())
+        self.window.submit(action_type(**recipe, **params))
+
+
+class SelectionPanel(QtWidgets.QGroupBox):
+    """What can be done to the selection: each button is one Action."""
+
+    def __init__(self, tool: ExtractTool):
+        super().__init__("Selection")
+        self.tool = tool
+        grid = QtWidgets.QGridLayout(self)
+        row = 0
+
+        def button(text, tip, slot, col=0, span=1):
+            b = QtWidgets.QPushButton(text)
+            b.setToolTip(tip)
+            b.clicked.connect(slot)
+            grid.addWidget(b, row, col, 1, span)
+            return b
+
+        self.recolour = button("Recolour", "Give the selection the current level",
+                               self.do_recolour)
+        self.delete = button("Delete", "Set the selection to the background (level 0)",
+                             self.do_delete, 1)
+        row += 1
+        self.flip_h = button("Flip ↔", "Mirror left–right about its centre",
+                             lambda: tool.submit(ra.FlipSelection, axis="horizontal"))
+        self.flip_v = button("Flip ↕", "Mirror top–bottom about its centre",
+                             lambda: tool.submit(ra.FlipSelection, axis="vertical"), 1)
+        row += 1
+        self.angle = self._spin(-360, 360, 90, 1, "°")
+        grid.addWidget(self.angle, row, 0)
+        self.rotate = button("Rotate", "Turn the selection about its centre (counter-clockwise)",
+                             lambda: tool.submit(ra.RotateSelection, angle=self.angle.value()), 1)
+        row += 1
+        self.factor = self._spin(0.05, 16, 2.0, 2, "×")
+        grid.addWidget(self.factor, row, 0)
+        self.scale = button("Scale", "Zoom the selection about its centre",
+                            lambda: tool.submit(ra.ScaleSelection, factor=self.factor.value()), 1)
+        row += 1
+        grid.addWidget(QtWidgets.QLabel("Duplicate"), row, 0, 1, 2)
+        row += 1
+        self.dx = self._spin(-4096, 4096, 16, 0, "", "x ")
+        self.dy = self._spin(-4096, 4096, 0, 0, "", "y ")
+        grid.addWidget(self.dx, row, 0)
+        grid.addWidget(self.dy, row, 1)
+        row += 1
+        self.nx = self._spin(1, 64, 1, 0, "", "× ")
+        self.nx.setToolTip("Copies along x, side by side (a grid: identity, thesis §3.4.3)")
+        self.ny = self._spin(1, 64, 1, 0, "", "× ")
+        self.ny.setToolTip("Copies along y")
+        grid.addWidget(self.nx, row, 0)
+        grid.addWidget(self.ny, row, 1)
+        row += 1
+        self.duplicate = button("Duplicate", "Copy the selection by the offset, on a grid of "
+                                "copies", self.do_duplicate, 0, 2)
+
+    @staticmethod
+    def _spin(lo, hi, value, decimals, suffix, prefix=""):
+        s = QtWidgets.QDoubleSpinBox() if decimals else QtWidgets.QSpinBox()
+        if decimals:
+            s.setDecimals(decimals)
+        s.setRange(lo, hi)
+        s.setValue(value)
+        s.setSuffix(suffix)
+        s.setPrefix(prefix)
+        return s
+
+    def do_recolour(self):
+        self.tool.submit(ra.ChangeLevel, value=self.tool.window.current_level)
+
+    def do_delete(self):
+        self.tool.submit(ra.DeleteSelection)
+        self.tool.clear()
+
+    def do_duplicate(self):
+        self.tool.submit(ra.Identity, offset_row=self.dy.value(), offset_col=self.dx.value(),
+                         repeat_rows=self.ny.value(), repeat_cols=self.nx.value())
+
+

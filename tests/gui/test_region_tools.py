@@ -1,0 +1,103 @@
+"""The region tools on a real canvas: Fill, Translate, Copy and Extract, driven by mouse and keys."""
+
+import numpy as np
+import pytest
+from PySide6 import QtCore
+
+from app.tools.regions import CopyTool, ExtractTool, FillTool, TranslateTool
+from texeditor.actions import NewCanvas, SetLevels
+
+from .events import cell_pos, click, drag, mouse, press_key
+
+LEFT = QtCore.Qt.MouseButton.LeftButton
+
+
+@pytest.fixture
+def board(window):
+    """A 40×30 canvas, G = 4: background 0, a 6×4 block of level 2 at x 5..10, y 4..7, and a
+    level-3 block at x 25..29, y 10..14."""
+    window.submit(NewCanvas(40, 30, 4))
+    window.submit(SetLevels(4, 5, 4, 6, 2))
+    window.submit(SetLevels(10, 25, 5, 5, 3))
+    window.canvas.fit()
+    return window
+
+
+def drag_cells(window, a, b):
+    canvas = window.canvas
+    pa, pb = cell_pos(canvas, *a), cell_pos(canvas, *b)
+    drag(canvas.viewport(), LEFT, (pa.x(), pa.y()), (pb.x(), pb.y()))
+
+
+def test_fill_tool_fills_the_clicked_region_with_the_current_level(board, qtbot):
+    press_key(board, QtCore.Qt.Key.Key_F)
+    assert isinstance(board.tool, FillTool)
+    board.palette_dock.swatches.current = 1
+    steps = board.history.index
+    click(board.canvas.viewport(), cell_pos(board.canvas, 7, 5))
+    levels = board.document.levels
+    assert (levels[4:8, 5:11] == 1).all() and (levels[10:15, 25:30] == 3).all()
+    assert board.history.index == steps + 1
+    board.undo()
+    assert (board.document.levels[4:8, 5:11] == 2).all()
+
+
+def test_translate_tool_moves_the_region_and_shows_a_ghost_while_dragging(board, qtbot):
+    press_key(board, QtCore.Qt.Key.Key_M)
+    assert isinstance(board.tool, TranslateTool)
+    canvas = board.canvas
+    start, mid = cell_pos(canvas, 6, 5), cell_pos(canvas, 9, 9)
+    none = QtCore.Qt.MouseButton.NoButton
+    Type = QtCore.QEvent.Type
+    mouse(canvas.viewport(), Type.MouseButtonPress, start, LEFT, LEFT)
+    for k in range(1, 4):
+        qtbot.wait(25)
+        p = QtCore.QPoint(start.x() + (mid.x() - start.x()) * k // 3,
+                          start.y() + (mid.y() - start.y()) * k // 3)
+        mouse(canvas.viewport(), Type.MouseMove, p, none, LEFT)
+    assert canvas.overlay.isVisible()          # the ghost follows the pointer
+    assert board.history.index == 4            # nothing is applied before the release
+    mouse(canvas.viewport(), Type.MouseButtonRelease, mid, LEFT, none)
+    levels = board.document.levels
+    assert not canvas.overlay.isVisible()
+    assert (levels[8:12, 8:14] == 2).all() and np.count_nonzero(levels == 2) == 24
+    assert (levels[4:8, 5:8] == 0).all()       # left behind: the background
+
+
+def test_copy_tool_keeps_the_source(board, qtbot):
+    press_key(board, QtCore.Qt.Key.Key_C)
+    assert isinstance(board.tool, CopyTool)
+    drag_cells(board, (26, 11), (26, 20))
+    levels = board.document.levels
+    assert (levels[10:15, 25:30] == 3).all() and (levels[19:24, 25:30] == 3).all()
+
+
+def test_extract_selects_then_recolours_deletes_and_duplicates(board, qtbot):
+    press_key(board, QtCore.Qt.Key.Key_E)
+    tool = board.tool
+    assert isinstance(tool, ExtractTool)
+    click(board.canvas.viewport(), cell_pos(board.canvas, 27, 12))
+    assert board.canvas.overlay.isVisible() and "25 points" in tool.status.text()
+    board.palette_dock.swatches.current = 1
+    qtbot.mouseClick(tool.panel.recolour, LEFT)
+    assert (board.document.levels[10:15, 25:30] == 1).all()
+    tool.panel.dx.setValue(-20)
+    tool.panel.dy.setValue(0)
+    qtbot.mouseClick(tool.panel.duplicate, LEFT)
+    assert (board.document.levels[10:15, 5:10] == 1).all()
+    qtbot.mouseClick(tool.panel.delete, LEFT)
+    assert (board.document.levels[10:15, 25:30] == 0).all()
+    assert not tool.panel.isEnabled()          # nothing left selected
+    board.undo()
+    assert (board.document.levels[10:15, 25:30] == 1).all()
+
+
+def test_extract_neighbours_selects_every_region_touching_the_clicked_one(board, qtbot):
+    board.submit(SetLevels(8, 5, 1, 6, 3))      # a strip of 3 under the block of 2
+    press_key(board, QtCore.Qt.Key.Key_E)
+    tool = board.tool
+    tool.opts.kind.setCurrentIndex(tool.opts.kind.findData("neighbours"))
+    click(board.canvas.viewport(), cell_pos(board.canvas, 7, 5))
+    mask = tool.mask()
+    assert mask[8, 5:11].all() and mask[3, 5:11].all()   # the strip and the background around
+    assert not mask[4:8, 5:11].any()                      # not the clicked block itself
