@@ -113,9 +113,34 @@ def main(argv=None) -> int:
     window.runner.cancel()
     window.runner.wait()
 
+    for shoot in MORE_SHOTS:      # each capability adds its own screenshots below
+        shoot(app, window, out)
+        settle(app)
+
     window.mark_clean()
     window.close()
     return 0
+
+
+def shot_extract(app, window, out: Path) -> None:
+    """The Extract tool: the neighbours of a region selected on a synthesised texture."""
+    import numpy as np
+
+    from app.tools.regions import ExtractTool
+
+    tool = next(t for t in window.tools if isinstance(t, ExtractTool))
+    window.set_tool(tool)
+    tool.opts.kind.setCurrentIndex(tool.opts.kind.findData("neighbours"))
+    levels = window.document.levels
+    points = np.argwhere(levels == levels.max())
+    y, x = points[len(points) // 2]
+    tool.click((int(x), int(y)), QtCore.Qt.KeyboardModifier.NoModifier)
+    settle(app)
+    save(window, out / "extract-tool.png")
+    window.set_tool(window.tools[0])
+
+
+MORE_SHOTS = [shot_extract]
 
 
 def _move_event(widget, pos):
