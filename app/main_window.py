@@ -117,6 +117,8 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.act_redo = a("&Redo", self.redo, ["Ctrl+Shift+Z", "Ctrl+Y"])
         self.act_synth = a("&Synthesise", self.synthesise_from_dock, "Ctrl+R",
                            "Draw a texture from the current DPJ")
+        self.act_global = a("&Global operators…", self.global_operators, "Ctrl+G",
+                            "Rotate, zoom, shear or tile the texture or the selection (§3.4.3)")
         self.act_cancel = a("&Cancel work", self.runner.cancel, "Esc")
         self.act_cancel.setEnabled(False)
         self.act_zoom_in = a("Zoom &in", self.canvas.zoom_in, ["+", "=", "Ctrl++"])
@@ -142,6 +144,8 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         menu.addActions([self.act_undo, self.act_redo])
         menu = self.menuBar().addMenu("&Image")
         menu.addActions([self.act_synth, self.act_cancel])
+        menu.addSeparator()
+        menu.addAction(self.act_global)
         menu = self.menuBar().addMenu("&View")
         menu.addActions([self.act_zoom_in, self.act_zoom_out, self.act_fit, self.act_actual])
         menu.addSeparator()
@@ -196,6 +200,16 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
     def current_level(self) -> int:
         """The level tools paint with: the palette's selected swatch."""
         return self.palette_dock.swatches.current
+
+    def global_operators(self):
+        """Show the (non-modal) global operators dialog."""
+        from .global_dialog import GlobalOperatorsDialog
+
+        if getattr(self, "_global_dialog", None) is None:
+            self._global_dialog = GlobalOperatorsDialog(self)
+        self._global_dialog.show()
+        self._global_dialog.raise_()
+        return self._global_dialog
 
     def _connect(self) -> None:
         self.canvas.hovered.connect(self._show_hover)

@@ -101,3 +101,31 @@ def test_extract_neighbours_selects_every_region_touching_the_clicked_one(board,
     mask = tool.mask()
     assert mask[8, 5:11].all() and mask[3, 5:11].all()   # the strip and the background around
     assert not mask[4:8, 5:11].any()                      # not the clicked block itself
+
+
+def test_global_operators_dialog_rotates_the_whole_texture_or_the_selection(board, qtbot):
+    from texeditor import transforms
+
+    before = board.document.levels.copy()
+    qtbot.keyClick(board, QtCore.Qt.Key.Key_G, QtCore.Qt.KeyboardModifier.ControlModifier)
+    dialog = board._global_dialog
+    assert dialog.isVisible() and "whole texture" in dialog.target.text()
+    dialog.operator.setCurrentIndex(dialog.operator.findData("isometry"))
+    dialog.angle.setValue(90)
+    dialog.wrap.setChecked(False)
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    expected = transforms.isometry(before, 90, (14.5, 19.5))
+    assert np.array_equal(board.document.levels, expected)
+    board.undo()
+    # with a selection, only the selection is copied: 2 copies side by side, the first 10 left
+    press_key(board, QtCore.Qt.Key.Key_E)
+    click(board.canvas.viewport(), cell_pos(board.canvas, 27, 12))
+    dialog.operator.setCurrentIndex(dialog.operator.findData("identity"))
+    dialog.dx.setValue(-10)
+    dialog.dy.setValue(0)
+    dialog.copies.setValue(2)
+    assert "selection" in dialog.target.text()
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    levels = board.document.levels
+    assert (levels[10:15, 15:20] == 3).all() and (levels[10:15, 20:25] == 3).all()
+    assert (levels[4:8, 5:11] == 2).all()
