@@ -10,12 +10,12 @@ from pathlib import Path
 
 from PySide6 import QtCore, QtWidgets
 
+from texeditor.export import write_png
 from texeditor.actions import NewCanvas
 from texeditor.errors import TexeditorError
 from texeditor.history import History
 from texeditor.texturefile import load_texture, save_texture
 
-from .images import export_png
 from .new_dialog import NewDialog
 
 TEXTURE_FILTER = "Textures (*.texture);;All files (*)"
@@ -185,8 +185,8 @@ class FileOps:
             path = path.with_name(path.name + ".png")
         doc = self.history.document
         try:
-            export_png(path, doc.levels, doc.palette, scale)
-        except TexeditorError as exc:
+            write_png(path, doc.levels, doc.palette, scale)   # atomic: no half-written file
+        except (TexeditorError, OSError) as exc:
             self.show_error("Cannot export", exc)
             return False
         h, w = doc.shape

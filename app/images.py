@@ -1,7 +1,6 @@
-"""Arrays to Qt images and back: previews, thumbnails and PNG export.
+"""Arrays to Qt images: previews and thumbnails (PNG export is texeditor.export.write_png).
 
-Level matrices become RGB through their palette (``colourize``); photos of any supported dtype are
-shown as 8-bit RGB.
+Photos of any supported dtype are shown as 8-bit RGB.
 """
 
 from __future__ import annotations
@@ -10,9 +9,7 @@ import numpy as np
 from PySide6 import QtCore, QtGui
 from skimage.util import img_as_ubyte
 
-from texeditor.errors import TexeditorError
 
-from .canvas import colourize
 
 
 def qimage_from_rgb(rgb: np.ndarray) -> QtGui.QImage:
@@ -42,14 +39,3 @@ def pixmap(rgb: np.ndarray, box: int) -> QtGui.QPixmap:
             else QtCore.Qt.TransformationMode.SmoothTransformation)
     return QtGui.QPixmap.fromImage(image.scaled(box, box, QtCore.Qt.AspectRatioMode.KeepAspectRatio,
                                                 mode))
-
-
-def export_png(path, levels: np.ndarray, palette, scale: int = 1) -> None:
-    """Write the texture as an RGB PNG, each point drawn as a scale×scale block."""
-    if not 1 <= scale <= 64:
-        raise TexeditorError(f"the export scale must be 1..64, got {scale}")
-    rgb = colourize(levels, palette)
-    if scale > 1:
-        rgb = np.repeat(np.repeat(rgb, scale, axis=0), scale, axis=1)
-    if not qimage_from_rgb(rgb).save(str(path), "PNG"):
-        raise TexeditorError(f"could not write {path}: check the folder exists and is writable")

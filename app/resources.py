@@ -8,27 +8,19 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import texeditor
+import texeditor.resources
 from texeditor.errors import TexeditorError
 
-PHOTO_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp"}
 START_WINDOW, START_LEVELS = (3, 3), 4
 START_NAME = "gravel"      # the bundled DPJ the window opens on, when present
 
 
-def resources_dir() -> Path:
-    return Path(texeditor.__file__).resolve().parent.parent / "resources"
-
-
 def sample_images() -> list[Path]:
-    folder = resources_dir() / "images"
-    return sorted(p for p in folder.glob("*") if p.suffix.lower() in PHOTO_SUFFIXES) \
-        if folder.is_dir() else []
+    return texeditor.resources.sample_images()
 
 
 def bundled_dpjs() -> list[Path]:
-    folder = resources_dir() / "dpj"
-    return sorted(folder.glob("*.dpj")) if folder.is_dir() else []
+    return texeditor.resources.bundled_dpjs()
 
 
 def default_dpj():
