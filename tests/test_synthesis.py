@@ -5,6 +5,7 @@ import threading
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 from scipy.stats import chisquare
 from skimage import data
 
@@ -203,3 +204,19 @@ def test_empty_or_negative_dpj_is_refused():
         synthesize(DPJ.empty((2, 2), 3), (10, 10))
     with pytest.raises(InputError):
         synthesize(DPJ(np.zeros((1, 2, 2), np.uint8), [-1.0], 2), (10, 10))
+
+
+@given(st.integers(2, 4), st.integers(1, 3), st.integers(1, 3), st.data())
+@settings(max_examples=40, deadline=None)
+def test_any_dpj_synthesises_without_raising_or_hanging(levels, u, v, data):
+    """Hand-entered DPJs can be anything (non-stationary, sparse, a single entry): the sampler
+    always returns a full matrix of valid levels, repairing dead ends as it must."""
+    n = data.draw(st.integers(1, min(12, levels ** (u * v))))
+    codes = data.draw(st.lists(st.integers(0, levels ** (u * v) - 1), min_size=n, max_size=n,
+                               unique=True))
+    probs = data.draw(st.lists(st.floats(0.01, 1.0), min_size=n, max_size=n))
+    dpj = DPJ.from_codes(np.array(codes), np.array(probs), levels, (u, v))
+    h, w = data.draw(st.integers(v, 24)), data.draw(st.integers(u, 24))
+    result = synthesize(dpj, (h, w), seed=data.draw(st.integers(0, 2**32)))
+    assert result.levels.shape == (h, w) and result.levels.max() < levels
+    assert result.repairs >= 0 and result.redraws >= 0
