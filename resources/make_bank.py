@@ -1,0 +1,128 @@
+"""Regenerate the built-in bank entries, resources/bank/*.texture (run from the repository root).
+
+A new bank installs these on first run, so a newcomer sees what the product does: textures acquired
+from the bundled photos, DPJs drawn from a seed (§5.2.2), and edited textures whose logs use the
+region and global operators. Each file's stem is the entry's name ("gravel-acquired" → "Gravel
+acquired"); its tags and description come from the manifest. Logs are saved optimised, as the
+bank keeps them.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+
+from texeditor.actions import NewCanvas, SetLevels, SetPalette, Synthesize  # noqa: E402
+from texeditor.dpj import DPJ  # noqa: E402
+from texeditor.history import History  # noqa: E402
+from texeditor.logopt import optimize  # noqa: E402
+from texeditor.region_actions import Copy, Fill, Identity, Isometry, Similarity  # noqa: E402
+from texeditor.texturefile import save_texture  # noqa: E402
+
+SIZE = 128
+WARM = [(52, 36, 24), (128, 86, 52), (186, 140, 92), (232, 206, 160)]
+MOSS = [(24, 36, 20), (58, 86, 40), (104, 140, 64), (170, 196, 110), (226, 234, 190)]
+
+
+def seeded_dpj(seed: int, levels: int = 3, empty: float = 0.0) -> DPJ:
+    """A 2×2 DPJ drawn from a seed (thesis §5.2.2): every configuration gets a small random
+    probability (a granular texture); ``empty`` is the share given to the all-background one
+    (high: airy, 0: dense)."""
+    rng = np.random.default_rng(seed)
+    n = levels ** 4
+    probs = rng.dirichlet(np.full(n, 0.7))
+    probs[0] = 0.0
+    probs *= (1.0 - empty) / probs.sum()
+    probs[0] = empty
+    return DPJ.from_codes(np.arange(n), probs, levels, (2, 2),
+                          meta={"name": f"seed-{seed}", "source": f"drawn from seed {seed}"})
+
+
+def synthesised(dpj: DPJ, seed: int, size: int = SIZE) -> History:
+    history = History()
+    ref = history.add_dpj(dpj)
+    history.apply(Synthesize(ref, size, size, seed))
+    return history
+
+
+def bundled(name: str) -> DPJ:
+    return DPJ.load(HERE / "dpj" / f"{name}.dpj")
+
+
+def entries() -> dict:
+    """stem → (History, tags, description)."""
+    out = {}
+    gravel, grass, brick = bundled("gravel-3x3-g4"), bundled("grass-2x2-g8"), bundled("brick-2x3-g4")
+    out["gravel"] = (synthesised(gravel, 1), ["gravel", "photo", "granular"],
+                     "Acquired from scikit-image's gravel photo: 3×3 window, G = 4, Lloyd–Max "
+                     "levels; synthesised 128×128, seed 1.")
+    out["grass"] = (synthesised(grass, 2), ["grass", "photo", "fine"],
+                    "Acquired from scikit-image's grass photo: 2×2 window, G = 8; synthesised.")
+    out["brick"] = (synthesised(brick, 3), ["brick", "photo", "oriented"],
+                    "Acquired from scikit-image's brick photo: 2×3 window, G = 4; the courses "
+                    "run up and down, as in the photo.")
+    out["granular-airy-seed-5"] = (
+        synthesised(seeded_dpj(5, empty=0.35), 5), ["granular", "seed", "airy"],
+        "A 2×2 DPJ drawn from seed 5, G = 3, the empty configuration at 0.35: scattered grains.")
+    out["granular-dense-seed-8"] = (
+        synthesised(seeded_dpj(8, empty=0.0), 8), ["granular", "seed", "dense"],
+        "A 2×2 DPJ drawn from seed 8, G = 3, no empty configuration: a dense grain.")
+
+    h = synthesised(gravel, 4)
+    h.apply(Fill(64, 64, 3, scope="region", connectivity=8))
+    h.apply(Copy(64, 64, 24, 100, kind="region", scope="region", connectivity=8))
+    h.apply(SetPalette(WARM))
+    out["gravel-filled-and-copied"] = (
+        h, ["gravel", "edited", "regions", "colour"],
+        "Gravel with the region at the centre filled with the lightest level, copied up to the "
+        "right, in warm colours (fill, copy, palette).")
+
+    h = synthesised(brick, 6)
+    h.apply(Isometry(90.0, SIZE / 2 - 0.5, SIZE / 2 - 0.5, wrap=True))
+    out["brick-turned-a-quarter"] = (
+        h, ["brick", "edited", "oriented", "rotated"],
+        "Brick turned 90° about its centre (isometry, wrap): the courses now run across.")
+
+    h = synthesised(grass, 7)
+    h.apply(Similarity(2.0, SIZE / 2, SIZE / 2, wrap=True))
+    h.apply(SetPalette(MOSS + [(240, 244, 220)] * 3))
+    out["grass-zoomed-twice"] = (
+        h, ["grass", "edited", "coarse", "colour"],
+        "Grass zoomed ×2 (similarity): half the grains per area, a coarser texture; moss colours.")
+
+    h = History()
+    h.apply(NewCanvas(SIZE, SIZE, 3))
+    h.apply(SetLevels(2, 2, 10, 12, 2))
+    h.apply(SetLevels(6, 6, 2, 4, 1))
+    h.apply(SetLevels(12, 4, 3, 10, 1))
+    h.apply(Identity(0, 0, repeat_rows=8, repeat_cols=8, step_rows=16, step_cols=16))
+    out["tiled-motif"] = (
+        h, ["hand-made", "regular", "periodic", "tiled"],
+        "A motif drawn by hand in a 16×16 cell and duplicated on an 8×8 grid (identity): a "
+        "perfectly regular texture.")
+    return out
+
+
+def main() -> None:
+    folder = HERE / "bank"
+    folder.mkdir(exist_ok=True)
+    for old in folder.glob("*.texture"):
+        old.unlink()
+    for stem, (history, tags, description) in entries().items():
+        doc = history.document
+        shorter = optimize(history.applied, doc.dpjs)
+        check = History.from_log(shorter, doc.dpjs)
+        assert check.document.result_hash() == doc.result_hash(), stem
+        if doc.dpj is not None:      # the current DPJ travels with the file
+            check.document._add_dpj(doc.dpj, doc.dpj_ref)
+        save_texture(folder / f"{stem}.texture", check, tags=tags, description=description)
+        print(f"{stem}.texture: {len(shorter)} actions")
+
+
+if __name__ == "__main__":
+    main()
