@@ -523,3 +523,4 @@ class _Memo:
 _MEMO = _Memo()
 
 from . import region_actions  # noqa: E402,F401  (registers the region operators)
+from . import spot_actions  # noqa: E402,F401  (registers the spot placements)

@@ -282,6 +282,7 @@ class History:
         scratch = Document()
         scratch.dpjs = self._doc.dpjs
         scratch._restore(self._snaps[start])
+        scratch._log = actions[:start]      # actions may read the log before them (DeleteSpot)
         records, costs, snaps = {}, {}, {}
         keys = [s for s in self._snap_keys if s <= i]
         for k in range(start, new_index):
@@ -290,6 +291,7 @@ class History:
             except InputError as exc:
                 raise InputError(f"after this edit, step {k + 1} ({actions[k].label()}) "
                                  f"fails: {exc}") from None
+            scratch._log.append(actions[k])
             if k + 1 > i and self._wants_snapshot(k + 1, keys, costs):
                 snaps[k + 1] = scratch._state()
                 keys.append(k + 1)
