@@ -571,3 +571,65 @@ def test_default_path_follows_the_environment(tmp_path, monkeypatch):
     assert bk.default_path() == tmp_path / "data" / "bank.sqlite"
     monkeypatch.delenv("TEXEDITOR_DATA")
     assert bk.default_path().name == "bank.sqlite" and "texeditor" in str(bk.default_path())
+
+
+# -- the command line -------------------------------------------------------------------------------
+
+def cli(capsys, *argv):
+    from texeditor.cli import main
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_the_bank_from_the_command_line(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("TEXEDITOR_BANK", str(tmp_path / "cli.sqlite"))
+    code, out, _ = cli(capsys, "bank", "list")
+    assert code == 0 and "Tiled motif" in out and "Gravel" in out        # the built-ins
+    n = len(out.splitlines()) - 1
+
+    source = tmp_path / "mine.texture"
+    tf.save_texture(source, stripes(2, True), tags=["lines"], description="from a file")
+    code, out, _ = cli(capsys, "bank", "add", source, "--name", "My lines", "--tags", "mine, b")
+    assert code == 0 and out.startswith(f"entry {n + 1}: My lines")
+    code, out, _ = cli(capsys, "bank", "import", source)
+    assert code == 0 and "Mine" in out and "lines" in out
+
+    code, out, _ = cli(capsys, "bank", "search", "my", "--tag", "mine")
+    assert code == 0 and "My lines" in out and "Gravel" not in out
+    code, out, err = cli(capsys, "bank", "search", "--filter", "directivity=0.95..",
+                         "--filter", "orientation=80..100")
+    assert code == 0 and "My lines" in out and "Mine" in out and "Brick" not in out
+    assert f"preparing {n} entries" in err             # the built-ins got their attributes
+    code, out, _ = cli(capsys, "bank", "search", "--like", n + 1, "--limit", 1)
+    assert code == 0 and out.splitlines()[1].split()[1] == "Mine"
+
+    code, out, _ = cli(capsys, "bank", "show", n + 1)
+    assert code == 0 and "tags: b, mine" in out and "directivity" in out and "1. New canvas" in out
+    code, out, _ = cli(capsys, "bank", "render", n + 1, "-o", tmp_path / "lines.npy")
+    assert code == 0 and "hash verified" in out
+    assert np.array_equal(np.load(tmp_path / "lines.npy"), stripes(2, True).document.levels)
+    code, out, _ = cli(capsys, "bank", "export", n + 1, "-o", tmp_path / "back.texture")
+    assert code == 0 and tf.load_texture(tmp_path / "back.texture")[1].tags == ("b", "mine")
+
+    code, out, _ = cli(capsys, "bank", "verify")
+    assert code == 0 and f"{n + 2} entries replayed: {n + 2} match" in out
+
+
+def test_bank_command_line_errors(tmp_path, capsys):
+    path = tmp_path / "b.sqlite"
+    with Bank(path, builtins=False) as bank:
+        entry_id = bank.add(stripes(2, True), "lines")
+        raw(bank).execute("UPDATE entries SET sha256 = ?", ("f" * 64,))
+    code, out, _ = cli(capsys, "bank", "verify", "--bank", path)
+    assert code == 1 and "entry 1 “lines”" in out and "0 match" in out
+    (tmp_path / "junk.texture").write_bytes(b"junk")
+    for argv in (["show", 42], ["search", "--filter", "contrast=1..0"], ["show", "one"],
+                 ["add", tmp_path / "junk.texture"], ["render", entry_id, "-o", tmp_path / "x.gif"],
+                 ["export", entry_id, "-o", tmp_path / "x.texture"]):
+        code, out, err = cli(capsys, "bank", *argv, "--bank", path)
+        assert code == 2 and err.count("\n") == 1 and err.startswith("texeditor: error:"), argv
+    assert not (tmp_path / "x.texture").exists()
+    (tmp_path / "garbage.sqlite").write_bytes(b"x" * 5000)
+    code, _, err = cli(capsys, "bank", "list", "--bank", tmp_path / "garbage.sqlite")
+    assert code == 2 and "not a texture bank" in err

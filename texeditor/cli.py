@@ -173,6 +173,9 @@ def build_parser() -> argparse.ArgumentParser:
     lg.add_argument("-o", "--output", help="NEW.texture, with --optimize")
     lg.set_defaults(func=cmd_log)
 
+    from .bank_cli import add_parser as add_bank_parser
+    add_bank_parser(sub)                     # texeditor bank list|search|show|render|…
+
     g = sub.add_parser("gui", help="open the application window")
     g.add_argument("--screenshot", help="render the window offscreen to this PNG and exit")
     g.add_argument("--open", help="a .texture file to open")
