@@ -524,3 +524,4 @@ _MEMO = _Memo()
 
 from . import region_actions  # noqa: E402,F401  (registers the region operators)
 from . import spot_actions  # noqa: E402,F401  (registers the spot placements)
+from . import paint_actions  # noqa: E402,F401  (registers brushes, grains, zones, Peano levels)

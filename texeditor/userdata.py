@@ -1,0 +1,65 @@
+"""The user's own data folder and the small JSON libraries kept in it (grains, brush presets).
+
+Libraries sit beside the bank in the user data directory (platformdirs; ``TEXEDITOR_DATA``
+overrides it, as tests do). Files are written atomically and every read is validated.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+from .errors import FormatError
+from .fileio import atomic_write_bytes, read_limited
+
+ENV_VAR = "TEXEDITOR_DATA"
+MAX_LIBRARY_BYTES = 4 * 2**20
+MAX_ITEMS = 1000
+
+
+def data_dir() -> Path:
+    """The folder of the user's texeditor data (created on first write, not here)."""
+    override = os.environ.get(ENV_VAR)
+    if override:
+        return Path(override)
+    from platformdirs import user_data_dir
+    return Path(user_data_dir("texeditor", appauthor=False))
+
+
+def read_library(path: Path, kind: str, version: int = 1) -> list[dict]:
+    """The items of a library file: ``{"format": kind, "version": n, "items": [...]}``.
+
+    A missing file is an empty library; a damaged, foreign or newer one is a FormatError that
+    names the file, so the caller can say so and carry on with the standard items.
+    """
+    path = Path(path)
+    if not path.exists():
+        return []
+    data = read_limited(path, MAX_LIBRARY_BYTES, f"{kind} library")
+    try:
+        obj = json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise FormatError(f"{path}: not a {kind} library ({exc})") from None
+    if not isinstance(obj, dict) or obj.get("format") != kind:
+        raise FormatError(f"{path}: not a {kind} library (its format is not {kind!r})")
+    found = obj.get("version")
+    if isinstance(found, bool) or not isinstance(found, int) or not 1 <= found <= version:
+        raise FormatError(f"{path}: {kind} library version {found!r} is not supported "
+                          f"(this program reads version {version})")
+    items = obj.get("items")
+    if not isinstance(items, list) or len(items) > MAX_ITEMS:
+        raise FormatError(f"{path}: the library must list at most {MAX_ITEMS} items")
+    if not all(isinstance(item, dict) for item in items):
+        raise FormatError(f"{path}: every library item must be a JSON object")
+    return items
+
+
+def write_library(path: Path, kind: str, items: list[dict], version: int = 1) -> None:
+    """Write a library file atomically (its folder is created when needed)."""
+    path = Path(path)
+    if len(items) > MAX_ITEMS:
+        raise FormatError(f"a library holds at most {MAX_ITEMS} items")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    text = json.dumps({"format": kind, "version": version, "items": items}, indent=1)
+    atomic_write_bytes(path, text.encode("utf-8"))
