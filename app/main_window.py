@@ -17,6 +17,7 @@ from texeditor.history import History
 
 from . import resources
 from .acquire_dialog import AcquireDialog
+from .bank_dock import BankDock
 from .canvas import CanvasView
 from .files import FileOps
 from .history_dock import HistoryDock
@@ -51,6 +52,8 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         for dock in (self.synthesis_dock, self.palette_dock, self.history_dock):
             self.addDockWidget(right, dock)
         self.addDockWidget(QtCore.Qt.DockWidgetArea.LeftDockWidgetArea, self.tool_dock)
+        self.bank_dock = BankDock(self)          # the bank opens in start_default (or on use)
+        self.addDockWidget(QtCore.Qt.DockWidgetArea.LeftDockWidgetArea, self.bank_dock)
         self.tools = [cls(self) for cls in tool_classes()]
         self._docks_sized = False
 
@@ -136,6 +139,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.recent_menu.aboutToShow.connect(self._fill_recent_menu)
         menu.addSeparator()
         menu.addActions([self.act_save, self.act_save_as, self.act_export])
+        menu.addAction(self.bank_dock.act_save)
         menu.addSeparator()
         menu.addAction(self.act_acquire)
         menu.addSeparator()
@@ -151,7 +155,8 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         menu.addSeparator()
         menu.addAction(self.act_tiled)
         menu.addSeparator()
-        for dock in (self.tool_dock, self.synthesis_dock, self.palette_dock, self.history_dock):
+        for dock in (self.tool_dock, self.synthesis_dock, self.palette_dock, self.history_dock,
+                     self.bank_dock):
             menu.addAction(dock.toggleViewAction())
 
         bar = self.addToolBar("Main")
@@ -393,7 +398,10 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             self.synthesise_from_dock()
 
     def start_default(self) -> None:
-        """Open on a fresh synthesis from a bundled DPJ (the bank comes later)."""
+        """Open the texture bank on a built-in entry; without a bank, a fresh synthesis from a
+        bundled DPJ."""
+        if self.bank_dock.start():
+            return
         history = History()
         try:
             history.add_dpj(resources.default_dpj())

@@ -3,7 +3,8 @@
 A new bank installs these on first run, so a newcomer sees what the product does: textures acquired
 from the bundled photos, DPJs drawn from a seed (§5.2.2), and edited textures whose logs use the
 region and global operators. Each file's stem is the entry's name ("gravel-acquired" → "Gravel
-acquired"); its tags and description come from the manifest. Logs are saved optimised, as the
+acquired", a leading "NN-" is the entry's place among the built-ins); its tags and description
+come from the manifest. Logs are saved optimised, as the
 bank keeps them.
 """
 
@@ -113,15 +114,16 @@ def main() -> None:
     folder.mkdir(exist_ok=True)
     for old in folder.glob("*.texture"):
         old.unlink()
-    for stem, (history, tags, description) in entries().items():
+    for k, (stem, (history, tags, description)) in enumerate(entries().items(), 1):
         doc = history.document
         shorter = optimize(history.applied, doc.dpjs)
         check = History.from_log(shorter, doc.dpjs)
         assert check.document.result_hash() == doc.result_hash(), stem
         if doc.dpj is not None:      # the current DPJ travels with the file
             check.document._add_dpj(doc.dpj, doc.dpj_ref)
-        save_texture(folder / f"{stem}.texture", check, tags=tags, description=description)
-        print(f"{stem}.texture: {len(shorter)} actions")
+        name = f"{k:02d}-{stem}.texture"
+        save_texture(folder / name, check, tags=tags, description=description)
+        print(f"{name}: {len(shorter)} actions")
 
 
 if __name__ == "__main__":

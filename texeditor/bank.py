@@ -382,12 +382,14 @@ class Bank:
         return self.insert(record)
 
     def install_builtins(self, folder: Path = BUILTIN_DIR) -> list:
-        """Add the bundled entries (resources/bank/*.texture) without replaying them: they are
-        checked, and get thumbnails and attributes, in ``prepare_pending``."""
+        """Add the bundled entries (resources/bank/NN-name.texture, NN their place in the
+        browser) without replaying them: they are checked, and get thumbnails and attributes,
+        in ``prepare_pending``."""
         records = []
         for path in sorted(Path(folder).glob("*.texture")):
             try:
-                records.append(pending_record(read_texture(path), name_from_file(path)))
+                name = name_from_file(re.sub(r"^\d+[-_ ]", "", path.name))
+                records.append(pending_record(read_texture(path), name))
             except TexeditorError:
                 continue          # a damaged bundled file is skipped, never fatal
         return self.insert_many(records, builtin=True) if records else []

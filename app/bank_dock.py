@@ -1,0 +1,839 @@
+"""The bank browser dock: the texture bank as a grid of thumbnails, with search, attribute filters,
+tags, "more like this", open, duplicate, delete (trash and undo), import and export.
+
+It sits between the bank (texeditor.bank, SQLite) and the main window: opening an entry replays its
+log in the window's TaskRunner and hands the History to ``set_history``; saving sends a snapshot
+of the current document to the worker and stores the result. The bank opens on ``load()`` (the
+application's start-up), never merely because the dock exists.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from pathlib import Path
+
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from texeditor import attributes as attrs
+from texeditor.bank import Bank, make_record
+from texeditor.errors import TexeditorError
+
+ICON = 80                         # thumbnail side on screen (they are stored at 128)
+CELL = QtCore.QSize(ICON + 10, ICON + 26)
+CACHE = 600                       # pixmaps kept (about 40 MB at most)
+SEARCH_DELAY_MS = 150
+START_ENTRY = "Gravel"            # the built-in the window opens on
+TEXTURE_FILTER = "Textures (*.texture);;All files (*)"
+FILTERS = {                       # attribute: (low, high, step, decimals) of its range box
+    "contrast": (0, 1, 0.05, 2), "granularity": (1, 1e6, 1, 1), "density": (0, 1, 0.05, 2),
+    "directivity": (0, 1, 0.05, 2), "orientation": (0, 180, 5, 0), "regularity": (0, 1, 0.05, 2),
+    "coarseness": (0, 1e4, 0.5, 1)}
+IdRole = QtCore.Qt.ItemDataRole.UserRole
+
+
+class BankModel(QtCore.QAbstractListModel):
+    """The ids of the entries shown; names and thumbnails are read from the bank only when the
+    view asks for a row, a batch at a time, so thousands of entries scroll smoothly."""
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.bank: Bank | None = None
+        self.ids: list[int] = []
+        self.rows: dict[int, int] = {}
+        self.names: dict[int, tuple] = {}
+        self.pixmaps: OrderedDict[int, QtGui.QPixmap] = OrderedDict()
+        self.wanted: set[int] = set()
+        self.placeholder = _placeholder()
+        self._timer = QtCore.QTimer(self)
+        self._timer.setSingleShot(True)
+        self._timer.timeout.connect(self.fetch)
+
+    def set_ids(self, bank: Bank, ids: list) -> None:
+        self.beginResetModel()
+        self.bank, self.ids = bank, list(ids)
+        self.rows = {entry_id: row for row, entry_id in enumerate(self.ids)}
+        self.wanted.clear()
+        self.endResetModel()
+
+    def forget(self, ids=None) -> None:
+        """Drop cached names and thumbnails (of ``ids``, or all) so they are read again."""
+        for entry_id in (list(self.pixmaps) if ids is None else ids):
+            self.pixmaps.pop(entry_id, None)
+            self.names.pop(entry_id, None)
+        if ids is None:
+            self.names.clear()
+
+    def rowCount(self, parent=QtCore.QModelIndex()) -> int:
+        return 0 if parent.isValid() else len(self.ids)
+
+    def data(self, index, role=QtCore.Qt.ItemDataRole.DisplayRole):
+        if not index.isValid():
+            return None
+        entry_id = self.ids[index.row()]
+        if role == IdRole:
+            return entry_id
+        if role == QtCore.Qt.ItemDataRole.DisplayRole:
+            return self._name(entry_id)[0]
+        if role == QtCore.Qt.ItemDataRole.DecorationRole:
+            pixmap = self.pixmaps.get(entry_id)
+            if pixmap is None:
+                self._want(entry_id)
+                return self.placeholder
+            self.pixmaps.move_to_end(entry_id)
+            return pixmap
+        if role == QtCore.Qt.ItemDataRole.ToolTipRole:
+            name, tags = self._name(entry_id)
+            return f"{name}\n{', '.join(tags)}" if tags else name
+        return None
+
+    def _name(self, entry_id: int) -> tuple:
+        found = self.names.get(entry_id)
+        if found is None:
+            self._want(entry_id)
+            return ("…", ())
+        return found
+
+    def _want(self, entry_id: int) -> None:
+        self.wanted.add(entry_id)
+        if not self._timer.isActive():
+            self._timer.start(0)
+
+    def fetch(self) -> None:
+        """Read the rows the view asked for in one query each for names and thumbnails."""
+        ids = [i for i in self.wanted if i in self.rows]
+        self.wanted.clear()
+        if not ids or self.bank is None:
+            return
+        try:
+            self.names.update(self.bank.names([i for i in ids if i not in self.names]))
+            thumbs = self.bank.thumbnails([i for i in ids if i not in self.pixmaps])
+        except TexeditorError:
+            return                   # the bank went away; the dock shows the error elsewhere
+        for entry_id, png in thumbs.items():
+            if png is not None:
+                pixmap = QtGui.QPixmap()
+                pixmap.loadFromData(png, "PNG")
+                self.pixmaps[entry_id] = pixmap.scaled(
+                    ICON, ICON, QtCore.Qt.AspectRatioMode.KeepAspectRatio,
+                    QtCore.Qt.TransformationMode.SmoothTransformation)
+        while len(self.pixmaps) > CACHE:
+            self.pixmaps.popitem(last=False)
+        rows = sorted(self.rows[i] for i in ids)
+        self.dataChanged.emit(self.index(rows[0]), self.index(rows[-1]))
+
+
+def _placeholder() -> QtGui.QPixmap:
+    """A grey tile for thumbnails not read (or not computed) yet."""
+    pixmap = QtGui.QPixmap(ICON, ICON)
+    pixmap.fill(QtGui.QColor(70, 70, 70))
+    painter = QtGui.QPainter(pixmap)
+    painter.setPen(QtGui.QColor(150, 150, 150))
+    painter.drawText(pixmap.rect(), QtCore.Qt.AlignmentFlag.AlignCenter, "…")
+    painter.end()
+    return pixmap
+
+
+class ThumbnailDelegate(QtWidgets.QStyledItemDelegate):
+    """A thumbnail and its name; the selection is a frame around the tile, never a tint of the
+    texture's own colours (which is what the user is judging)."""
+
+    def paint(self, painter, option, index) -> None:
+        rect = option.rect.adjusted(3, 3, -3, -3)
+        selected = bool(option.state & QtWidgets.QStyle.StateFlag.State_Selected)
+        palette = option.palette
+        painter.save()
+        if selected:
+            painter.setPen(QtCore.Qt.PenStyle.NoPen)
+            painter.setBrush(palette.highlight())
+            painter.drawRoundedRect(rect, 4, 4)
+        pixmap = index.data(QtCore.Qt.ItemDataRole.DecorationRole)
+        if pixmap is not None:
+            left = rect.left() + (rect.width() - pixmap.width()) // 2
+            painter.drawPixmap(left, rect.top() + 3, pixmap)
+        text_rect = QtCore.QRect(rect.left() + 2, rect.top() + ICON + 5, rect.width() - 4,
+                                 rect.bottom() - rect.top() - ICON - 5)
+        text = option.fontMetrics.elidedText(index.data() or "", QtCore.Qt.TextElideMode.ElideRight,
+                                             text_rect.width())
+        painter.setPen(palette.highlightedText().color() if selected else palette.text().color())
+        painter.drawText(text_rect, QtCore.Qt.AlignmentFlag.AlignHCenter
+                         | QtCore.Qt.AlignmentFlag.AlignTop, text)
+        painter.restore()
+
+    def sizeHint(self, option, index) -> QtCore.QSize:
+        return CELL
+
+
+class ThumbnailGrid(QtWidgets.QListView):
+    """A list view in icon mode whose columns share the width evenly (no ragged gap)."""
+
+    def resizeEvent(self, ev) -> None:
+        super().resizeEvent(ev)
+        width = self.viewport().width()
+        columns = max(1, width // CELL.width())
+        size = QtCore.QSize(width // columns, CELL.height())
+        if size != self.gridSize():
+            self.setGridSize(size)
+
+
+class RangeFilters(QtWidgets.QWidget):
+    """One row per attribute: a check box to use it, and the low and high bounds."""
+
+    changed = QtCore.Signal()
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        grid = QtWidgets.QGridLayout(self)
+        grid.setContentsMargins(0, 0, 0, 0)
+        grid.setVerticalSpacing(2)
+        self.rows = {}
+        for row, (name, (lo, hi, step, decimals)) in enumerate(FILTERS.items()):
+            use = QtWidgets.QCheckBox(name)
+            use.setToolTip(attrs.DESCRIPTIONS[name])
+            boxes = []
+            for value in (lo, hi):
+                box = QtWidgets.QDoubleSpinBox()
+                box.setRange(lo, hi)
+                box.setSingleStep(step)
+                box.setDecimals(decimals)
+                box.setValue(value if name != "granularity" or value == lo else 1000)
+                box.setEnabled(False)
+                box.valueChanged.connect(self.changed)
+                boxes.append(box)
+            use.toggled.connect(lambda on, b=boxes: [x.setEnabled(on) for x in b])
+            use.toggled.connect(self.changed)
+            grid.addWidget(use, row, 0)
+            grid.addWidget(boxes[0], row, 1)
+            grid.addWidget(QtWidgets.QLabel("–"), row, 2)
+            grid.addWidget(boxes[1], row, 3)
+            self.rows[name] = (use, *boxes)
+
+    def ranges(self) -> dict:
+        return {name: (lo.value(), hi.value()) for name, (use, lo, hi) in self.rows.items()
+                if use.isChecked()}
+
+    def set_range(self, name: str, lo: float, hi: float) -> None:
+        use, low, high = self.rows[name]
+        low.setValue(lo)
+        high.setValue(hi)
+        use.setChecked(True)
+
+
+class SaveToBankDialog(QtWidgets.QDialog):
+    """Name, tags and description of a texture going into the bank; optionally a new version of
+    the entry it was opened from."""
+
+    def __init__(self, name: str, tags, description: str, parent_name: str | None, parent=None):
+        super().__init__(parent)
+        self.setWindowTitle("Save to bank")
+        form = QtWidgets.QFormLayout(self)
+        self.name = QtWidgets.QLineEdit(name)
+        self.name.setPlaceholderText("a name to find it by")
+        self.tags = QtWidgets.QLineEdit(", ".join(tags))
+        self.tags.setPlaceholderText("keys, separated by commas: gravel, fine, warm")
+        self.description = QtWidgets.QPlainTextEdit(description)
+        self.description.setPlaceholderText("what it is, how it was made (searchable)")
+        self.description.setFixedHeight(72)
+        self.version = QtWidgets.QCheckBox(f"A new version of “{parent_name}”")
+        self.version.setToolTip("Keep the link to the entry this texture was opened from; "
+                                "both stay in the bank")
+        self.version.setChecked(parent_name is not None)
+        self.version.setVisible(parent_name is not None)
+        form.addRow("&Name:", self.name)
+        form.addRow("&Tags:", self.tags)
+        form.addRow("&Description:", self.description)
+        form.addRow(self.version)
+        buttons = QtWidgets.QDialogButtonBox(QtWidgets.QDialogButtonBox.StandardButton.Save
+                                             | QtWidgets.QDialogButtonBox.StandardButton.Cancel)
+        buttons.accepted.connect(self.accept)
+        buttons.rejected.connect(self.reject)
+        self.ok_button = buttons.button(QtWidgets.QDialogButtonBox.StandardButton.Save)
+        self.name.textChanged.connect(lambda t: self.ok_button.setEnabled(bool(t.strip())))
+        self.ok_button.setEnabled(bool(name.strip()))
+        form.addRow(buttons)
+        self.resize(420, self.sizeHint().height())
+
+
+class BankDock(QtWidgets.QDockWidget):
+    """The texture bank browser. ``load()`` opens the bank; ``start()`` also opens an entry."""
+
+    def __init__(self, window):
+        super().__init__("Texture bank", window)
+        self.setObjectName("BankDock")
+        self.main = window                   # the MainWindow (QWidget.window() stays Qt's)
+        self.bank: Bank | None = None
+        self.opened: tuple | None = None     # (entry id, the History it was opened into)
+        self.deleted: list[int] = []         # trashed by this dock, for "Undo delete"
+        self.like: int | None = None
+        self._search_timer = QtCore.QTimer(self)
+        self._search_timer.setSingleShot(True)
+        self._search_timer.setInterval(SEARCH_DELAY_MS)
+        self._search_timer.timeout.connect(self.refresh)
+        self._build()
+        self._set_enabled(False)
+
+    # -- construction -------------------------------------------------------------------------------
+    def _build(self) -> None:
+        body = QtWidgets.QWidget()
+        layout = QtWidgets.QVBoxLayout(body)
+        layout.setContentsMargins(4, 4, 4, 4)
+        layout.addLayout(self._build_search())
+        self.filters = RangeFilters()
+        self.filters.changed.connect(self._search_timer.start)
+        self.filters.hide()
+        layout.addWidget(self.filters)
+        self.like_bar = self._build_like_bar()
+        layout.addWidget(self.like_bar)
+        self.view = self._build_view()
+        layout.addWidget(self.view, 1)
+        self.status = QtWidgets.QLabel()
+        self.status.setWordWrap(True)
+        self.status.setStyleSheet("color: palette(mid)")
+        layout.addWidget(self.status)
+        layout.addLayout(self._build_buttons())
+        layout.addWidget(self._build_details())
+        self.open_bank_button = QtWidgets.QPushButton("Open the texture bank")
+        self.open_bank_button.clicked.connect(lambda: self.load())
+        layout.addWidget(self.open_bank_button)
+        self.setWidget(body)
+        self.act_save = QtGui.QAction("Save to &bank…", self.main)
+        self.act_save.setShortcut(QtGui.QKeySequence("Ctrl+B"))
+        self.act_save.setStatusTip("Store the texture in the bank: its DPJ, its optimised log, "
+                                   "a thumbnail, tags and attributes")
+        self.act_save.triggered.connect(self.save_current)
+        self.main.addAction(self.act_save)
+
+    def _build_search(self) -> QtWidgets.QHBoxLayout:
+        row = QtWidgets.QHBoxLayout()
+        self.search = QtWidgets.QLineEdit()
+        self.search.setPlaceholderText("Search names, descriptions, tags (tag:x)")
+        self.search.setClearButtonEnabled(True)
+        self.search.textChanged.connect(self._search_timer.start)
+        self.search.returnPressed.connect(self.refresh)
+        self.filter_button = QtWidgets.QToolButton()
+        self.filter_button.setText("Filters")
+        self.filter_button.setCheckable(True)
+        self.filter_button.setToolTip("Attribute ranges: contrast, grain size, density, …")
+        self.filter_button.toggled.connect(self._show_filters)
+        self.menu_button = QtWidgets.QToolButton()
+        self.menu_button.setText("⋯")
+        self.menu_button.setPopupMode(QtWidgets.QToolButton.ToolButtonPopupMode.InstantPopup)
+        self.menu_button.setMenu(self._build_menu())
+        row.addWidget(self.search, 1)
+        row.addWidget(self.filter_button)
+        row.addWidget(self.menu_button)
+        return row
+
+    def _build_menu(self) -> QtWidgets.QMenu:
+        menu = QtWidgets.QMenu(self)
+        self.act_import = menu.addAction("Import .texture…", self.import_file)
+        self.act_export = menu.addAction("Export .texture…", self.export_selected)
+        menu.addSeparator()
+        self.act_trash = menu.addAction("Show the trash")
+        self.act_trash.setCheckable(True)
+        self.act_trash.toggled.connect(self._show_trash)
+        self.act_empty = menu.addAction("Empty the trash…", self.empty_trash)
+        menu.addSeparator()
+        self.act_verify = menu.addAction("Verify the bank…", self.verify)
+        return menu
+
+    def _build_like_bar(self) -> QtWidgets.QWidget:
+        bar = QtWidgets.QWidget()
+        row = QtWidgets.QHBoxLayout(bar)
+        row.setContentsMargins(0, 0, 0, 0)
+        self.like_label = QtWidgets.QLabel()
+        clear = QtWidgets.QToolButton()
+        clear.setText("✕")
+        clear.setToolTip("Back to the whole bank")
+        clear.clicked.connect(lambda: self.set_like(None))
+        row.addWidget(self.like_label, 1)
+        row.addWidget(clear)
+        bar.hide()
+        return bar
+
+    def _build_view(self) -> QtWidgets.QListView:
+        view = ThumbnailGrid()
+        self.model = BankModel(view)
+        view.setModel(self.model)
+        view.setItemDelegate(ThumbnailDelegate(view))
+        view.setViewMode(QtWidgets.QListView.ViewMode.IconMode)
+        view.setResizeMode(QtWidgets.QListView.ResizeMode.Adjust)
+        view.setMovement(QtWidgets.QListView.Movement.Static)
+        view.setUniformItemSizes(True)
+        view.setIconSize(QtCore.QSize(ICON, ICON))
+        view.setGridSize(CELL)
+        view.setWordWrap(False)
+        view.setTextElideMode(QtCore.Qt.TextElideMode.ElideRight)
+        view.setEditTriggers(QtWidgets.QAbstractItemView.EditTrigger.NoEditTriggers)
+        view.setSelectionMode(QtWidgets.QAbstractItemView.SelectionMode.SingleSelection)
+        view.setVerticalScrollMode(QtWidgets.QAbstractItemView.ScrollMode.ScrollPerPixel)
+        view.verticalScrollBar().setSingleStep(CELL.height() // 3)
+        view.doubleClicked.connect(lambda index: self.open_entry(index.data(IdRole)))
+        view.selectionModel().currentChanged.connect(self._selected)
+        for key, slot in ((QtCore.Qt.Key.Key_Return, self.open_selected),
+                          (QtCore.Qt.Key.Key_Delete, self.delete_selected)):
+            shortcut = QtGui.QShortcut(QtGui.QKeySequence(key), view)
+            shortcut.setContext(QtCore.Qt.ShortcutContext.WidgetShortcut)
+            shortcut.activated.connect(slot)
+        view.setMinimumHeight(CELL.height() + 8)
+        return view
+
+    def _build_buttons(self) -> QtWidgets.QHBoxLayout:
+        row = QtWidgets.QHBoxLayout()
+
+        def button(text, tip, slot):
+            b = QtWidgets.QToolButton()
+            b.setText(text)
+            b.setToolTip(tip)
+            b.clicked.connect(slot)
+            row.addWidget(b)
+            return b
+
+        self.open_button = button("Open", "Replay the entry into the canvas (Enter, double-click)",
+                                  self.open_selected)
+        self.like_button = button("Like", "More like this: the entries nearest to this one in "
+                                  "contrast, grain, density, orientation, regularity, coarseness",
+                                  lambda: self.set_like(self.selected()))
+        self.duplicate_button = button("Copy", "Duplicate the entry, to re-tag or rename it",
+                                       self.duplicate_selected)
+        self.delete_button = button("Delete", "Move the entry to the trash (Del)",
+                                    self.delete_selected)
+        self.undo_button = button("Undelete", "Bring back the entry deleted last",
+                                  self.undo_delete)
+        self.restore_button = button("Restore", "Take the entry out of the trash",
+                                     self.restore_selected)
+        self.restore_button.hide()
+        row.addStretch(1)
+        return row
+
+    def _build_details(self) -> QtWidgets.QGroupBox:
+        box = QtWidgets.QGroupBox("Selected entry")
+        form = QtWidgets.QFormLayout(box)
+        form.setContentsMargins(6, 4, 6, 4)
+        self.name_edit = QtWidgets.QLineEdit()
+        self.tags_edit = QtWidgets.QLineEdit()
+        self.tags_edit.setPlaceholderText("tags, separated by commas")
+        self.description_edit = QtWidgets.QPlainTextEdit()
+        self.description_edit.setFixedHeight(46)
+        self.info = QtWidgets.QLabel()
+        self.info.setWordWrap(True)
+        self.apply_button = QtWidgets.QPushButton("Apply")
+        self.apply_button.setToolTip("Store the new name, tags and description")
+        self.apply_button.clicked.connect(self.apply_details)
+        for w in (self.name_edit, self.tags_edit):
+            w.textEdited.connect(lambda _t: self.apply_button.setEnabled(True))
+            w.returnPressed.connect(self.apply_details)
+        self.description_edit.textChanged.connect(lambda: self.apply_button.setEnabled(True))
+        form.addRow("Name:", self.name_edit)
+        form.addRow("Tags:", self.tags_edit)
+        form.addRow("About:", self.description_edit)
+        form.addRow(self.info)
+        form.addRow(self.apply_button)
+        self.details = box
+        return box
+
+    # -- the bank -----------------------------------------------------------------------------------
+    def load(self, path=None, *, prepare: bool = True) -> bool:
+        """Open the bank (``path``, or $TEXEDITOR_BANK, or the user data folder) and list it;
+        entries still pending get their thumbnails in the background (with ``prepare``)."""
+        if self.bank is not None:
+            self.bank.close()
+            self.bank = None
+        try:
+            self.bank = Bank(path)
+        except TexeditorError as exc:
+            self._set_enabled(False)
+            self.status.setText(f"The texture bank cannot be opened: {exc}")
+            self.open_bank_button.setText("Try again to open the bank")
+            return False
+        self._set_enabled(True)
+        self.refresh()
+        if prepare and self.bank.pending() and not self.main.runner.busy:
+            self._prepare(None)
+        return True
+
+    def start(self) -> bool:
+        """At start-up: open the bank and put a built-in entry on the canvas (after preparing
+        the entries a first run installs). False when there is no bank or it is empty."""
+        if not self.load(prepare=False) or self.main.runner.busy:
+            return False
+        ids = [e.id for e in self.bank.search(START_ENTRY) if e.name == START_ENTRY] \
+            or self.bank.find()
+        if not ids:
+            return False
+        self._prepare(ids[0])
+        return True
+
+    def _prepare(self, open_id: int | None) -> None:
+        """In the worker: thumbnails and attributes of pending entries, then open one."""
+        bank = self.bank
+
+        def work(progress, cancel):
+            n = len(bank.pending())
+            share = 0.8 if n and open_id is not None else (1.0 if n else 0.0)
+            failed = bank.prepare_pending(progress=lambda f: progress(share * f), cancel=cancel)
+            history = None if open_id is None else bank.open(
+                open_id, progress=lambda f: progress(share + (1 - share) * f), cancel=cancel)
+            return failed, history
+
+        def done(result):
+            failed, history = result
+            self.model.forget()
+            self.refresh()
+            if failed:
+                self.status.setText(f"{len(failed)} entries do not replay to their recorded "
+                                    "texture (⋯ ▸ Verify the bank… lists them).")
+            if history is not None:
+                self._show_opened(open_id, history)
+
+        self.main.runner.run("Preparing the texture bank…", work, done,
+                               on_error=lambda exc: self.main.show_error(
+                                   "The texture bank cannot be prepared", exc))
+
+    def _set_enabled(self, on: bool) -> None:
+        for w in (self.search, self.filter_button, self.menu_button, self.view, self.details,
+                  self.open_button, self.like_button, self.duplicate_button, self.delete_button,
+                  self.undo_button, self.restore_button):
+            w.setEnabled(on)
+        self.act_save.setEnabled(True)        # saving opens the bank if needed
+        self.open_bank_button.setVisible(not on)
+        if on:
+            self._update_buttons()
+
+    # -- listing ------------------------------------------------------------------------------------
+    def refresh(self) -> None:
+        """Run the search (text, filters, likeness, trash) and show its entries."""
+        if self.bank is None:
+            return
+        keep = self.selected()
+        trash = self.act_trash.isChecked()
+        try:
+            ids = self.bank.find(self.search.text(), ranges=self.filters.ranges(), like=self.like,
+                                 trash=trash)
+        except TexeditorError as exc:
+            self.status.setText(str(exc))
+            return
+        self.model.set_ids(self.bank, ids)
+        self._describe_listing(len(ids), trash)
+        if keep in self.model.rows:
+            self.select(keep)
+        else:
+            self._selected(QtCore.QModelIndex())
+
+    def _describe_listing(self, n: int, trash: bool) -> None:
+        where = "in the trash" if trash else "in the bank"
+        total = self.bank.count(trash=trash)
+        text = f"{n} of {total} entries {where}" if n != total else f"{n} entries {where}"
+        if not self.bank.fts and self.search.text().strip():
+            text += " — " + self.bank.search_mode
+        self.status.setText(text)
+        self.search.setToolTip(f"Search: {self.bank.search_mode}. Words match the starts of "
+                               "words; tag:x or #x keeps the entries tagged x.")
+
+    def select(self, entry_id: int) -> None:
+        row = self.model.rows.get(entry_id)
+        if row is not None:
+            index = self.model.index(row)
+            self.view.setCurrentIndex(index)
+            self.view.scrollTo(index)
+
+    def selected(self) -> int | None:
+        index = self.view.currentIndex()
+        return index.data(IdRole) if index.isValid() else None
+
+    def _selected(self, index, _previous=None) -> None:
+        entry = None
+        if index.isValid() and self.bank is not None:
+            try:
+                entry = self.bank.get(index.data(IdRole))
+            except TexeditorError:
+                entry = None
+        self._show_details(entry)
+        self._update_buttons()
+
+    def _show_details(self, entry) -> None:
+        self.details.setEnabled(entry is not None)
+        self.name_edit.setText(entry.name if entry else "")
+        self.tags_edit.setText(", ".join(entry.tags) if entry else "")
+        self.description_edit.blockSignals(True)
+        self.description_edit.setPlainText(entry.description if entry else "")
+        self.description_edit.blockSignals(False)
+        self.info.setText(_summary(entry) if entry else "No entry selected.")
+        self.apply_button.setEnabled(False)
+
+    def _update_buttons(self) -> None:
+        chosen = self.selected() is not None
+        trash = self.act_trash.isChecked()
+        for b in (self.open_button, self.like_button, self.duplicate_button):
+            b.setEnabled(chosen)
+        self.delete_button.setEnabled(chosen and not trash)
+        self.delete_button.setVisible(not trash)
+        self.restore_button.setVisible(trash)
+        self.restore_button.setEnabled(chosen and trash)
+        self.undo_button.setEnabled(bool(self.deleted))
+        self.act_export.setEnabled(chosen)
+
+    def _show_filters(self, on: bool) -> None:
+        self.filters.setVisible(on)
+        self.refresh()
+
+    def _show_trash(self, on: bool) -> None:
+        self.setWindowTitle("Texture bank — trash" if on else "Texture bank")
+        self.refresh()
+
+    def set_like(self, entry_id: int | None) -> None:
+        """Order the bank by likeness to an entry ("more like this"); None: back to normal."""
+        if entry_id is not None:
+            entry = self.bank.get(entry_id)
+            if entry.pending:
+                self.status.setText(f"“{entry.name}” has no attributes yet.")
+                return
+            self.like_label.setText(f"Most like “{entry.name}” first")
+        self.like = entry_id
+        self.like_bar.setVisible(entry_id is not None)
+        self.refresh()
+        if entry_id is not None and self.model.ids:
+            self.select(self.model.ids[0])
+
+    # -- opening and saving ---------------------------------------------------------------------------
+    def open_selected(self) -> None:
+        if self.selected() is not None:
+            self.open_entry(self.selected())
+
+    def open_entry(self, entry_id: int) -> None:
+        """Replay an entry in the worker (its hash checked), then show it on the canvas."""
+        win = self.main
+        if self.bank is None or win.runner.busy or not win.maybe_save():
+            return
+        bank, name = self.bank, self.bank.get(entry_id).name
+        win.runner.run(f"Opening “{name}” from the bank…",
+                       lambda progress, cancel: bank.open(entry_id, progress=progress,
+                                                          cancel=cancel),
+                       lambda history: self._show_opened(entry_id, history),
+                       on_cancel=lambda: win.statusBar().showMessage("Opening cancelled.", 5000),
+                       on_error=lambda exc: win.show_error(f"Cannot open “{name}”", exc))
+
+    def _show_opened(self, entry_id: int, history) -> None:
+        self.main.set_history(history)
+        self.opened = (entry_id, history)
+        self.select(entry_id)
+        entry = self.bank.get(entry_id)
+        n = len(history.actions)
+        self.main.statusBar().showMessage(
+            f"Opened “{entry.name}” from the bank: {n} step{'s' if n != 1 else ''} replayed, "
+            "SHA-256 verified.", 8000)
+
+    def save_current(self) -> SaveToBankDialog | None:
+        """File ▸ Save to bank…: ask for name, tags, description (window-modal), then save."""
+        if self.bank is None and not self.load(prepare=False):
+            self.main.show_error("No texture bank", RuntimeError(self.status.text()))
+            return None
+        history = self.main.history
+        if history is None or not history.document.levels.size:
+            return None
+        parent = self._parent_entry()
+        entry = self.bank.get(parent) if parent is not None else None
+        dialog = SaveToBankDialog(entry.name if entry else "", entry.tags if entry else (),
+                                  entry.description if entry else "",
+                                  entry.name if entry else None, self.main)
+        dialog.accepted.connect(lambda: self._save(
+            history, dialog.name.text(), dialog.tags.text(), dialog.description.toPlainText(),
+            parent if dialog.version.isChecked() else None))
+        dialog.finished.connect(dialog.deleteLater)
+        self.save_dialog = dialog
+        dialog.open()
+        return dialog
+
+    def _parent_entry(self) -> int | None:
+        """The entry the current document was opened from, if it is still that document."""
+        if self.opened is None or self.opened[1] is not self.main.history:
+            return None
+        try:
+            return self.bank.get(self.opened[0]).id
+        except TexeditorError:
+            return None                      # deleted for good meanwhile
+
+    def _save(self, history, name, tags, description, parent) -> None:
+        win = self.main
+        if win.runner.busy:
+            win.statusBar().showMessage("Wait for the current work to end, then save.", 5000)
+            return
+        snapshot = history.document.copy()   # the worker reads a copy; editing may go on
+        bank = self.bank
+
+        def done(record):
+            try:
+                entry_id = bank.insert(record, parent=parent)
+            except TexeditorError as exc:
+                win.show_error("Cannot save to the bank", exc)
+                return
+            if history is win.history:
+                self.opened = (entry_id, history)
+            self.act_trash.setChecked(False)
+            self.refresh()
+            self.select(entry_id)
+            steps = len(record.actions)
+            win.statusBar().showMessage(f"Saved “{record.name}” to the bank ({steps} steps after "
+                                        f"optimising {len(snapshot.actions)}).", 8000)
+            if bank.pending():                 # a bank opened for this save: its built-ins
+                self._prepare(None)
+
+        win.runner.run("Saving to the bank…",
+                       lambda progress, cancel: make_record(
+                           snapshot, name, tags=tags, description=description,
+                           progress=progress, cancel=cancel),
+                       done, on_error=lambda exc: win.show_error("Cannot save to the bank", exc))
+
+    # -- editing entries ------------------------------------------------------------------------------
+    def apply_details(self) -> None:
+        entry_id = self.selected()
+        if entry_id is None:
+            return
+        if self._guard("Cannot change the entry", lambda: self.bank.update(
+                entry_id, name=self.name_edit.text(), tags=self.tags_edit.text(),
+                description=self.description_edit.toPlainText())):
+            self.model.forget([entry_id])
+            self.refresh()
+            self.select(entry_id)
+
+    def duplicate_selected(self) -> None:
+        entry_id = self.selected()
+        if entry_id is not None:
+            new = self._guard("Cannot duplicate", lambda: self.bank.duplicate(entry_id))
+            if new:
+                self.refresh()
+                self.select(new)
+
+    def delete_selected(self) -> None:
+        """Move the selected entry to the trash; "Undo delete" (or the trash) brings it back."""
+        entry_id = self.selected()
+        if entry_id is None or self.act_trash.isChecked():
+            return
+        row = self.model.rows[entry_id]
+        name = self.bank.get(entry_id).name
+        if self._guard("Cannot delete", lambda: self.bank.trash(entry_id)) is not None:
+            self.deleted.append(entry_id)
+            self.refresh()
+            if self.model.ids:
+                self.select(self.model.ids[min(row, len(self.model.ids) - 1)])
+            self.main.statusBar().showMessage(f"Moved “{name}” to the trash (Undo delete "
+                                                "brings it back).", 8000)
+            self._update_buttons()
+
+    def undo_delete(self) -> None:
+        while self.deleted:
+            entry_id = self.deleted.pop()
+            if self._guard("Cannot restore", lambda: self.bank.restore(entry_id)) is not None:
+                self.refresh()
+                self.select(entry_id)
+                break
+        self._update_buttons()
+
+    def restore_selected(self) -> None:
+        entry_id = self.selected()
+        if entry_id is not None and self._guard("Cannot restore",
+                                                lambda: self.bank.restore(entry_id)) is not None:
+            if entry_id in self.deleted:
+                self.deleted.remove(entry_id)
+            self.refresh()
+
+    def empty_trash(self) -> None:
+        n = self.bank.count(trash=True)
+        if not n:
+            return
+        answer = QtWidgets.QMessageBox.question(
+            self, "Empty the trash", f"Delete the {n} entries in the trash for good?")
+        if answer == QtWidgets.QMessageBox.StandardButton.Yes:
+            self._guard("Cannot empty the trash", self.bank.purge)
+            self.deleted.clear()
+            self.refresh()
+
+    def _guard(self, title: str, fn):
+        """Run a bank change; an error is a dialog and the bank stays as it was."""
+        try:
+            result = fn()
+        except TexeditorError as exc:
+            self.main.show_error(title, exc)
+            return None
+        return True if result is None else result
+
+    # -- files and checks -----------------------------------------------------------------------------
+    def import_file(self, path=None) -> None:
+        if path is None:
+            path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Import a texture into the bank",
+                                                            str(Path.home()), TEXTURE_FILTER)
+            if not path:
+                return
+        win, bank, path = self.main, self.bank, Path(path)
+        if win.runner.busy:
+            return
+
+        def done(entry_id):
+            self.refresh()
+            self.select(entry_id)
+            win.statusBar().showMessage(f"Imported {path.name} into the bank.", 8000)
+
+        win.runner.run(f"Importing {path.name}…",
+                       lambda progress, cancel: bank.import_texture(path, progress=progress,
+                                                                    cancel=cancel),
+                       done, on_error=lambda exc: win.show_error(f"Cannot import {path.name}",
+                                                                 exc))
+
+    def export_selected(self, path=None) -> None:
+        entry_id = self.selected()
+        if entry_id is None or self.main.runner.busy:
+            return
+        name = self.bank.get(entry_id).name
+        if path is None:
+            start = str(Path.home() / f"{name}.texture")
+            path, _ = QtWidgets.QFileDialog.getSaveFileName(self, "Export the entry", start,
+                                                            TEXTURE_FILTER)
+            if not path:
+                return
+        win, bank, path = self.main, self.bank, Path(path)
+        win.runner.run(f"Exporting “{name}”…",
+                       lambda progress, cancel: bank.export_texture(entry_id, path,
+                                                                    progress=progress,
+                                                                    cancel=cancel),
+                       lambda _r: win.statusBar().showMessage(f"Exported “{name}” to {path}.",
+                                                              8000),
+                       on_error=lambda exc: win.show_error("Cannot export", exc))
+
+    def verify(self) -> None:
+        """Replay every entry in the worker and report the ones that do not match."""
+        win, bank = self.main, self.bank
+        if win.runner.busy:
+            return
+
+        def done(checks):
+            bad = [c for c in checks if not c.ok]
+            self.verify_report = bad
+            text = (f"All {len(checks) - 1} entries replay to their recorded SHA-256; the "
+                    "database is sound." if not bad else
+                    f"{len(bad)} of {len(checks) - 1} entries do not replay to their recorded "
+                    "texture:\n\n" + "\n".join(c.message for c in bad[:12]))
+            if win.headless:
+                win.statusBar().showMessage(text.splitlines()[0], 8000)
+            elif bad:
+                QtWidgets.QMessageBox.warning(win, "Verify the bank", text)
+            else:
+                QtWidgets.QMessageBox.information(win, "Verify the bank", text)
+
+        win.runner.run("Verifying the bank…",
+                       lambda progress, cancel: bank.verify(progress=progress, cancel=cancel),
+                       done, on_error=lambda exc: win.show_error("Cannot verify the bank", exc))
+
+
+def _summary(entry) -> str:
+    """Size, steps and attributes of an entry, in a few words."""
+    kind = " · built-in" if entry.builtin else ""
+    steps = f"{entry.actions} step{'s' if entry.actions != 1 else ''}"
+    head = f"{entry.width}×{entry.height}, G = {entry.levels}, {steps}{kind}"
+    a = entry.attributes
+    if a is None:
+        return head + "\nAttributes not computed yet."
+    direction = (f"oriented {a.orientation:.0f}° ({a.directivity:.2f})" if a.directivity >= 0.2
+                 else f"isotropic ({a.directivity:.2f})")
+    regular = f"regular, period {a.period:.0f}" if a.period else "irregular"
+    return (f"{head}\ncontrast {a.contrast:.2f} · regions {a.granularity:.0f} pts · density "
+            f"{a.density:.2f}\n{direction} · {regular} ({a.regularity:.2f}) · coarseness "
+            f"{a.coarseness:.1f}")
