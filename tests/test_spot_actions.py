@@ -318,18 +318,18 @@ def test_library_skips_bad_entries_and_keeps_a_damaged_file(tmp_path):
     good = {"name": "ok", "envelope": Envelope.loads(DISC).to_json()}
     bad = {"name": "flat", "envelope": {"a": [0, 0], "b": [0, 0]}}
     (tmp_path / FILE_NAME).write_text(json.dumps(
-        {"format": "texeditor-spots", "version": 1, "spots": [good, bad, "x"]}))
+        {"format": "spots", "version": 1, "items": [good, bad]}))
     library = SpotLibrary(tmp_path)
     assert "ok" in library.names() and "flat" not in library.names()
-    assert len(library.problems) == 2 and "entry 2" in library.problems[0]
+    assert len(library.problems) == 1 and "entry 2" in library.problems[0]
     (tmp_path / FILE_NAME).write_bytes(b"\x00garbage")
     damaged = SpotLibrary(tmp_path)
     assert damaged.names() == [s.name for s in standard_spots()] and damaged.problems
     damaged.save("new", Envelope.loads(DISC))
     assert (tmp_path / f"{FILE_NAME}.damaged-1").read_bytes() == b"\x00garbage"
     assert SpotLibrary(tmp_path).names()[-1] == "new"
-    for text in ['{"format": "other", "version": 1, "spots": []}',
-                 '{"format": "texeditor-spots", "version": 9, "spots": []}']:
+    for text in ['{"format": "other", "version": 1, "items": []}',
+                 '{"format": "spots", "version": 9, "items": []}', '{"format": "spots"}']:
         (tmp_path / FILE_NAME).write_text(text)
         assert SpotLibrary(tmp_path).problems
 

@@ -34,7 +34,7 @@ def inside_box(stamp, box):
         and (cols + stamp.left >= left - 1e-9).all() and (cols + stamp.left <= right + 1e-9).all()
 
 
-# -- the envelope and its outline -------------------------------------------------------------------
+# -- the envelope and its outline ------------------------------------------------------------------
 
 @pytest.mark.parametrize("kind", KINDS)
 def test_the_outline_passes_through_every_meridian_end_point(kind):
@@ -169,7 +169,7 @@ def test_any_envelope_gives_a_spot_inside_its_box_or_a_clear_error(meridians, ki
     assert stamp.area >= 1 and stamp.mask.shape == stamp.alt.shape
 
 
-# -- rasterising ------------------------------------------------------------------------------------
+# -- rasterising -----------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("kind", KINDS)
 @pytest.mark.parametrize("angle, scale", [(0, 1), (37, 1), (90, 2.5), (-120, 0.6)])
@@ -267,7 +267,7 @@ def test_midpoint_displacement_variogram_slope_is_about_2h(h):
     assert abs(slope - 2 * h) < 0.2
 
 
-# -- fill, blend and wrap ---------------------------------------------------------------------------
+# -- fill, blend and wrap --------------------------------------------------------------------------
 
 SQUARE = Stamp(1, 1, np.array([[1, 1, 0], [1, 1, 1]], bool), np.array([[0, 1, 0], [0, 0, 0]], bool))
 

@@ -2,40 +2,27 @@
 manuellement"): standard envelopes, and the user's own saved as JSON in the user data folder.
 
 The spot editor lists, saves and removes entries; an entry is an envelope and the perturbation it
-was saved with. The file is ``spots.json`` in the user data directory (platformdirs;
+was saved with. The file is ``spots.json`` in the user data directory (`userdata`: platformdirs,
 ``TEXEDITOR_DATA`` overrides the folder). Writes are atomic; every entry read is validated, and a
 damaged entry is skipped with a message instead of hiding the others.
 """
 
 from __future__ import annotations
 
-import json
 import os
 import re
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from .errors import FormatError, InputError
-from .fileio import atomic_write_bytes, read_limited
 from .spots import Envelope, Meridian, Parallel, Perturbation
+from .userdata import MAX_ITEMS, data_dir, read_library, write_library
 
-ENV_VAR = "TEXEDITOR_DATA"
 FILE_NAME = "spots.json"
-FORMAT = "texeditor-spots"
+KIND = "spots"
 VERSION = 1
-MAX_BYTES = 8 * 2**20
-MAX_ENTRIES = 1000
 MAX_NAME = 64
 _NAME = re.compile(r"^[^\x00-\x1f]{1,64}$")
-
-
-def data_dir() -> Path:
-    """The user's texeditor data folder (``TEXEDITOR_DATA`` when set)."""
-    override = os.environ.get(ENV_VAR)
-    if override:
-        return Path(override)
-    from platformdirs import user_data_dir
-    return Path(user_data_dir("texeditor", appauthor=False))
 
 
 @dataclass(frozen=True)
@@ -152,8 +139,8 @@ class SpotLibrary:
             raise InputError(f"{name!r} is a standard spot: save yours under another name")
         entry = LibrarySpot(name, envelope, perturbation or Perturbation())
         user = [e for e in self._user if e.name != name] + [entry]
-        if len(user) > MAX_ENTRIES:
-            raise InputError(f"the library holds at most {MAX_ENTRIES} spots")
+        if len(user) > MAX_ITEMS:
+            raise InputError(f"the library holds at most {MAX_ITEMS} spots")
         self._write(user)
         self._user = user
         return entry
@@ -169,25 +156,8 @@ class SpotLibrary:
 
     # -- the file ---------------------------------------------------------------------------------
     def _read(self) -> list[LibrarySpot]:
-        if not self.path.exists():
-            return []
-        data = read_limited(self.path, MAX_BYTES, "spot library")
-        try:
-            obj = json.loads(data.decode("utf-8"))
-        except (UnicodeDecodeError, ValueError, RecursionError) as exc:
-            raise FormatError(f"{self.path}: not a spot library ({exc})") from None
-        if not isinstance(obj, dict) or obj.get("format") != FORMAT:
-            raise FormatError(f"{self.path}: not a spot library (no format {FORMAT!r})")
-        version = obj.get("version")
-        if isinstance(version, bool) or not isinstance(version, int) or \
-                not 1 <= version <= VERSION:
-            raise FormatError(f"{self.path}: spot library version {version!r} is not supported "
-                              f"(this program reads version {VERSION})")
-        items = obj.get("spots")
-        if not isinstance(items, list) or len(items) > MAX_ENTRIES:
-            raise FormatError(f"{self.path}: 'spots' must list at most {MAX_ENTRIES} entries")
         out: list[LibrarySpot] = []
-        for k, item in enumerate(items):
+        for k, item in enumerate(read_library(self.path, KIND, VERSION)):
             try:
                 entry = LibrarySpot.from_json(item)
             except InputError as exc:
@@ -200,10 +170,7 @@ class SpotLibrary:
         if self._damaged and self.path.exists():
             self._set_aside()
             self._damaged = False
-        self.folder.mkdir(parents=True, exist_ok=True)
-        text = json.dumps({"format": FORMAT, "version": VERSION,
-                           "spots": [e.to_json() for e in entries]}, indent=1)
-        atomic_write_bytes(self.path, text.encode("utf-8"))
+        write_library(self.path, KIND, [e.to_json() for e in entries], VERSION)
 
     def _set_aside(self) -> None:
         """Keep a damaged file under another name before writing a new one: never lose data."""

@@ -420,7 +420,7 @@ def polygon_centroid(pts: np.ndarray) -> np.ndarray:
 
 
 def resample(outline: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """``n`` points equally spaced along a closed outline, and their arc-length place s in [0, 1)."""
+    """``n`` points equally spaced along a closed outline, with their places s in [0, 1)."""
     closed = np.vstack([outline, outline[:1]])
     seg = np.linalg.norm(np.diff(closed, axis=0), axis=1)
     cum = np.r_[0.0, np.cumsum(seg)]

@@ -86,4 +86,6 @@ def tool_classes() -> list[type[Tool]]:
     from .regions import CopyTool, ExtractTool, FillTool, TranslateTool
 
     TOOLS: list[type[Tool]] = [HandTool, FillTool, TranslateTool, CopyTool, ExtractTool]
+    from .spot import SpotTool
+    TOOLS.append(SpotTool)
     return TOOLS
