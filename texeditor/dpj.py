@@ -347,6 +347,9 @@ class DPJ:
             raise
         except InputError as exc:
             raise FormatError(f"{name}: {exc}") from None
+        except Exception as exc:  # zipfile and numpy fail in many ways on hostile bytes
+            raise FormatError(f"{name}: damaged DPJ file ({type(exc).__name__}: "
+                              f"{_short(exc)})") from None
 
     @classmethod
     def load(cls, path) -> "DPJ":
