@@ -16,7 +16,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 from texeditor.bank import Bank, make_record
 from texeditor.errors import TexeditorError
 
-from .bank_view import CELL, IdRole, RangeFilters, SaveToBankDialog, ThumbnailGrid
+from .bank_view import IdRole, RangeFilters, SaveToBankDialog, ThumbnailGrid
 
 SEARCH_DELAY_MS = 150
 START_ENTRY = "Gravel"            # the built-in the window opens on
