@@ -1,0 +1,167 @@
+"""Composition of textures (issue 9, thesis §5.4.1): truth tables of every operator on tiny
+inputs, weights, negation, incrustation with two and N textures, level conversion and tiling."""
+
+import numpy as np
+import pytest
+
+from texeditor import composition as cp
+from texeditor.errors import InputError
+
+X2, Y2 = np.array([[0, 0, 1, 1]]), np.array([[0, 1, 0, 1]])        # every pair, G = 2
+X4, Y4 = np.meshgrid(np.arange(4), np.arange(4), indexing="ij")      # every pair, G = 4
+
+TRUTH_G2 = {            # T3 for (x, y) = (0,0) (0,1) (1,0) (1,1): the truth tables of logic
+    "and": [0, 0, 0, 1], "or": [0, 1, 1, 1], "xor": [0, 1, 1, 0], "min": [0, 0, 0, 1],
+    "max": [0, 1, 1, 1], "add": [0, 1, 1, 1], "multiply": [0, 0, 0, 1], "replace": [0, 1, 1, 1],
+}
+
+TABLES_G4 = {           # row x, column y, G = 4 (codes 0..3)
+    "and": [[0, 0, 0, 0], [0, 1, 0, 1], [0, 0, 2, 2], [0, 1, 2, 3]],
+    "or": [[0, 1, 2, 3], [1, 1, 3, 3], [2, 3, 2, 3], [3, 3, 3, 3]],
+    "xor": [[0, 1, 2, 3], [1, 0, 3, 2], [2, 3, 0, 1], [3, 2, 1, 0]],
+    "min": [[0, 0, 0, 0], [0, 1, 1, 1], [0, 1, 2, 2], [0, 1, 2, 3]],
+    "max": [[0, 1, 2, 3], [1, 1, 2, 3], [2, 2, 2, 3], [3, 3, 3, 3]],
+    "add": [[0, 1, 2, 3], [1, 2, 3, 3], [2, 3, 3, 3], [3, 3, 3, 3]],
+    "multiply": [[0, 0, 0, 0], [0, 0, 1, 1], [0, 1, 1, 2], [0, 1, 2, 3]],   # x·y/3, half up
+    "replace": [[0, 1, 2, 3], [1, 1, 2, 3], [2, 1, 2, 3], [3, 1, 2, 3]],    # y over x
+}
+
+
+def test_every_operator_has_tables():
+    assert set(TRUTH_G2) == set(TABLES_G4) == set(cp.OPS)
+
+
+@pytest.mark.parametrize("op", cp.OPS)
+def test_truth_table_on_two_levels(op):
+    assert cp.mix(X2, Y2, levels=2, op2=op).tolist() == [TRUTH_G2[op]]
+
+
+@pytest.mark.parametrize("op", cp.OPS)
+def test_table_on_four_levels(op):
+    assert cp.mix(X4, Y4, levels=4, op2=op).tolist() == TABLES_G4[op]
+
+
+@pytest.mark.parametrize("op", cp.OPS)
+def test_negation_is_the_complement_of_the_bracket(op):
+    assert cp.mix(X4, Y4, levels=4, op2=op, negate=True).tolist() == \
+        (3 - np.array(TABLES_G4[op])).tolist()
+    assert cp.mix(X2, Y2, levels=2, op2=op, negate=True).tolist() == \
+        [[1 - v for v in TRUTH_G2[op]]]
+
+
+@pytest.mark.parametrize("op", cp.OPS)
+def test_op4_with_the_constant_c(op):
+    """[T1] op4 c, with c the top level (1) and the background (0)."""
+    x = np.arange(4)[None]
+    top = cp.mix(x, np.zeros_like(x), levels=4, op4=op, c=1.0)
+    assert top.tolist() == [[TABLES_G4[op][v][3] for v in range(4)]]
+    none = cp.mix(x, np.zeros_like(x), levels=4, op4=op, c=0.0)
+    assert none.tolist() == [[TABLES_G4[op][v][0] for v in range(4)]]
+
+
+def test_bitwise_results_beyond_the_top_level_are_clipped():
+    """G = 3: 1 xor 2 = 3 and 1 or 2 = 3 do not exist; they become the top level 2."""
+    one, two = np.array([[1]]), np.array([[2]])
+    assert cp.mix(one, two, levels=3, op2="xor").item() == 2
+    assert cp.mix(one, two, levels=3, op2="or").item() == 2
+    assert cp.mix(one, two, levels=3, op2="and").item() == 0
+
+
+def test_weights_set_the_proportions():
+    """(½ × T1) add (½ × T2): the mean of the two greys, rounded half up."""
+    t1, t2 = np.array([[0, 2, 2, 1, 0]]), np.array([[0, 0, 1, 1, 2]])
+    out = cp.mix(t1, t2, levels=3, a=0.5, op1="multiply", op2="add", b=0.5, op3="multiply")
+    assert out.tolist() == [[0, 1, 2, 1, 1]]
+    only_t2 = cp.mix(t1, t2, levels=3, a=0.0, op2="add")
+    assert only_t2.tolist() == t2.tolist()
+
+
+def test_weight_with_a_logical_operator_masks_bits():
+    """a = 2/3 on G = 4 is code 2 (binary 10): a and T1 keeps T1's high bit."""
+    out = cp.mix(np.arange(4)[None], np.zeros((1, 4), int), levels=4, a=2 / 3, op1="and")
+    assert out.tolist() == [[0, 0, 2, 2]]
+
+
+def test_textures_of_different_g_mix_on_the_grey_scale():
+    t1 = np.array([[0, 1, 1]])           # G = 2: black, white, white
+    t2 = np.array([[3, 0, 2]])           # G = 4
+    out = cp.mix(t1, t2, levels=8, levels1=2, levels2=4, op2="min")
+    assert out.tolist() == [[0, 0, 5]]   # min(1, 2/3) = 2/3 → 4.67 → 5 of 0..7
+
+
+def test_the_formula_in_full():
+    """T3 = not[(a op1 T1) op2 (b op3 T2)] op4 c, checked point by point against its definition."""
+    rng = np.random.default_rng(0)
+    t1, t2 = rng.integers(0, 4, (5, 7)), rng.integers(0, 4, (5, 7))
+    out = cp.mix(t1, t2, levels=4, a=1.0, op1="xor", op2="max", b=1 / 3, op3="or",
+                 negate=True, op4="add", c=1 / 3)
+    expect = np.minimum((3 - np.maximum(t1 ^ 3, t2 | 1)) + 1, 3)
+    assert np.array_equal(out, expect)
+
+
+def test_mix_table_is_indexed_by_levels():
+    table = cp.mix_table(2, 4, 4, op2="max")
+    assert table.shape == (2, 4) and table.tolist() == [[0, 1, 2, 3], [3, 3, 3, 3]]
+
+
+def test_mix_errors():
+    with pytest.raises(InputError, match="unknown operator"):
+        cp.mix(X2, Y2, levels=2, op2="nand")
+    with pytest.raises(InputError, match="weight a"):
+        cp.mix(X2, Y2, levels=2, a=1.5)
+    with pytest.raises(InputError, match="same shape"):
+        cp.mix(X2, Y2.T, levels=2)
+    with pytest.raises(InputError, match="levels outside"):
+        cp.mix(X4, Y4, levels=2)
+
+
+# -- incrustation ------------------------------------------------------------------------------------
+
+def test_incrustation_with_a_boolean_is_if_then_else():
+    t1, t2 = np.full((2, 3), 1), np.full((2, 3), 2)
+    inside = np.array([[True, False, True], [False, False, True]])
+    assert cp.incrust(inside, [t2, t1]).tolist() == [[1, 2, 1], [2, 2, 1]]   # if bool then T1
+
+
+def test_incrustation_of_n_textures():
+    sources = [np.full((2, 3), k + 1) for k in range(3)]
+    membership = np.array([[0, 1, 2], [2, 1, 0]])
+    assert cp.incrust(membership, sources).tolist() == [[1, 2, 3], [3, 2, 1]]
+
+
+def test_incrustation_errors():
+    with pytest.raises(InputError, match="only 2"):
+        cp.incrust(np.array([[0, 2]]), [np.zeros((1, 2)), np.ones((1, 2))])
+    with pytest.raises(InputError, match="shape"):
+        cp.incrust(np.array([[0, 1]]), [np.zeros((1, 3)), np.ones((1, 2))])
+
+
+def test_membership_from_levels_and_points():
+    m = np.array([[0, 1, 2], [3, 1, 0]])
+    assert cp.membership_from_levels(m, cp.parse_level_set("1,3")).tolist() == \
+        [[False, True, False], [True, True, False]]
+    assert cp.membership_from_points([(0, 2), (1, 0), (5, 5), (-1, 0)], (2, 3)).tolist() == \
+        [[False, False, True], [True, False, False]]
+
+
+def test_level_sets():
+    assert cp.parse_level_set("1,3-5") == {1, 3, 4, 5}
+    assert cp.parse_level_set(" 0 , 2 ") == {0, 2}
+    assert cp.parse_level_set("") == set()
+    for bad in ("1-", "a", "3-1", "16"):
+        with pytest.raises(InputError):
+            cp.parse_level_set(bad)
+
+
+# -- bringing sources to the canvas ---------------------------------------------------------------
+
+def test_fit_repeats_a_small_texture_and_crops_a_large_one():
+    t = np.array([[1, 2], [3, 4]])
+    assert cp.fit(t, (3, 5)).tolist() == [[1, 2, 1, 2, 1], [3, 4, 3, 4, 3], [1, 2, 1, 2, 1]]
+    assert cp.fit(t, (1, 1)).tolist() == [[1]]
+
+
+def test_convert_levels_keeps_the_greys():
+    assert cp.convert_levels(np.arange(4), 4, 8).tolist() == [0, 2, 5, 7]
+    assert cp.convert_levels(np.arange(8), 8, 2).tolist() == [0, 0, 0, 0, 1, 1, 1, 1]
+    assert cp.convert_levels(np.arange(3), 3, 3).tolist() == [0, 1, 2]
