@@ -47,6 +47,7 @@ class FileOps:
     def mark_clean(self) -> None:
         self._clean_log = self.history.applied if self.history is not None else ()
         self._update_title()
+        self.journal_sync(reset=True)      # nothing unsaved to recover from here on
 
     def is_modified(self) -> bool:
         return self.history is not None and self.history.applied != self._clean_log
@@ -72,6 +73,7 @@ class FileOps:
             return
         self.runner.cancel()
         self.runner.wait(10_000)
+        self.journal_discard()
         ev.accept()
 
     # -- new and open -------------------------------------------------------------------------------

@@ -18,6 +18,7 @@ from texeditor.history import History
 from . import resources
 from .acquire_dialog import AcquireDialog
 from .bank_dock import BankDock
+from .brush_dock import install_paint_ui
 from .canvas import CanvasView
 from .files import FileOps
 from .history_dock import HistoryDock
@@ -39,6 +40,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.path = None
         self._clean_log: tuple = ()
         self._unsubscribe = None
+        self._journal = None       # this window's crash journal (None: not yet; False: failed)
         self.runner = TaskRunner(self)
         self.headless = False      # --screenshot: errors go to stderr, never a modal dialog
 
@@ -61,6 +63,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self._build_actions()
         self._build_menus()
         self._build_tools()
+        install_paint_ui(self)       # brush dock, [ and ], Grains menu, Peano sub-regions
         self._connect()
         if history is not None:
             self.set_history(history, path)
@@ -271,6 +274,33 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.act_undo.setEnabled(self.history.index > 1)
         self.act_redo.setEnabled(self.history.can_redo)
         self._update_title()
+        self.journal_sync()
+
+    # -- crash journal ------------------------------------------------------------------------------
+    def journal_sync(self, *, reset: bool = False) -> None:
+        """Append the log's change to this window's crash journal (reset: after open or save).
+        A journal that cannot be written is given up with a warning, never an error."""
+        if self.history is None or self._journal is False:
+            return
+        from texeditor.journal import Journal
+        try:
+            if self._journal is None:
+                self._journal = Journal()
+                reset = True
+            if reset:
+                self._journal.reset(self.history.applied, self.history.document.dpjs,
+                                    source=self.path)
+            else:
+                self._journal.sync(self.history.applied, self.history.document.dpjs)
+        except OSError as exc:
+            self._journal = False
+            self.statusBar().showMessage(f"Crash protection is off: cannot write the journal "
+                                         f"({exc.strerror or exc}).", 10000)
+
+    def journal_discard(self) -> None:
+        if self._journal:
+            self._journal.discard()
+        self._journal = None
 
     def submit(self, action) -> bool:
         """Apply an Action; a refused one is explained in a dialog and changes nothing."""

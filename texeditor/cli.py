@@ -133,6 +133,8 @@ def cmd_gui(args) -> int:
         argv += ["--screenshot", args.screenshot]
     if args.open:
         argv += ["--open", args.open]
+    if args.size:
+        argv += ["--size", args.size]
     return run(argv)
 
 
@@ -179,6 +181,7 @@ def build_parser() -> argparse.ArgumentParser:
     g = sub.add_parser("gui", help="open the application window")
     g.add_argument("--screenshot", help="render the window offscreen to this PNG and exit")
     g.add_argument("--open", help="a .texture file to open")
+    g.add_argument("--size", help="window size for --screenshot, WIDTHxHEIGHT (default 1280x800)")
     g.set_defaults(func=cmd_gui)
     return p
 

@@ -104,6 +104,7 @@ class Recovered:
     dpjs: dict
     source: str | None
     started: float
+    changes: int          # changes of the log since the document was opened or saved
 
 
 def orphans(folder: Path | None = None) -> list[Path]:
@@ -145,16 +146,17 @@ def recover(path: Path) -> Recovered:
     if not records or not isinstance(records[0], dict) or records[0].get("kind") != "start" \
             or records[0].get("format") != FORMAT:
         raise FormatError(f"{path}: not a texeditor journal")
-    actions, dpjs = [], {}
+    actions, dpjs, logs = [], {}, 0
     for record in records[1:]:
         try:
             _apply(record, actions, dpjs)
         except (TexeditorError, KeyError, TypeError, ValueError):
             break            # keep what was complete before a damaged record
+        logs += isinstance(record, dict) and record.get("kind") == "log"
     start = records[0]
     source = start.get("source") if isinstance(start.get("source"), str) else None
     started = start.get("time") if isinstance(start.get("time"), (int, float)) else 0.0
-    return Recovered(path, tuple(actions), dpjs, source, float(started))
+    return Recovered(path, tuple(actions), dpjs, source, float(started), max(0, logs - 1))
 
 
 def _apply(record, actions: list, dpjs: dict) -> None:
