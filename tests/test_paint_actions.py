@@ -286,3 +286,16 @@ def test_peano_errors_name_the_problem():
     with pytest.raises(InputError, match="character 5"):
         PeanoLevels(cell=2, expression="1(2(")
     assert not doc.levels.any()
+
+
+def test_the_grain_preview_places_exactly_what_the_action_places():
+    a = PlaceGrains(points=((5, 5), (9, 30), (30, 31), (31, 2)), level=2, shape="circle", size=4,
+                    spacing=5.0, jitter=2.5, seed=3, wrap=True)
+    doc = Document.new(40, 40, 4)
+    painter = a.painter(doc.shape)
+    preview = np.zeros(doc.shape, np.uint8)
+    for p in a.points:
+        r, c, v = painter.add(p)
+        preview[r, c] = v
+    doc.apply(a)
+    assert (doc.levels == preview).all()

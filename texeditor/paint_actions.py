@@ -207,32 +207,18 @@ class PlaceGrains(Action):
 
     def centres(self) -> np.ndarray:
         """(n, 2) int centres: the points, or positions along the path; then the jitter."""
-        if self.spacing == 0:
-            centres = np.array(self.points, float)
-        else:
-            walker = brushes.PathWalker(self.spacing)
-            centres = np.array([p for point in self.points for p in walker.add(point)], float)
-        if self.jitter:
-            rng = np.random.default_rng(self.seed)
-            centres += rng.uniform(-self.jitter, self.jitter, size=centres.shape)
-        return np.floor(centres + 0.5).astype(np.int64)
+        painter = GrainPainter(self, (1, 1))
+        return np.concatenate([painter.centres(p) for p in self.points])
 
-    def paint(self, canvas_shape, centres=None):
-        """(rows, cols, values) of the grains at ``centres`` (default: all), on the canvas."""
-        grain = self.grain()
-        mask, values = grain.mask(), grain.values(self.level)
-        centres = self.centres() if centres is None else centres
-        ys, xs = np.nonzero(mask)
-        ay, ax = grains.anchor(mask)
-        rows = (centres[:, :1] - ay + ys).ravel()
-        cols = (centres[:, 1:] - ax + xs).ravel()
-        vals = np.tile(values[ys, xs], len(centres))
-        return brushes.on_canvas(rows, cols, vals, canvas_shape, self.wrap)
+    def painter(self, canvas_shape) -> "GrainPainter":
+        """The painter a live preview feeds: the same grains as apply() will paint."""
+        return GrainPainter(self, canvas_shape)
 
     def apply(self, doc) -> None:
         grain = self.grain()
         _check_levels(doc, grain.max_level(self.level))
-        rows, cols, values = self.paint(doc.shape)
+        painter = self.painter(doc.shape)
+        rows, cols, values = (np.concatenate(a) for a in zip(*map(painter.add, self.points)))
         commit_points(doc, *brushes.last_wins(rows, cols, values, doc.shape))
 
     def label(self) -> str:
@@ -240,6 +226,42 @@ class PlaceGrains(Action):
         where = f"along a path of {n} points" if self.spacing else \
             f"at ({self.points[0][0]}, {self.points[0][1]})" if n == 1 else f"at {n} points"
         return f"Grain {self.shape} {self.size} {where}"
+
+
+class GrainPainter:
+    """The grains of a PlaceGrains, point by point as the pointer moves (for a live preview).
+
+    Jitter is drawn grain after grain from one generator, so feeding the points one at a time
+    gives the grains apply() gives.
+    """
+
+    def __init__(self, action: PlaceGrains, canvas_shape):
+        self.action, self.shape = action, tuple(canvas_shape)
+        grain = action.grain()
+        mask = grain.mask()
+        self.ys, self.xs = np.nonzero(mask)
+        ay, ax = grains.anchor(mask)
+        self.ys, self.xs = self.ys - ay, self.xs - ax
+        self.values = grain.values(action.level)[mask]
+        self.walker = brushes.PathWalker(action.spacing) if action.spacing else None
+        self.rng = np.random.default_rng(action.seed)
+
+    def centres(self, point) -> np.ndarray:
+        """The centres the next point brings (none, one, or several along the path)."""
+        positions = [point] if self.walker is None else self.walker.add(point)
+        centres = np.array(positions, float).reshape(-1, 2)
+        if self.action.jitter:
+            j = self.action.jitter
+            centres += self.rng.uniform(-j, j, size=centres.shape)
+        return np.floor(centres + 0.5).astype(np.int64)
+
+    def add(self, point):
+        """(rows, cols, values) of the grains the next point brings, on the canvas."""
+        centres = self.centres(point)
+        rows = (centres[:, :1] + self.ys).ravel()
+        cols = (centres[:, 1:] + self.xs).ravel()
+        values = np.tile(self.values, len(centres))
+        return brushes.on_canvas(rows, cols, values, self.shape, self.action.wrap)
 
 
 # -- zones (§3.3.3a) ---------------------------------------------------------------------------------

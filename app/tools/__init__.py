@@ -88,4 +88,8 @@ def tool_classes() -> list[type[Tool]]:
     TOOLS: list[type[Tool]] = [HandTool, FillTool, TranslateTool, CopyTool, ExtractTool]
     from .spot import SpotTool
     TOOLS.append(SpotTool)
+    from .brush import BrushTool, SprayTool
+    from .grain import GrainTool
+    from .zone import ScrambleTool, ZoneTool
+    TOOLS += [BrushTool, SprayTool, GrainTool, ZoneTool, ScrambleTool]
     return TOOLS

@@ -1,0 +1,290 @@
+"""The Brush (B) and Spray (A) tools (thesis §3.2.2): drag to paint with a brush of points.
+
+A stroke is one Action on release (its points, brush and seed); while dragging, a StrokePainter
+computes the dabs each pointer move brings and the StrokePreview draws just those points over the
+texture, repainting only their dirty rectangles — never the whole 2048² image per move.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from texeditor import brushes
+from texeditor.actions import replace_params
+from texeditor.brushes import Brush
+from texeditor.errors import TexeditorError
+from texeditor.paint_actions import Stroke
+
+from ..params_form import new_seed
+from . import Tool
+
+PREVIEW_Z = 6            # over the overlay (5), under the pixel grid (10)
+DIRTY_BLOCK = 64         # the preview repaints the 64×64 blocks a move touched
+SHAPE_NAMES = [("Disc", "disc"), ("Square", "square"), ("Diamond", "diamond"),
+               ("Line", "line")]
+
+
+def palette_argb(palette) -> np.ndarray:
+    """Opaque 0xAARRGGBB colours of the levels, for writing straight into a QImage."""
+    pal = np.asarray(palette, np.uint32).reshape(-1, 3)
+    lut = np.full(256, 0xFFFF00FF, np.uint32)
+    lut[:len(pal)] = 0xFF000000 | (pal[:, 0] << 16) | (pal[:, 1] << 8) | pal[:, 2]
+    return lut
+
+
+class StrokePreview(QtWidgets.QGraphicsObject):
+    """Points painted during a gesture, shown over the texture until the Action lands.
+
+    A transparent canvas-sized ARGB buffer (numpy, shared with a QImage): a move writes its new
+    points and asks Qt to repaint only the blocks they touched; ``clear`` wipes what was drawn.
+    """
+
+    def __init__(self, shape):
+        super().__init__()
+        self.shape = tuple(shape)
+        h, w = self.shape
+        self.buffer = np.zeros((h, w), np.uint32)
+        self.image = QtGui.QImage(self.buffer.data, w, h, 4 * w,
+                                  QtGui.QImage.Format.Format_ARGB32_Premultiplied)
+        self.drawn: list[int] = [h, w, 0, 0]          # the box of what is drawn: t, l, b, r
+        self.setFlag(QtWidgets.QGraphicsItem.GraphicsItemFlag.ItemUsesExtendedStyleOption)
+        self.setZValue(PREVIEW_Z)
+
+    def boundingRect(self) -> QtCore.QRectF:
+        return QtCore.QRectF(0, 0, self.shape[1], self.shape[0])
+
+    def paint(self, painter, option, widget=None):
+        rect = option.exposedRect.toAlignedRect().intersected(
+            QtCore.QRect(0, 0, self.shape[1], self.shape[0]))
+        if not rect.isEmpty():
+            painter.drawImage(QtCore.QRectF(rect), self.image, QtCore.QRectF(rect))
+
+    def draw(self, rows, cols, colours) -> None:
+        """Show points (canvas rows, cols) in ARGB colours; repaint only their blocks."""
+        if not len(rows):
+            return
+        self.buffer[rows, cols] = colours
+        d = self.drawn
+        d[:] = [min(d[0], rows.min()), min(d[1], cols.min()),
+                max(d[2], rows.max() + 1), max(d[3], cols.max() + 1)]
+        h, w = self.shape
+        blocks = np.unique((rows // DIRTY_BLOCK) * (w // DIRTY_BLOCK + 1) + cols // DIRTY_BLOCK)
+        for b in blocks.tolist():
+            by, bx = divmod(b, w // DIRTY_BLOCK + 1)
+            self.update(QtCore.QRectF(bx * DIRTY_BLOCK, by * DIRTY_BLOCK, DIRTY_BLOCK,
+                                      DIRTY_BLOCK))
+
+    def clear(self) -> None:
+        t, l, b, r = self.drawn
+        if b > t:
+            self.buffer[t:b, l:r] = 0
+            self.update(QtCore.QRectF(l, t, r - l, b - t))
+        self.drawn[:] = [self.shape[0], self.shape[1], 0, 0]
+
+
+def preview_for(window) -> StrokePreview:
+    """The canvas's stroke preview (one per window, remade when the canvas changes shape)."""
+    canvas = window.canvas
+    preview = getattr(canvas, "_stroke_preview", None)
+    shape = window.document.shape
+    if preview is None or preview.shape != shape:
+        if preview is not None:
+            canvas.view.removeItem(preview)
+        preview = StrokePreview(shape)
+        canvas.view.addItem(preview)
+        canvas._stroke_preview = preview
+    return preview
+
+
+def unfold(cell, previous, shape, tiled: bool):
+    """(row, col) of a pointer cell. In the tiled view cells come folded into the texture; the
+    copy nearest the previous point keeps a stroke crossing a seam continuous."""
+    x, y = cell
+    if not tiled or previous is None:
+        return y, x
+    h, w = shape
+    r0, c0 = previous
+    dr, dc = y - r0, x - c0
+    return r0 + dr - h * round(dr / h), c0 + dc - w * round(dc / w)
+
+
+class BrushOptions(QtWidgets.QWidget):
+    """The brush's settings in the Tool options dock, two to a row (cloud settings only for the
+    Spray), so the dock stays short."""
+
+    changed = QtCore.Signal()
+
+    def __init__(self, brush: Brush, cloud: bool):
+        super().__init__()
+        self.cloud = cloud
+        self._bitmap = brush.bitmap
+        grid = QtWidgets.QGridLayout(self)
+        grid.setContentsMargins(0, 0, 0, 0)
+        grid.setColumnStretch(1, 1)
+        grid.setColumnStretch(3, 1)
+        self.preset = QtWidgets.QLabel()
+        self.preset.setToolTip("The preset these settings started from (Brushes dock)")
+        grid.addWidget(self.preset, 0, 0, 1, 4)
+        self.size = QtWidgets.QSpinBox()
+        self.size.setRange(1, brushes.MAX_BRUSH_SIZE)
+        self.size.setToolTip("Diameter in points ([ smaller, ] bigger)")
+        self.shape = QtWidgets.QComboBox()
+        for text, value in SHAPE_NAMES:
+            self.shape.addItem(text, value)
+        self.shape.addItem("Drawn", "bitmap")
+        self.shape.setToolTip("Shape of the brush (a drawn one comes from a preset)")
+        self._row(grid, 1, "Size", self.size, "Shape", self.shape)
+        self.angle = QtWidgets.QSpinBox()
+        self.angle.setRange(-180, 180)
+        self.angle.setSuffix("°")
+        self.angle.setToolTip("Turn of the brush, counter-clockwise (a calligraphic nib)")
+        self.spacing = QtWidgets.QSpinBox()
+        self.spacing.setRange(int(brushes.MIN_SPACING * 100), int(brushes.MAX_SPACING * 100))
+        self.spacing.setSingleStep(5)
+        self.spacing.setSuffix(" %")
+        self.spacing.setToolTip("Distance between dabs along the stroke, in % of the size")
+        self._row(grid, 2, "Angle", self.angle, "Spacing", self.spacing)
+        self.density = QtWidgets.QSpinBox()
+        self.density.setRange(1, 100)
+        self.density.setSuffix(" %")
+        self.density.setToolTip("Chance of each point of the brush in each dab")
+        self.concentration = QtWidgets.QDoubleSpinBox()
+        self.concentration.setRange(0, brushes.MAX_CONCENTRATION)
+        self.concentration.setSingleStep(0.5)
+        self.concentration.setDecimals(1)
+        self.concentration.setToolTip("0: an even cloud; higher gathers the points toward the "
+                                      "centre (same mean density)")
+        if cloud:
+            self._row(grid, 3, "Density", self.density, "Centre", self.concentration)
+        self.random = QtWidgets.QCheckBox("Random levels")
+        self.random.setToolTip("Each point takes a level drawn from this list (a level listed "
+                               "twice is twice as likely); otherwise the palette's level")
+        self.choices = QtWidgets.QLineEdit("1, 2, 3")
+        self.choices.setPlaceholderText("1, 2, 3")
+        grid.addWidget(self.random, 4, 0, 1, 2)
+        grid.addWidget(self.choices, 4, 2, 1, 2)
+        self.wrap = QtWidgets.QCheckBox("Wrap around the edges")
+        self.wrap.setToolTip("A stroke leaving one edge continues on the opposite one "
+                             "(seamless tiles; always on in the tiled view)")
+        grid.addWidget(self.wrap, 5, 0, 1, 4)
+        self.set_brush(brush)
+        for w in (self.size, self.angle, self.density, self.spacing):
+            w.valueChanged.connect(self.changed)
+        self.concentration.valueChanged.connect(self.changed)
+        self.shape.currentIndexChanged.connect(self.changed)
+
+    @staticmethod
+    def _row(grid, row, label1, widget1, label2, widget2) -> None:
+        grid.addWidget(QtWidgets.QLabel(label1), row, 0)
+        grid.addWidget(widget1, row, 1)
+        grid.addWidget(QtWidgets.QLabel(label2), row, 2)
+        grid.addWidget(widget2, row, 3)
+
+    def set_brush(self, brush: Brush) -> None:
+        self._bitmap = brush.bitmap
+        self.preset.setText(f"Preset: {brush.name}")
+        self._name = brush.name
+        self.size.setValue(brush.size)
+        self.shape.setCurrentIndex(max(0, self.shape.findData(brush.shape)))
+        self.angle.setValue(round(brush.angle))
+        self.density.setValue(round(brush.density * 100))
+        self.concentration.setValue(brush.concentration)
+        self.spacing.setValue(round(brush.spacing * 100))
+
+    def brush(self) -> Brush:
+        shape = self.shape.currentData()
+        return Brush(self._name, self.size.value(), shape, float(self.angle.value()),
+                     self._bitmap if shape == "bitmap" else None,
+                     "cloud" if self.cloud else "solid", self.density.value() / 100,
+                     self.concentration.value(), self.spacing.value() / 100)
+
+    def level_choices(self) -> str | None:
+        return self.choices.text() if self.random.isChecked() else None
+
+
+class BrushTool(Tool):
+    """Drag to paint a stroke of the current level; a click paints one dab."""
+
+    NAME = "Brush"
+    SHORTCUT = "B"
+    TIP = "Drag to paint with the current level; [ and ] change the size"
+    CLOUD = False
+    DEFAULT = Brush("Round 3", 3, "disc")
+
+    def __init__(self, window):
+        super().__init__(window)
+        self.opts: BrushOptions | None = None
+
+    def build_options(self):
+        self.opts = BrushOptions(self.DEFAULT, self.CLOUD)
+        return self.opts
+
+    def activate(self):
+        dock = getattr(self.window, "brush_dock", None)
+        if dock is not None:
+            dock.raise_()                        # the presets in view while painting
+
+    @property
+    def brush(self) -> Brush:
+        self.options()
+        return self.opts.brush()
+
+    def set_brush(self, brush: Brush) -> None:
+        """Take a preset's settings (from the brush dock)."""
+        self.options()
+        self.opts.set_brush(brush)
+
+    def resize(self, bigger: bool) -> None:
+        """[ and ]: about 10 % smaller or bigger, at least one point."""
+        size = self.brush.size
+        step = max(1, round(size * 0.1))
+        self.opts.size.setValue(size + step if bigger else size - step)
+        self.window.statusBar().showMessage(f"{self.NAME} size {self.opts.size.value()}", 2000)
+
+    def stroke(self, points, seed: int) -> Stroke:
+        return Stroke.from_brush(self.brush, points, self.window.current_level,
+                                 level_choices=self.opts.level_choices(), seed=seed,
+                                 wrap=self.opts.wrap.isChecked() or self.window.canvas.tiled)
+
+    def click(self, cell, modifiers):
+        x, y = cell
+        self.window.submit(self.stroke([(y, x)], new_seed()))
+
+    def drag(self, cell, modifiers):
+        try:
+            template = self.stroke([unfold(cell, None, self.document.shape, False)], new_seed())
+        except TexeditorError as exc:
+            self.window.show_error("Cannot paint with this brush", exc)
+            return
+        shape, tiled = self.document.shape, self.window.canvas.tiled
+        painter = template.painter(shape)
+        colours = palette_argb(self.document.palette)
+        preview = preview_for(self.window)
+        points = [template.points[0]]
+        self._show(preview, painter.add(points[0]), colours)
+        try:
+            while True:
+                point = unfold((yield), points[-1], shape, tiled)
+                if point != points[-1]:
+                    points.append(point)
+                    self._show(preview, painter.add(point), colours)
+        except GeneratorExit:
+            self.window.submit(replace_params(template, points=tuple(points)))
+            preview.clear()
+            raise
+
+    @staticmethod
+    def _show(preview, painted, colours) -> None:
+        rows, cols, values = painted
+        preview.draw(rows, cols, colours[values])
+
+
+class SprayTool(BrushTool):
+    """The brush as a cloud of points (the thesis's own brush: strokes become point clouds)."""
+
+    NAME = "Spray"
+    SHORTCUT = "A"
+    TIP = "Drag to spray a cloud of points of the current level; [ and ] change the size"
+    CLOUD = True
+    DEFAULT = Brush("Spray 16", 16, "disc", distribution="cloud", density=0.3)

@@ -1,0 +1,240 @@
+"""The zone tools (thesis §3.3.3a): Duplicate zone (D) and Scramble frontier (Shift+D).
+
+The eye sees symmetries but not repetitions: draw a rectangle or a lasso, drag it elsewhere and a
+copy lands there (one DuplicateZone action); the copy then becomes the zone, and where its frontier
+shows, the Scramble tool adds grains at random in a band along it (one ScrambleFrontier action).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6 import QtCore, QtWidgets
+
+from texeditor import zones
+from texeditor.errors import TexeditorError
+from texeditor.paint_actions import DuplicateZone, ScrambleFrontier
+
+from ..params_form import new_seed
+from . import Tool
+from .regions import mask_overlay
+
+ZONE_TINT = (255, 200, 40)
+BAND_TINT = (255, 90, 40)
+GHOST_ALPHA = 200
+
+
+class Zone:
+    """A drawn zone: ``kind`` rectangle (two opposite corners) or lasso (vertices), (row, col)."""
+
+    def __init__(self, kind: str, points):
+        self.kind, self.points = kind, tuple(tuple(int(v) for v in p) for p in points)
+
+    def mask(self, shape) -> np.ndarray:
+        return zones.zone_mask(shape, self.kind, self.points)
+
+    def moved(self, dr: int, dc: int) -> "Zone":
+        return Zone(self.kind, [(r + dr, c + dc) for r, c in self.points])
+
+
+class ZoneOptions(QtWidgets.QWidget):
+    """Zone kind and wrap (both tools), and the scramble settings."""
+
+    def __init__(self, scramble: bool):
+        super().__init__()
+        form = QtWidgets.QFormLayout(self)
+        form.setContentsMargins(0, 0, 0, 0)
+        self.kind = QtWidgets.QComboBox()
+        self.kind.addItem("Rectangle", "rectangle")
+        self.kind.addItem("Lasso (freehand)", "lasso")
+        self.kind.setToolTip("How a drag draws a new zone")
+        form.addRow("Zone", self.kind)
+        self.band = QtWidgets.QSpinBox()
+        self.band.setRange(1, zones.MAX_BAND)
+        self.band.setValue(4)
+        self.band.setSuffix(" pt")
+        self.band.setToolTip("Width of the band along the frontier (half inside, half outside)")
+        self.density = QtWidgets.QSpinBox()
+        self.density.setRange(1, 100)
+        self.density.setValue(30)
+        self.density.setSuffix(" %")
+        self.density.setToolTip("Chance of a grain at each point of the band")
+        self.grain = QtWidgets.QSpinBox()
+        self.grain.setRange(1, 16)
+        self.grain.setValue(2)
+        self.grain.setSuffix(" pt")
+        self.grain.setToolTip("Side of the square grains added")
+        if scramble:
+            form.addRow("Band", self.band)
+            form.addRow("Density", self.density)
+            form.addRow("Grain", self.grain)
+        self.wrap = QtWidgets.QCheckBox("Wrap around the edges")
+        self.wrap.setToolTip("A copy leaving one edge comes back on the other (seamless tiles)")
+        form.addRow(self.wrap)
+        self.status = QtWidgets.QLabel()
+        self.status.setWordWrap(True)
+        form.addRow(self.status)
+
+
+class ZoneTool(Tool):
+    """Draw a zone, then drag it to duplicate it; the copy becomes the zone."""
+
+    NAME = "Duplicate zone"
+    SHORTCUT = "D"
+    TIP = "Drag to draw a zone; drag from inside it to put a copy elsewhere"
+    SCRAMBLE = False
+
+    def __init__(self, window):
+        super().__init__(window)
+        self.opts: ZoneOptions | None = None
+
+    # the zone is shared by both zone tools: duplicate, then scramble the copy's frontier
+    @property
+    def zone(self) -> Zone | None:
+        return getattr(self.window, "_paint_zone", None)
+
+    @zone.setter
+    def zone(self, zone: Zone | None) -> None:
+        self.window._paint_zone = zone
+
+    def build_options(self):
+        self.opts = ZoneOptions(self.SCRAMBLE)
+        self.opts.wrap.toggled.connect(lambda _on: self.show_zone())
+        self.opts.band.valueChanged.connect(lambda _v: self.show_zone())
+        return self.opts
+
+    def activate(self):
+        self.options()
+        self.show_zone()
+
+    def zone_mask(self) -> np.ndarray | None:
+        if self.zone is None:
+            return None
+        try:
+            return self.zone.mask(self.document.shape)
+        except TexeditorError:
+            return None
+
+    def show_zone(self) -> None:
+        """The zone tinted on the canvas, and a line in the options saying what it is."""
+        if self.window.tool is not self:
+            return
+        mask = self.zone_mask()
+        rgba, origin = (None, None) if mask is None else mask_overlay(mask, ZONE_TINT, 70)
+        self.window.canvas.set_overlay(rgba, origin or (0, 0))
+        if mask is None or not mask.any():
+            self.opts.status.setText("No zone: drag on the canvas to draw one.")
+        else:
+            self.opts.status.setText(f"Zone: {self.zone.kind}, {int(mask.sum())} points. "
+                                     + self.next_step())
+
+    def next_step(self) -> str:
+        return "Drag from inside it to place a copy."
+
+    def click(self, cell, modifiers):
+        mask = self.zone_mask()
+        if mask is None or not self.inside(cell) or not mask[cell[1], cell[0]]:
+            self.zone = None
+            self.show_zone()
+
+    def drag(self, cell, modifiers):
+        self.options()
+        mask = self.zone_mask()
+        x, y = cell
+        if mask is not None and self.inside(cell) and mask[y, x]:
+            yield from self._move(mask, cell)
+        else:
+            yield from self._draw(cell)
+
+    def _draw(self, cell):
+        """Draw a new zone: a rectangle from the press to the pointer, or a lasso path."""
+        kind = self.opts.kind.currentData()
+        points = [(cell[1], cell[0])]
+        try:
+            while True:
+                x, y = yield
+                if kind == "rectangle":
+                    points[1:] = [(y, x)]
+                elif (y, x) != points[-1]:
+                    points.append((y, x))
+                if len(points) >= (2 if kind == "rectangle" else 3):
+                    self.zone = Zone(kind, points)
+                    self.show_zone()
+        except GeneratorExit:
+            self.show_zone()
+            raise
+
+    def _move(self, mask, cell):
+        """Drag the zone: a ghost of its content follows; the copy lands on release."""
+        x0, y0 = cell
+        levels = self.document.levels
+        t, l, b, r = _box(mask)
+        rgba = np.zeros((b - t, r - l, 4), np.uint8)
+        inner = mask[t:b, l:r]
+        rgba[inner, :3] = np.asarray(self.document.palette, np.uint8)[levels[t:b, l:r][inner]]
+        rgba[inner, 3] = GHOST_ALPHA
+        x, y = cell
+        try:
+            while True:
+                x, y = yield
+                self.window.canvas.set_overlay(rgba, (l + x - x0, t + y - y0))
+        except GeneratorExit:
+            dr, dc = y - y0, x - x0
+            if (dr, dc) != (0, 0):
+                action = DuplicateZone(points=self.zone.points, offset_row=dr, offset_col=dc,
+                                       zone=self.zone.kind, wrap=self.opts.wrap.isChecked())
+                if self.window.submit(action):
+                    self.zone = self.zone.moved(dr, dc)
+            self.show_zone()
+            raise
+
+
+def _box(mask) -> tuple[int, int, int, int]:
+    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+    return int(rows[0]), int(cols[0]), int(rows[-1]) + 1, int(cols[-1]) + 1
+
+
+class ScrambleTool(ZoneTool):
+    """Scramble the frontier of the zone (the last copy, or a zone drawn here)."""
+
+    NAME = "Scramble frontier"
+    SHORTCUT = "Shift+D"
+    TIP = "Click in the zone to scramble its frontier with random grains; drag to draw a zone"
+    SCRAMBLE = True
+
+    def band(self) -> np.ndarray | None:
+        mask = self.zone_mask()
+        if mask is None or not mask.any():
+            return None
+        return zones.frontier_band(mask, self.opts.band.value(), wrap=self.opts.wrap.isChecked())
+
+    def show_zone(self) -> None:
+        """The band that will change, tinted over the texture."""
+        if self.window.tool is not self:
+            return
+        super().show_zone()
+        band = self.band()
+        if band is not None and band.any():
+            rgba, origin = mask_overlay(band, BAND_TINT, 90)
+            self.window.canvas.set_overlay(rgba, origin)
+
+    def next_step(self) -> str:
+        return "Click inside it to scramble its frontier (the tinted band)."
+
+    def click(self, cell, modifiers):
+        mask = self.zone_mask()
+        if mask is not None and self.inside(cell) and mask[cell[1], cell[0]]:
+            self.scramble()
+        else:
+            super().click(cell, modifiers)
+
+    def drag(self, cell, modifiers):
+        self.options()
+        yield from self._draw(cell)
+
+    def scramble(self) -> None:
+        if self.zone is None:
+            return
+        self.window.submit(ScrambleFrontier(
+            points=self.zone.points, zone=self.zone.kind, band=self.opts.band.value(),
+            density=self.opts.density.value() / 100, grain_size=self.opts.grain.value(),
+            wrap=self.opts.wrap.isChecked(), seed=new_seed()))
