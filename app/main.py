@@ -35,6 +35,7 @@ def run(argv=None) -> int:
     app.setOrganizationName("texeditor")
 
     from .main_window import MainWindow
+    from .recovery import offer_recovery
 
     window = MainWindow()
     window.headless = args.screenshot is not None
@@ -42,9 +43,17 @@ def run(argv=None) -> int:
         width, _, height = args.size.partition("x")
         window.resize(int(width), int(height))
     window.show()
+    extra_windows = []                     # more documents restored after a crash
+
+    def another_window():
+        extra = MainWindow()
+        extra.show()
+        extra_windows.append(extra)
+        return extra
+
     if args.open is not None:
         window.open_file(args.open)
-    else:
+    elif args.screenshot is not None or not offer_recovery(window, another_window):
         window.start_default()
     if args.screenshot is None:
         return app.exec()
