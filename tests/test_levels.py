@@ -231,3 +231,19 @@ def test_load_image_refuses_more_than_four_channels(tmp_path):
                      planarconfig="contig")
     with pytest.raises(ImageError, match="five.tif"):
         lv.load_image(tmp_path / "five.tif")
+
+
+def test_a_cmyk_jpeg_is_read_as_its_rgb_colours(tmp_path):
+    rgb = data.astronaut()
+    Image.fromarray(rgb).convert("CMYK").save(tmp_path / "print.jpg", quality=95)
+    image = lv.load_image(tmp_path / "print.jpg")
+    assert image.shape == rgb.shape
+    assert np.abs(image.astype(int) - rgb).mean() < 12     # JPEG loss, not CMYK read as RGBA
+    assert lv.quantize(image, 4).levels.max() == 3
+
+
+def test_a_one_pixel_high_strip_quantises(tmp_path):
+    strip = np.random.default_rng(0).integers(0, 256, (1, 100_000)).astype(np.uint8)
+    io.imsave(tmp_path / "strip.png", strip, check_contrast=False)
+    q = lv.quantize(lv.load_image(tmp_path / "strip.png"), 4)
+    assert q.levels.shape == (1, 100_000) and set(np.unique(q.levels)) == {0, 1, 2, 3}

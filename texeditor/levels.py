@@ -52,8 +52,8 @@ def load_image(path) -> np.ndarray:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         warnings.simplefilter("error", Image.DecompressionBombWarning)
-        size, pages = _declared_size(path)
-        image = _decode(path)
+        size, pages, mode = _declared_size(path)
+        image = _decode_cmyk(path) if mode == "CMYK" else _decode(path)
     if pages > 1 and image.ndim >= 3 and size is not None and image.shape[1:3] == size:
         image = image[0]
     return _check_decoded(image, path)
@@ -71,21 +71,33 @@ def _check_file(path: Path) -> None:
         raise ImageError(f"{path}: cannot read ({exc.strerror or exc})") from None
 
 
-def _declared_size(path: Path) -> tuple[tuple[int, int] | None, int]:
-    """(height, width) and page count from the header, or (None, 1) if Pillow does not know it."""
+def _declared_size(path: Path) -> tuple[tuple[int, int] | None, int, str | None]:
+    """(height, width), page count and Pillow's mode from the header, or (None, 1, None) if
+    Pillow does not know the format."""
     try:
         with Image.open(path) as im:
             width, height = im.size
             pages = int(getattr(im, "n_frames", 1) or 1)
+            mode = im.mode
     except (Image.DecompressionBombWarning, Image.DecompressionBombError):
         raise ImageError(f"{path}: the image is too large to open safely "
                          f"(more than {MAX_PIXELS // 2**20} megapixels)") from None
     except (Image.UnidentifiedImageError, SyntaxError, ValueError):
-        return None, 1  # maybe a format only imageio's other plugins can read
+        return None, 1, None  # maybe a format only imageio's other plugins can read
     except OSError as exc:
         raise ImageError(f"{path}: cannot read ({exc.strerror or exc})") from None
     _check_pixels(height, width, path)
-    return (height, width), pages
+    return (height, width), pages, mode
+
+
+def _decode_cmyk(path: Path) -> np.ndarray:
+    """A CMYK picture (print JPEGs, TIFFs) as RGB: its four channels are not RGBA."""
+    try:
+        with Image.open(path) as im:
+            return np.asarray(im.convert("RGB"))
+    except Exception as exc:  # as in _decode: one message for every way a reader fails
+        raise ImageError(f"{path}: cannot read it as an image "
+                         "(a damaged or truncated CMYK file)") from exc
 
 
 def _decode(path: Path) -> np.ndarray:
