@@ -78,3 +78,32 @@ def test_killing_a_dpj_save_leaves_the_old_or_the_new_file(tmp_path):
     assert landed == KILLS
     assert path.read_bytes() in versions
     DPJ.load(path)
+
+
+def test_killing_bank_writers_leaves_a_sound_bank(tmp_path, monkeypatch, capsys):
+    from texeditor.bank import Bank, make_record
+
+    path = tmp_path / "bank.sqlite"
+    records = [make_record(_history(3, 5), "first"), make_record(_history(4, 50), "second")]
+    bank = Bank(path, builtins=False)
+    bank.insert(records[0])
+    bank.close()
+
+    def write():
+        with_bank = Bank(path, builtins=False)
+        entry = with_bank.insert(records[1])
+        with_bank.update(entry, tags=("killed", "maybe"))
+        with_bank.trash(entry)
+        with_bank.close()
+
+    landed = _kill_while_writing(write, KILLS)
+    assert landed == KILLS
+    bank = Bank(path, builtins=False)
+    checks = bank.verify()
+    assert bank.integrity() == "ok"
+    assert all(check.ok for check in checks), [c for c in checks if not c.ok][:3]
+    assert bank.count() >= 1
+    bank.close()
+    from texeditor.cli import main
+    monkeypatch.setenv("TEXEDITOR_BANK", str(path))
+    assert main(["bank", "verify"]) == 0
