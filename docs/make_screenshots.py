@@ -151,5 +151,69 @@ def _move_event(widget, pos):
                              QtCore.Qt.KeyboardModifier.NoModifier)
 
 
+def shot_spots(app, window, out: Path) -> None:
+    """Spots (issue 7): a stone texture made only with spots — two scatters of the Stone and
+    Pebble envelopes, under the stones already placed, shaded in relief — with the Spot tool's
+    ghost and the spot editor; the editor alone; the texture itself."""
+    from app.tools.spot import SpotTool
+    from texeditor.actions import NewCanvas
+    from texeditor.export import write_png
+    from texeditor.history import History
+
+    previous = window.history
+    stones = [(38, 33, 30), (78, 68, 58), (112, 98, 84), (142, 127, 108), (170, 156, 136),
+              (198, 186, 166), (226, 218, 202)]
+    history = History()
+    history.apply(NewCanvas(320, 224, len(stones), stones))
+    window.set_history(history)
+    tool = next(t for t in window.tools if isinstance(t, SpotTool))
+    window.set_tool(tool)
+    settle(app, 400)
+    editor, opts = tool.editor, tool.opts
+    opts.mode.setCurrentIndex(opts.mode.findData("scatter"))
+    opts.blend.setCurrentIndex(opts.blend.findData("under"))
+    opts.wrap.setChecked(True)
+    for name, count, sizes, levels, depth in [("Stone", 400, (0.5, 1.0), (2, 5), 0.4),
+                                              ("Pebble", 500, (0.18, 0.35), (1, 4), 0.5)]:
+        editor.load(editor.library.get(name))
+        editor.interior.setCurrentIndex(editor.interior.findData("relief"))
+        editor.density.set_value(depth)
+        editor.seed.set_value(11 if name == "Stone" else 12)
+        opts.count.setValue(count)
+        opts.scale.setValue(sizes[0])
+        opts.scale_max.setValue(sizes[1])
+        window.palette_dock.swatches.current = levels[0]
+        window.palette_dock._level_clicked(levels[0])
+        opts.level_max.setValue(levels[1])
+        tool.scatter()
+        window.runner.wait()
+    editor.load(editor.library.get("Stone"))
+    editor.interior.setCurrentIndex(editor.interior.findData("relief"))
+    editor.density.set_value(0.4)
+    window.palette_dock.swatches.current = 4
+    window.palette_dock._level_clicked(4)
+    opts.mode.setCurrentIndex(opts.mode.findData("place"))
+    opts.scale.setValue(1.3)
+    opts.angle.setValue(20)
+    settle(app, 300)
+    canvas = window.canvas
+    target = canvas.mapFromScene(canvas.view.mapViewToScene(QtCore.QPointF(150.5, 100.5)))
+    QtWidgets.QApplication.sendEvent(canvas.viewport(), _move_event(canvas.viewport(), target))
+    editor.view.selected = ("m", 1, "left")
+    window.statusBar().clearMessage()
+    settle(app)
+    save(window, out / "spot-stones.png")
+    save(tool.dock, out / "spot-editor.png")
+    doc = window.document
+    texture = out / "spot-texture.png"
+    write_png(texture, doc.levels, doc.palette, scale=2)
+    print(texture.relative_to(ROOT) if texture.is_relative_to(ROOT) else texture)
+    window.set_tool(window.tools[0])
+    window.set_history(previous)
+
+
+MORE_SHOTS.append(shot_spots)
+
+
 if __name__ == "__main__":
     sys.exit(main())
