@@ -183,10 +183,10 @@ def three(bank):
 
 
 def test_a_tampered_log_is_reported_on_open_and_by_verify(bank, three):
-    log = json.loads(raw(bank).execute("SELECT actions FROM entries WHERE id = ?",
+    log = json.loads(raw(bank).execute("SELECT actions FROM logs WHERE entry = ?",
                                        (three[1],)).fetchone()[0])
     log["actions"][-1]["value"] = 0               # a valid log that draws another texture
-    raw(bank).execute("UPDATE entries SET actions = ? WHERE id = ?",
+    raw(bank).execute("UPDATE logs SET actions = ? WHERE entry = ?",
                       (json.dumps(log), three[1]))
     with pytest.raises(ReplayError, match="entry 1"):
         bank.open(three[1])
@@ -212,11 +212,18 @@ def test_a_tampered_hash_is_reported(bank, three):
      '"levels": 2}]}', "damaged"),
 ])
 def test_a_row_with_a_corrupted_log_is_a_clear_error(bank, three, log, message):
-    raw(bank).execute("UPDATE entries SET actions = ? WHERE id = ?", (log, three[0]))
+    raw(bank).execute("UPDATE logs SET actions = ? WHERE entry = ?", (log, three[0]))
     with pytest.raises(FormatError, match=message):
         bank.open(three[0])
     assert len(bank.search("entry")) == 3 and bank.open(three[1])
     assert not bank.verify()[1].ok
+
+
+def test_a_missing_log_row_is_a_clear_error(bank, three):
+    raw(bank).execute("DELETE FROM logs WHERE entry = ?", (three[2],))
+    with pytest.raises(FormatError, match="damaged"):
+        bank.open(three[2])
+    assert [c.ok for c in bank.verify()] == [True, True, True, False]
 
 
 def test_a_damaged_dpj_row_is_a_clear_error(bank):
@@ -364,6 +371,17 @@ def test_more_like_this(bank, known):
         ["thin vertical", "thin horizontal"]
 
 
+def test_likeness_sees_entries_added_by_another_program(bank, known):
+    other = Bank(bank.path, builtins=False)
+    assert known["noise a"] in bank.find(like=known["noise b"])     # cached from here on
+    twin = other.add(pattern(np.kron(np.random.default_rng(4).integers(0, 2, (32, 32)),
+                                     np.ones((1, 1), int))), "Noise a twin")
+    assert bank.find(like=known["noise a"])[0] == twin
+    other.purge([twin])
+    assert twin not in bank.find(like=known["noise a"])
+    other.close()
+
+
 def test_search_without_fts5_falls_back_to_substrings(tmp_path, monkeypatch):
     path = tmp_path / "bank.sqlite"
     monkeypatch.setattr(bk, "_has_fts5", lambda conn: False)
@@ -409,13 +427,13 @@ def test_migration_from_version_1_keeps_the_entries(tmp_path):
         conn.execute(statement)
     conn.execute("PRAGMA user_version = 1")
     a = record.attributes
-    conn.execute("INSERT INTO entries (name, width, height, levels, actions, action_count, sha256, "
-                 "thumbnail, contrast, granularity, density, directivity, orientation, "
-                 "regularity, created, modified) VALUES (?, 32, 32, 2, ?, ?, ?, ?, ?, ?, ?, ?, ?, "
-                 "?, 1.0, 1.0)", ("Old stripes", bk._log_json(record.actions),
-                                  len(record.actions), record.sha256, record.thumbnail,
-                                  a.contrast, a.granularity, a.density, a.directivity,
-                                  a.orientation, a.regularity))
+    conn.execute("INSERT INTO entries (name, width, height, levels, action_count, sha256, "
+                 "contrast, granularity, density, directivity, orientation, regularity, created, "
+                 "modified) VALUES (?, 32, 32, 2, ?, ?, ?, ?, ?, ?, ?, ?, 1.0, 1.0)",
+                 ("Old stripes", len(record.actions), record.sha256, a.contrast, a.granularity,
+                  a.density, a.directivity, a.orientation, a.regularity))
+    conn.execute("INSERT INTO logs VALUES (1, ?)", (bk._log_json(record.actions),))
+    conn.execute("INSERT INTO thumbnails VALUES (1, ?)", (record.thumbnail,))
     conn.execute("INSERT INTO tags VALUES (1, 'old')")
     conn.close()
     with Bank(path) as bank:

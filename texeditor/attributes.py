@@ -213,18 +213,27 @@ def feature_vector(a: Attributes) -> np.ndarray:
     """The coordinates "more like this" measures distances in: sizes on a log scale (a grain
     twice as large is as different at any size), the orientation as a doubled angle weighted by
     its strength (so a weak orientation, or 0° against 179°, hardly counts)."""
-    doubled = math.radians(2 * a.orientation)
-    return np.array([a.contrast, math.log2(max(a.granularity, 1.0)), a.density,
-                     a.directivity * math.cos(doubled), a.directivity * math.sin(doubled),
-                     a.regularity, math.log2(1.0 + a.coarseness)])
+    return feature_matrix(np.array([[getattr(a, name) for name in NAMES]]))[0]
 
 
-def nearest(target: np.ndarray, others: np.ndarray) -> np.ndarray:
+def feature_matrix(values: np.ndarray) -> np.ndarray:
+    """feature_vector of many textures at once: ``values`` is (n, 8) in the order of NAMES."""
+    v = dict(zip(NAMES, np.asarray(values, dtype=float).T))
+    doubled = np.radians(2 * v["orientation"])
+    return np.column_stack([v["contrast"], np.log2(np.maximum(v["granularity"], 1.0)),
+                            v["density"], v["directivity"] * np.cos(doubled),
+                            v["directivity"] * np.sin(doubled), v["regularity"],
+                            np.log2(1.0 + v["coarseness"])])
+
+
+def nearest(target: np.ndarray, others: np.ndarray, spread: np.ndarray | None = None
+            ) -> np.ndarray:
     """Order of the rows of ``others`` (feature vectors) by distance to ``target``, each
-    coordinate divided by its spread over the rows (so no attribute dominates by its unit)."""
+    coordinate divided by its spread (by default over ``others``; the bank passes the spread
+    over all its entries), so no attribute dominates by its unit."""
     if not len(others):
         return np.zeros(0, dtype=int)
-    spread = others.std(axis=0)
+    spread = np.array(others.std(axis=0) if spread is None else spread, dtype=float)
     spread[spread < 1e-9] = 1.0
     distance = np.sqrt((((others - target) / spread) ** 2).sum(axis=1))
     return np.argsort(distance, kind="stable")

@@ -116,22 +116,28 @@ class Check:
 
 # -- schema: migrations[v] turns version v into v + 1 ------------------------------------------
 
+# Entries hold only small columns, so listing and filtering 10,000 of them never reads a log or
+# a thumbnail: those live in their own tables, one row per entry.
 _V1 = [
     """CREATE TABLE entries (
         id INTEGER PRIMARY KEY,
         name TEXT NOT NULL,
         description TEXT NOT NULL DEFAULT '',
         width INTEGER NOT NULL, height INTEGER NOT NULL, levels INTEGER NOT NULL,
-        actions TEXT NOT NULL,                -- the optimised log: {"actions": [...]}
         action_count INTEGER NOT NULL,
         main_dpj TEXT,                        -- the DPJ that was current (maybe unused by the log)
         grain TEXT NOT NULL DEFAULT '{}',     -- grain and density parameters (JSON)
         sha256 TEXT NOT NULL,                 -- result_hash() of the replayed texture
-        thumbnail BLOB,                       -- PNG; NULL until computed
         contrast REAL, granularity REAL, density REAL, directivity REAL, orientation REAL,
         regularity REAL,
         builtin INTEGER NOT NULL DEFAULT 0,
         created REAL NOT NULL, modified REAL NOT NULL)""",
+    """CREATE TABLE logs (                   -- the optimised log: {"actions": [...]}
+        entry INTEGER PRIMARY KEY REFERENCES entries(id) ON DELETE CASCADE,
+        actions TEXT NOT NULL)""",
+    """CREATE TABLE thumbnails (             -- PNG; no row until computed
+        entry INTEGER PRIMARY KEY REFERENCES entries(id) ON DELETE CASCADE,
+        png BLOB NOT NULL)""",
     "CREATE TABLE dpjs (ref TEXT PRIMARY KEY, data BLOB NOT NULL) WITHOUT ROWID",
     """CREATE TABLE entry_dpjs (
         entry INTEGER NOT NULL REFERENCES entries(id) ON DELETE CASCADE,
@@ -150,12 +156,12 @@ _V2 = [   # the trash, versions, two more attributes and a recomputation mark
     "ALTER TABLE entries ADD COLUMN attributes_version INTEGER NOT NULL DEFAULT 0",
     "ALTER TABLE entries ADD COLUMN parent INTEGER REFERENCES entries(id) ON DELETE SET NULL",
     "ALTER TABLE entries ADD COLUMN trashed REAL",
-    "CREATE INDEX entries_live ON entries (trashed, modified)",
+    "CREATE INDEX entries_live ON entries (trashed, builtin, modified)",
 ]
 MIGRATIONS = [_V1, _V2]
 _ATTR_COLUMNS = attrs.NAMES
 # the user's entries newest first, then the built-ins in the order they were installed
-_NEWEST_FIRST = "e.builtin, CASE WHEN e.builtin THEN e.id ELSE -e.modified END, e.id DESC"
+_NEWEST_FIRST = "e.builtin, CASE WHEN e.builtin THEN -e.id ELSE e.modified END DESC, e.id DESC"
 _ENTRY_COLUMNS = ("e.id, e.name, e.description, e.width, e.height, e.levels, e.action_count, "
                   "e.sha256, e.builtin, e.parent, e.created, e.modified, e.trashed, e.grain, "
                   "e.attributes_version, " + ", ".join(f"e.{c}" for c in _ATTR_COLUMNS) + ", "
@@ -187,6 +193,7 @@ class Bank:
         self.path = Path(path) if path is not None else default_path()
         self.timeout = timeout
         self._lock = threading.RLock()
+        self._feature_cache = None
         self._conn = self._connect()
         try:
             self.fts = _has_fts5(self._conn)
@@ -333,6 +340,7 @@ class Bank:
             for record in records:
                 ids.append(self._insert(conn, record, builtin, parent))
             self._index(conn, ids)
+            _features_changed(conn)
         return ids
 
     def _insert(self, conn, r: Record, builtin: bool, parent) -> int:
@@ -340,15 +348,18 @@ class Bank:
         a = r.attributes
         values = {
             "name": r.name, "description": r.description, "width": r.width, "height": r.height,
-            "levels": r.levels, "actions": _log_json(r.actions), "action_count": len(r.actions),
-            "main_dpj": r.main_dpj, "grain": json.dumps(r.grain, allow_nan=False),
-            "sha256": r.sha256, "thumbnail": r.thumbnail, "builtin": int(builtin),
-            "parent": parent, "created": now, "modified": now,
+            "levels": r.levels, "action_count": len(r.actions), "main_dpj": r.main_dpj,
+            "grain": json.dumps(r.grain, allow_nan=False), "sha256": r.sha256,
+            "builtin": int(builtin), "parent": parent, "created": now, "modified": now,
             "attributes_version": attrs.VERSION if a is not None else 0,
             **{c: (getattr(a, c) if a is not None else None) for c in _ATTR_COLUMNS}}
         cursor = conn.execute(f"INSERT INTO entries ({', '.join(values)}) "
                               f"VALUES ({', '.join('?' * len(values))})", tuple(values.values()))
         entry = cursor.lastrowid
+        conn.execute("INSERT INTO logs (entry, actions) VALUES (?, ?)",
+                     (entry, _log_json(r.actions)))
+        if r.thumbnail is not None:
+            conn.execute("INSERT INTO thumbnails (entry, png) VALUES (?, ?)", (entry, r.thumbnail))
         for ref, dpj in r.dpjs.items():
             self._store_dpj(conn, ref, dpj)
             conn.execute("INSERT INTO entry_dpjs (entry, ref) VALUES (?, ?)", (entry, ref))
@@ -407,13 +418,10 @@ class Bank:
         attribute space first (``like`` itself excluded). Otherwise the user's entries newest
         first, then the built-ins."""
         words, text_tags = parse_query(text)
-        where, params, order = ["e.trashed IS " + ("NOT NULL" if trash else "NULL")], [], ""
-        join = ""
-        if words and self.fts:
-            join = "JOIN search ON search.rowid = e.id"
-            where.append("search MATCH ?")
+        where, params = ["e.trashed IS " + ("NOT NULL" if trash else "NULL")], []
+        if words and self.fts:       # the browser's order, not bm25: ranking 10,000 hits is slow
+            where.append("e.id IN (SELECT rowid FROM search WHERE search MATCH ?)")
             params.append(fts_query(words))
-            order = "search.rank, "
         for word in words if not self.fts else ():
             pattern = "%" + re.sub(r"([%_\\])", r"\\\1", word) + "%"
             where.append("(e.name LIKE ? ESCAPE '\\' OR e.description LIKE ? ESCAPE '\\' OR "
@@ -430,23 +438,41 @@ class Bank:
             if hi is not None:
                 where.append(f"e.{name} <= ?")
                 params.append(hi)
-        columns = "e.id" + ("".join(f", e.{c}" for c in _ATTR_COLUMNS) if like is not None else "")
-        rows = self._read(f"SELECT {columns} FROM entries e {join} WHERE {' AND '.join(where)} "
-                          f"ORDER BY {order}{_NEWEST_FIRST}", params)
-        ids = [r[0] for r in rows] if like is None else self._nearest(like, rows)
+        order = f" ORDER BY {_NEWEST_FIRST}" if like is None else ""   # likeness sorts itself
+        ids = [r[0] for r in self._read(f"SELECT e.id FROM entries e WHERE "
+                                        f"{' AND '.join(where)}{order}", params)]
+        if like is not None:
+            ids = self._nearest(like, ids)
         return ids if limit is None else ids[:max(0, limit)]
 
-    def _nearest(self, like: int, rows) -> list:
-        target = self.get(like).attributes
-        if target is None:
+    def _nearest(self, like: int, ids: list) -> list:
+        """``ids`` (those with attributes, ``like`` excluded) nearest to ``like`` first."""
+        table, features, spread = self._features()
+        target = np.searchsorted(table, like)
+        if target >= len(table) or table[target] != like:
+            self.get(like)                         # an unknown entry is a BankError
             raise BankError(f"entry {like} has no attributes yet: it cannot be compared")
-        known = [(r[0], attrs.Attributes(*r[1:])) for r in rows
-                 if r[0] != like and r[1] is not None and None not in r[1:]]
-        if not known:
-            return []
-        vectors = np.array([attrs.feature_vector(a) for _, a in known])
-        order = attrs.nearest(attrs.feature_vector(target), vectors)
-        return [known[i][0] for i in order]
+        rows = np.searchsorted(table, ids)
+        rows = rows[(rows < len(table)) & (table[np.minimum(rows, len(table) - 1)] == ids)]
+        rows = rows[table[rows] != like]
+        order = attrs.nearest(features[target], features[rows], spread)
+        return table[rows][order].tolist()
+
+    def _features(self) -> tuple:
+        """(ids in order, feature vectors, their spread) of every entry with attributes, read
+        again only after a write that changes attributes (here or in another program: every
+        such write bumps the 'features' counter of the meta table)."""
+        stamp = self._read("SELECT value FROM meta WHERE key = 'features'")
+        if self._feature_cache is None or self._feature_cache[0] != stamp:
+            columns = ", ".join(_ATTR_COLUMNS)
+            rows = self._read(f"SELECT id, {columns} FROM entries WHERE attributes_version = ? "
+                              f"AND {' AND '.join(f'{c} IS NOT NULL' for c in _ATTR_COLUMNS)} "
+                              "ORDER BY id", (attrs.VERSION,))
+            table = np.array(rows, dtype=float).reshape(-1, len(_ATTR_COLUMNS) + 1)
+            features = attrs.feature_matrix(table[:, 1:])
+            spread = features.std(axis=0) if len(features) else np.ones(features.shape[1])
+            self._feature_cache = (stamp, (table[:, 0].astype(np.int64), features, spread))
+        return self._feature_cache[1]
 
     def search(self, text: str = "", **options) -> list:
         """Like ``find`` but the Entries themselves."""
@@ -490,9 +516,9 @@ class Bank:
         ids = list(ids)
         if not ids:
             return {}
-        rows = self._read(f"SELECT id, thumbnail FROM entries WHERE id IN "
-                          f"({', '.join('?' * len(ids))})", ids)
-        return {r[0]: (bytes(r[1]) if r[1] is not None else None) for r in rows}
+        found = dict(self._read(f"SELECT entry, png FROM thumbnails WHERE entry IN "
+                                f"({', '.join('?' * len(ids))})", ids))
+        return {i: (bytes(found[i]) if i in found else None) for i in ids}
 
     def all_tags(self) -> list:
         """(tag, number of live entries) by decreasing use."""
@@ -503,7 +529,8 @@ class Bank:
     # -- opening ---------------------------------------------------------------------------------
     def recipe(self, entry_id: int) -> Recipe:
         """The entry's log and DPJs, validated like a file (a damaged row is a FormatError)."""
-        rows = self._read("SELECT name, actions, main_dpj FROM entries WHERE id = ?", (entry_id,))
+        rows = self._read("SELECT e.name, l.actions, e.main_dpj FROM entries e LEFT JOIN logs l "
+                          "ON l.entry = e.id WHERE e.id = ?", (entry_id,))
         if not rows:
             raise BankError(f"the bank has no entry {entry_id}")
         name, log, main = rows[0]
@@ -580,8 +607,9 @@ class Bank:
     def pending(self) -> list:
         """Entries whose thumbnail or attributes are missing or out of date."""
         return [r[0] for r in self._read(
-            "SELECT id FROM entries WHERE thumbnail IS NULL OR attributes_version < ? "
-            "ORDER BY builtin DESC, id", (attrs.VERSION,))]
+            "SELECT id FROM entries e WHERE attributes_version < ? OR NOT EXISTS "
+            "(SELECT 1 FROM thumbnails t WHERE t.entry = e.id) ORDER BY builtin DESC, id",
+            (attrs.VERSION,))]
 
     def prepare_pending(self, *, progress=None, cancel=None) -> list:
         """Replay each pending entry (checking its hash), then store its thumbnail and
@@ -606,10 +634,12 @@ class Bank:
 
     def _set_derived(self, entry_id: int, thumbnail: bytes, a: attrs.Attributes) -> None:
         with self._write() as conn:
-            conn.execute(f"UPDATE entries SET thumbnail = ?, attributes_version = ?, "
+            conn.execute(f"UPDATE entries SET attributes_version = ?, "
                          f"{', '.join(f'{c} = ?' for c in _ATTR_COLUMNS)} WHERE id = ?",
-                         (thumbnail, attrs.VERSION, *(getattr(a, c) for c in _ATTR_COLUMNS),
-                          entry_id))
+                         (attrs.VERSION, *(getattr(a, c) for c in _ATTR_COLUMNS), entry_id))
+            conn.execute("INSERT OR REPLACE INTO thumbnails (entry, png) VALUES (?, ?)",
+                         (entry_id, thumbnail))
+            _features_changed(conn)
 
     # -- editing ---------------------------------------------------------------------------------
     def update(self, entry_id: int, *, name: str | None = None, tags=None,
@@ -642,11 +672,14 @@ class Bank:
                 f"INSERT INTO entries (name, builtin, created, modified, {', '.join(columns)}) "
                 f"SELECT ?, 0, ?, ?, {', '.join(columns)} FROM entries WHERE id = ?",
                 (check_name(name or f"{old} (copy)"), now, now, entry_id)).lastrowid
-            conn.execute("INSERT INTO entry_dpjs (entry, ref) SELECT ?, ref FROM entry_dpjs "
-                         "WHERE entry = ?", (new, entry_id))
+            for table, column in (("entry_dpjs", "ref"), ("logs", "actions"),
+                                  ("thumbnails", "png")):
+                conn.execute(f"INSERT INTO {table} (entry, {column}) SELECT ?, {column} "
+                             f"FROM {table} WHERE entry = ?", (new, entry_id))
             conn.execute("INSERT INTO tags (entry, tag) SELECT ?, tag FROM tags WHERE entry = ?",
                          (new, entry_id))
             self._index(conn, [new])
+            _features_changed(conn)
         return new
 
     def trash(self, entry_id: int) -> None:
@@ -674,6 +707,7 @@ class Bank:
                 if self.fts:
                     conn.execute("DELETE FROM search WHERE rowid = ?", (entry_id,))
             conn.execute("DELETE FROM dpjs WHERE ref NOT IN (SELECT ref FROM entry_dpjs)")
+            _features_changed(conn)
             if not self.fts:
                 self._mark_fts_stale(conn)
         return len(entry_ids)
@@ -943,6 +977,12 @@ def _check_result(doc: Document, expected: str, what: str) -> None:
         raise ReplayError(f"{what}: replaying its log gives another texture ({w}x{h}, "
                           f"SHA-256 {got[:12]}…) than the one recorded ({expected[:12]}…); "
                           "it is not shown — the entry is damaged")
+
+
+def _features_changed(conn) -> None:
+    """Tell every Bank on this file that attributes changed (their likeness caches go stale)."""
+    conn.execute("INSERT INTO meta (key, value) VALUES ('features', '1') ON CONFLICT (key) "
+                 "DO UPDATE SET value = CAST(value AS INTEGER) + 1")
 
 
 def _has_fts5(conn) -> bool:
