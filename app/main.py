@@ -53,6 +53,7 @@ def run(argv=None) -> int:
 
     if args.open is not None:
         window.open_file(args.open)
+        window.bank_dock.load(prepare=False)      # the bank is listed beside the file
     elif args.screenshot is not None or not offer_recovery(window, another_window):
         window.start_default()
     if args.screenshot is None:
