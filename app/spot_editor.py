@@ -28,13 +28,16 @@ from .widgets import scrolled
 HANDLE = 6                      # handle radius, screen pixels
 GRID = 5                        # envelope points between grid lines
 KIND_NAMES = {"linear": "Straight lines", "bezier": "Bézier curves", "bspline": "B-spline"}
-INTERIOR_NAMES = {"none": "None", "holes": "Holes", "levels": "Level patches"}
+INTERIOR_NAMES = {"none": "None", "holes": "Holes", "levels": "Level patches",
+                  "relief": "Relief (lit top left)"}
 EQUATOR_COLOUR = QtGui.QColor(255, 150, 40)
 MERIDIAN_COLOUR = QtGui.QColor(90, 200, 255)
 PARALLEL_COLOUR = QtGui.QColor(130, 220, 120)
 OUTLINE_COLOUR = QtGui.QColor(255, 255, 255, 200)
 BACKGROUND = QtGui.QColor(43, 43, 43)
 T_MARGIN = 0.01                 # meridians keep this far from the ends and from each other
+DEFAULT_PALETTE = np.array([[46, 40, 36], [92, 80, 68], [128, 112, 94], [156, 140, 118],
+                            [184, 170, 148], [212, 200, 180]], np.uint8)
 
 
 def _round(v: float) -> float:
@@ -62,7 +65,8 @@ class EnvelopeView(QtWidgets.QWidget):
         self.origin = np.zeros(2)               # the envelope point at the middle of the area
         self.perturbation = Perturbation()
         self.seed = 0
-        self.colours = ((170, 150, 120), (120, 100, 80))
+        self.palette = DEFAULT_PALETTE             # the preview's colours: the level the tool
+        self.level, self.shift = 4, 1              # fills with, and its shifted points
         self.pending_a: tuple[float, float] | None = None   # first equator end, clicked
         self.pointer: tuple[float, float] | None = None
         self.hovered = None
@@ -92,7 +96,7 @@ class EnvelopeView(QtWidgets.QWidget):
         if self.envelope is not None:
             try:
                 stamp = real_spot(self.envelope, self.perturbation, seed=self.seed)
-                self._preview = (_stamp_image(stamp, *self.colours), stamp.top, stamp.left)
+                self._preview = (_stamp_image(stamp, self.colour), stamp.top, stamp.left)
             except TexeditorError as exc:
                 self.problem = str(exc)
         self.update()
@@ -103,9 +107,14 @@ class EnvelopeView(QtWidgets.QWidget):
         if self.envelope is not None:
             top, left, bottom, right = self.envelope.bbox()
             extent = max(bottom - top, right - left, 8.0)
-            self.span = float(np.clip(extent * 1.5, 16.0, 4000.0))
+            self.span = float(np.clip(extent * 1.35, 16.0, 4000.0))
             self.origin = np.array([(top + bottom) / 2, (left + right) / 2])
             self.update()
+
+    def colour(self, steps: int):
+        """The colour of a point moved ``steps`` shifts from the fill level."""
+        level = min(max(self.level + steps * self.shift, 0), len(self.palette) - 1)
+        return tuple(int(c) for c in self.palette[level])
 
     # -- coordinates ------------------------------------------------------------------------------
     def _k(self) -> float:
@@ -441,22 +450,28 @@ class EnvelopeView(QtWidgets.QWidget):
                 "right-click a handle: remove it · wheel: zoom")
 
     def _paint_hint(self, p) -> None:
-        p.setPen(QtGui.QColor(220, 220, 220) if not self.problem else QtGui.QColor(255, 150, 130))
-        rect = QtCore.QRectF(8, 6, self.width() - 16, 40)
-        p.drawText(rect, int(QtCore.Qt.AlignmentFlag.AlignLeft | QtCore.Qt.TextFlag.TextWordWrap),
-                   self.hint())
+        """What to do next, on a dark band so it reads over the grid and the spot."""
+        flags = int(QtCore.Qt.AlignmentFlag.AlignLeft | QtCore.Qt.TextFlag.TextWordWrap)
+        rect = QtCore.QRectF(8, 5, self.width() - 16, 60)
+        text = p.boundingRect(rect, flags, self.hint())
+        p.fillRect(QtCore.QRectF(0, 0, self.width(), text.bottom() + 5), QtGui.QColor(0, 0, 0, 150))
+        p.setPen(QtGui.QColor(225, 225, 225) if not self.problem else QtGui.QColor(255, 150, 130))
+        p.drawText(rect, flags, self.hint())
 
 
 def _xy(point) -> tuple[float, float]:
     return (point.x(), point.y())
 
 
-def _stamp_image(stamp, fill_rgb, alt_rgb) -> QtGui.QImage:
-    """The real spot as an RGBA picture, one pixel per point (scaled up when painted)."""
+def _stamp_image(stamp, colours) -> QtGui.QImage:
+    """The real spot as an RGBA picture, one pixel per point (scaled up when painted);
+    ``colours`` maps a point's steps (−1, 0, 1…) to its colour."""
     h, w = stamp.shape
     rgba = np.zeros((h, w, 4), np.uint8)
-    rgba[stamp.mask, :3] = fill_rgb
-    rgba[stamp.alt, :3] = alt_rgb
+    rgba[stamp.mask, :3] = colours(0)
+    for step in np.unique(stamp.steps[stamp.mask]):
+        if step:
+            rgba[stamp.mask & (stamp.steps == step), :3] = colours(int(step))
     rgba[stamp.mask, 3] = 255
     image = QtGui.QImage(rgba.data, w, h, 4 * w, QtGui.QImage.Format.Format_RGBA8888)
     return image.copy()
@@ -616,6 +631,7 @@ class SpotEditor(QtWidgets.QWidget):
         for w in (self.roughness, self.grain):
             w.valueChanged.connect(self._settings_changed)
         self.interior.currentIndexChanged.connect(self._settings_changed)
+        self.interior.currentIndexChanged.connect(self._interior_changed)
         self.seed.changed.connect(self._settings_changed)
         return box
 
@@ -662,9 +678,10 @@ class SpotEditor(QtWidgets.QWidget):
         if self.vary.isChecked():
             self.seed.set_value(new_seed())
 
-    def set_colours(self, fill_rgb, alt_rgb) -> None:
-        """Colours of the preview: the level the tool fills with and its patches' level."""
-        self.view.colours = (tuple(int(c) for c in fill_rgb), tuple(int(c) for c in alt_rgb))
+    def set_palette(self, palette, level: int) -> None:
+        """Preview in the document's colours: the level the tool fills with (and its shifts)."""
+        self.view.palette = np.asarray(palette, np.uint8)
+        self.view.level = int(level)
         self.view.refresh()
 
     # -- editing ----------------------------------------------------------------------------------
@@ -685,10 +702,19 @@ class SpotEditor(QtWidgets.QWidget):
         self.grain.setValue(p.scale)
         self.kind.setCurrentIndex(self.kind.findData(entry.envelope.kind))
         self._loading = False
+        self._interior_changed()
         self.view.perturbation = self.perturbation()
         self.view.seed = self.seed.value()
+        self.view.shift = self.shift.value()
         self.view.set_envelope(entry.envelope)
         self.view.fit()
+
+    def _interior_changed(self) -> None:
+        """Only the settings the chosen interior uses can be changed."""
+        interior = self.interior.currentData()
+        self.density.setEnabled(interior != "none")
+        self.grain.setEnabled(interior in ("holes", "levels"))
+        self.shift.setEnabled(interior in ("levels", "relief"))
 
     def _kind_changed(self) -> None:
         if self._loading or self.view.envelope is None:
@@ -700,6 +726,7 @@ class SpotEditor(QtWidgets.QWidget):
             return
         self.view.perturbation = self.perturbation()
         self.view.seed = self.seed.value()
+        self.view.shift = self.shift.value()
         self.view.refresh()
 
     def _view_changed(self) -> None:

@@ -338,3 +338,13 @@ def test_every_standard_spot_places_a_spot():
     for entry in standard_spots():
         stamp = real_spot(entry.envelope, entry.perturbation, seed=1)
         assert stamp.area > 0.4 * entry.envelope.area()
+
+
+def test_a_big_scatter_is_rasterised_ahead_with_progress_and_can_be_cancelled():
+    from texeditor.errors import Cancelled
+    action = ScatterSpots(DISC, 64, seed=5, scale=0.5)
+    seen = []
+    action.rasterise((48, 64), progress=seen.append)
+    assert seen and seen[-1] == 1.0 and seen == sorted(seen)
+    with pytest.raises(Cancelled):
+        ScatterSpots(DISC, 64, seed=6).rasterise((48, 64), cancel=lambda: True)

@@ -306,3 +306,17 @@ def test_a_stamp_off_the_edge_is_clipped_or_wrapped():
                                                            [1, 0, 0, 1]]
     assert len(pieces(stamp, (3, 4), wrap=True)) == 4
     assert pieces(Stamp(-5, -5, np.ones((2, 2), bool)), (3, 4)) == []
+
+
+def test_relief_lights_the_rim_towards_the_top_left_whatever_the_turn():
+    env = Envelope.ellipse(40, 30)
+    for angle in (0, 70, 180):
+        stamp = real_spot(env, Perturbation(interior="relief", density=0.3),
+                          placement=Placement((0.0, 0.0), angle))
+        rows, cols = np.nonzero(stamp.mask)
+        centre = rows.mean(), cols.mean()
+        lit, shaded = np.nonzero(stamp.steps == 1), np.nonzero(stamp.steps == -1)
+        assert lit[0].mean() < centre[0] and lit[1].mean() < centre[1]
+        assert shaded[0].mean() > centre[0] and shaded[1].mean() > centre[1]
+        assert 0.15 < stamp.alt.mean() / stamp.mask.mean() < 0.6
+    assert spot_levels(stamp, 2, shift=1, num_levels=4)[stamp.steps == -1].max() == 1

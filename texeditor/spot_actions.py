@@ -22,7 +22,7 @@ import numpy as np
 from .actions import MAX_CANVAS_SIDE, Action, Synthesize, param, register
 from .document import Document, bytes_ref
 from .dpj import MAX_LEVELS
-from .errors import InputError
+from .errors import Cancelled, InputError
 from .spots import (BLENDS, INTERIORS, Envelope, Perturbation, Placement, Stamp, blend, pieces,
                     placed_outline, real_spot, spot_levels)
 
@@ -73,7 +73,8 @@ def _roughness():
 
 
 def _interior():
-    return param("str", hi=16, default="none", doc="interior perturbation: none, holes or levels")
+    return param("str", hi=16, default="none",
+                 doc="interior perturbation: none, holes, levels (patches) or relief (shading)")
 
 
 def _density():
@@ -141,7 +142,7 @@ class SpotAction(Action):
             stamp = real_spot(self.envelope_model(), self.perturbation(), seed=spot.seed,
                               placement=spot.placement)
             stamp.mask.flags.writeable = False
-            stamp.alt.flags.writeable = False
+            stamp.steps.flags.writeable = False
             _STAMPS.put(key, stamp)
         return stamp
 
@@ -163,6 +164,22 @@ class SpotAction(Action):
         return 0 <= r < stamp.shape[0] and 0 <= c < stamp.shape[1] and bool(stamp.mask[r, c])
 
     # -- applying -------------------------------------------------------------------------------
+    def prepare(self, doc, progress=None, cancel=None) -> None:
+        self.rasterise(doc.shape, progress, cancel)
+        if self.fill == "dpj" and self.dpj in doc.dpjs:
+            self._lower_texture(doc)
+
+    def rasterise(self, shape, progress=None, cancel=None) -> None:
+        """Rasterise every spot ahead of apply(), which then only writes: the slow part of a big
+        scatter, safe in a worker thread and cancellable."""
+        spots = self.spots(shape)
+        for i in range(len(spots)):
+            if cancel is not None and cancel():
+                raise Cancelled("spot placement cancelled: nothing was changed")
+            self.stamp(i, shape)
+            if progress is not None and i % 16 == 15:
+                progress((i + 1) / len(spots))
+
     def apply(self, doc) -> None:
         self._place(doc, skip=frozenset())
 
@@ -502,7 +519,7 @@ def spot_at(actions, shape, point) -> tuple[int, int | None] | None:
 class _StampCache:
     """Recently rasterised spots (read-only), within a memory budget."""
 
-    def __init__(self, max_bytes: int = 64 * 2**20):
+    def __init__(self, max_bytes: int = 128 * 2**20):
         self.max_bytes = max_bytes
         self._items: OrderedDict = OrderedDict()
         self._bytes = 0

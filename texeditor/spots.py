@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 
 import numpy as np
 
@@ -26,7 +27,8 @@ from .errors import InputError
 from .transforms import rotation_matrix
 
 KINDS = ("linear", "bezier", "bspline")
-INTERIORS = ("none", "holes", "levels")
+INTERIORS = ("none", "holes", "levels", "relief")
+LIGHT = (-0.7071067811865476, -0.7071067811865476)     # relief: light from the top left (row, col)
 BLENDS = ("over", "under", "max", "min")
 MAX_COORD = 100_000.0           # envelope coordinates and widths, in points
 MAX_CONTOUR = 4096              # points of a freehand contour
@@ -206,11 +208,9 @@ class Envelope:
 
     def outline(self, step: float = 0.5) -> np.ndarray:
         """The closed outline (N, 2), points at most about ``step`` apart; it contains every
-        control point (the first is not repeated at the end)."""
-        pts = self.control_points()
-        if len(pts) < 3:
-            return pts
-        return _OUTLINES[self.kind](pts, max(float(step), 1e-3))
+        control point (the first is not repeated at the end). Read-only: it is cached, with
+        ``step`` rounded down to a power of two, since a scatter draws one envelope many times."""
+        return _outline(self, 2.0 ** math.floor(math.log2(min(max(float(step), 1e-3), 64.0))))
 
     def area(self) -> float:
         return abs(polygon_area(self.outline()))
@@ -403,6 +403,14 @@ def bspline_outline(pts: np.ndarray, step: float) -> np.ndarray:
 _OUTLINES = {"linear": linear_outline, "bezier": bezier_outline, "bspline": bspline_outline}
 
 
+@lru_cache(maxsize=512)
+def _outline(envelope: Envelope, step: float) -> np.ndarray:
+    pts = envelope.control_points()
+    out = pts if len(pts) < 3 else _OUTLINES[envelope.kind](pts, step)
+    out.flags.writeable = False
+    return out
+
+
 def polygon_area(pts: np.ndarray) -> float:
     """Signed area (shoelace) of a closed polygon given without its repeated first point."""
     r, c = pts[:, 0], pts[:, 1]
@@ -439,7 +447,8 @@ class Perturbation:
     ``frequency``: bumps around the contour (its highest harmonic); ``fractal``: depth of a
     fractal roughening (0..1) with roughness exponent ``h`` (0 rough .. 1 smooth); ``interior``:
     "holes" (points left out) or "levels" (points that take another level) over a ``density``
-    share of the spot, in patches of about ``scale`` points (of the envelope).
+    share of the spot, in patches of about ``scale`` points (of the envelope); or "relief"
+    (the spot shaded as if lit from the top left, over a rim ``density`` of its depth).
     """
 
     contour: float = 0.0
@@ -536,18 +545,24 @@ def _streams(seed: int) -> list[np.random.Generator]:
 class Stamp:
     """A real spot's points in a box whose corner is (top, left) on the (unbounded) plane.
 
-    ``mask``: the spot's points; ``alt``: its points that take the varied level (interior
-    "levels"), a subset of ``mask``.
+    ``mask``: the spot's points; ``steps``: how many times the level shift applies at each point
+    (0 for most; 1 on interior patches; +1 and −1 on the lit and shaded rims of a relief).
     """
 
     top: int
     left: int
     mask: np.ndarray
-    alt: np.ndarray = field(default=None)
+    steps: np.ndarray = field(default=None)
 
     def __post_init__(self):
-        if self.alt is None:
-            object.__setattr__(self, "alt", np.zeros_like(self.mask))
+        steps = np.zeros(self.mask.shape, np.int8) if self.steps is None else \
+            np.asarray(self.steps).astype(np.int8)
+        object.__setattr__(self, "steps", steps)
+
+    @property
+    def alt(self) -> np.ndarray:
+        """The points whose level is shifted (a subset of the mask)."""
+        return self.steps != 0
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -559,7 +574,7 @@ class Stamp:
 
     @property
     def nbytes(self) -> int:
-        return self.mask.nbytes + self.alt.nbytes
+        return self.mask.nbytes + self.steps.nbytes
 
 
 @dataclass(frozen=True)
@@ -626,15 +641,33 @@ def real_spot(envelope: Envelope, perturbation: Perturbation | None = None, *, s
         r, c = (int(np.clip(math.floor(v + 0.5) - o, 0, n - 1))
                 for v, o, n in zip(centre, (top, left), shape))
         mask[r, c] = True
-    alt = np.zeros_like(mask)
-    if perturbation.interior != "none" and perturbation.density > 0:
+    steps = np.zeros(mask.shape, np.int8)
+    if perturbation.interior == "relief" and perturbation.density > 0:
+        steps = _relief(mask, perturbation.density)
+    elif perturbation.interior != "none" and perturbation.density > 0:
         marked = _interior_marks(envelope, perturbation, seed, placement, env_local, top, left,
                                  mask)
         if perturbation.interior == "holes":
             mask &= ~marked
         else:
-            alt = marked
-    return Stamp(top, left, mask, alt)
+            steps[marked] = 1
+    return Stamp(top, left, mask, steps)
+
+
+def _relief(mask: np.ndarray, density: float) -> np.ndarray:
+    """A spot shaded as if lit from the top left: within ``density`` of the way from its edge to
+    its heart, the rim that faces the light goes one step up and the other one step down (the
+    light is the plane's, so a turned spot keeps its light)."""
+    from scipy import ndimage
+    depth = ndimage.distance_transform_edt(np.pad(mask, 1))[1:-1, 1:-1]
+    rim = mask & (depth <= max(1.0, density * float(depth.max())))
+    g_row, g_col = np.gradient(ndimage.gaussian_filter(depth, 1.0))
+    norm = np.hypot(g_row, g_col) + 1e-12
+    facing = -(g_row * LIGHT[0] + g_col * LIGHT[1]) / norm     # outward normal · light
+    steps = np.zeros(mask.shape, np.int8)
+    steps[rim & (facing > 0.35)] = 1
+    steps[rim & (facing < -0.35)] = -1
+    return steps
 
 
 def _polygon_mask(pts: np.ndarray, top: int, left: int, shape) -> np.ndarray:
@@ -682,7 +715,7 @@ def _interior_marks(envelope, perturbation, seed, placement, env_local, top, lef
     from scipy import ndimage
     lo, hi = env_local.min(axis=0) - 1, env_local.max(axis=0) + 1
     extent = float(max(hi - lo))
-    cell = max(extent / 160.0, 0.25)
+    cell = float(np.clip(perturbation.scale / 3, extent / 128, max(extent / 24, 1e-3)))
     grid = tuple(int(math.ceil(v / cell)) + 2 for v in hi - lo)
     rng = _streams(seed)[2]
     noise = ndimage.gaussian_filter(rng.standard_normal(grid), perturbation.scale / cell / 2,
@@ -714,13 +747,13 @@ def tile(texture, top: int, left: int, shape, offset=(0, 0)) -> np.ndarray:
 def spot_levels(stamp: Stamp, fill, *, shift: int = 1, num_levels: int = 256,
                 offset=(0, 0)) -> np.ndarray:
     """The levels a spot writes over its box: one level, or a lower-level texture (a level
-    matrix, repeated, read ``offset`` away); points of ``alt`` are shifted by ``shift``."""
+    matrix, repeated, read ``offset`` away); each point moves ``steps`` × ``shift`` levels."""
     if np.ndim(fill) == 0:
         values = np.full(stamp.shape, int(fill), dtype=np.int16)
     else:
         values = tile(fill, stamp.top, stamp.left, stamp.shape, offset).astype(np.int16)
-    if stamp.alt.any():
-        values[stamp.alt] += shift
+    if stamp.steps.any():
+        values += stamp.steps.astype(np.int16) * shift
     return np.clip(values, 0, num_levels - 1).astype(np.uint8)
 
 

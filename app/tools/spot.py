@@ -31,6 +31,7 @@ HINTS = {"place": "Click to place the spot; drag from its centre to turn and siz
 GHOST = QtGui.QColor(120, 220, 255)
 DOOMED = QtGui.QColor(255, 90, 70)
 MIN_DRAG = 1.5                 # cells: a shorter drag places like a click
+WORKER_COUNT = 100             # scatters of this many spots are rasterised in the worker
 
 
 class SpotOptions(QtWidgets.QWidget):
@@ -161,7 +162,6 @@ class SpotTool(Tool):
                          QtCore.Qt.DockWidgetArea.BottomDockWidgetArea)
         window.addDockWidget(QtCore.Qt.DockWidgetArea.BottomDockWidgetArea, self.dock)
         self.dock.hide()
-        self.dock.editor.shift.valueChanged.connect(self._sync_colours)
         if hasattr(window, "palette_dock"):
             window.palette_dock.currentLevelChanged.connect(self._sync_colours)
 
@@ -331,10 +331,31 @@ class SpotTool(Tool):
         except TexeditorError as exc:
             self.window.show_error("Cannot scatter these spots", exc)
             return False
+        if action.count < WORKER_COUNT:
+            return self._submit_scatter(action)
+        return self._scatter_in_worker(action)
+
+    def _submit_scatter(self, action) -> bool:
         if self.window.submit(action):
             self.editor.spot_placed()
             return True
         return False
+
+    def _scatter_in_worker(self, action) -> bool:
+        """Many spots: rasterise them in the worker (progress, Cancel), then apply on the GUI
+        thread, which only writes the points."""
+        window, history = self.window, self.window.history
+        if window.runner.busy:
+            return False
+        shape = self.document.shape
+        window.runner.run(f"Scattering {action.count} spots…",
+                          lambda progress, cancel: action.rasterise(shape, progress, cancel),
+                          lambda _: history is window.history and self._submit_scatter(action),
+                          on_cancel=lambda: window.statusBar().showMessage(
+                              "Scatter cancelled: the document is unchanged.", 8000),
+                          on_error=lambda exc: window.show_error("Cannot scatter these spots",
+                                                                 exc))
+        return True
 
     def scatter_everywhere(self) -> None:
         self.scatter()
@@ -397,10 +418,8 @@ class SpotTool(Tool):
         return palette[min(max(level, 0), len(palette) - 1)]
 
     def _sync_colours(self, *args) -> None:
-        """The editor previews the spot in the colours it will have: the current level, and
-        the level of its patches."""
+        """The editor previews the spot in the colours it will have: the document's palette at
+        the current level."""
         if self.window.history is None or not self.document.levels.size:
             return
-        level = self.window.current_level
-        self.editor.set_colours(self._level_colour(level),
-                                self._level_colour(level + self.editor.shift_value))
+        self.editor.set_palette(self.document.palette, self.window.current_level)

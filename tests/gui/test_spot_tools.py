@@ -221,11 +221,16 @@ def test_scatter_over_the_whole_canvas_with_a_level_range(window, qtbot):
     tool = spot_tool(window)
     tool.opts.mode.setCurrentIndex(tool.opts.mode.findData("scatter"))
     tool.opts.level_max.setValue(3)
+    tool.opts.count.setValue(150)                       # many: rasterised in the worker
+    tool.opts.scale.setValue(0.2)
+    tool.opts.scale_max.setValue(0.2)
     window.palette_dock.swatches.current = 1
+    steps = window.history.index
     tool.opts.whole.click()
+    assert window.runner.wait(30_000)
     action = window.history.actions[-1]
-    assert isinstance(action, ScatterSpots) and action.top is None
-    assert (action.level, action.level_max) == (1, 3)
+    assert isinstance(action, ScatterSpots) and action.top is None and action.count == 150
+    assert (action.level, action.level_max) == (1, 3) and window.history.index == steps + 1
 
 
 def test_the_library_saves_and_loads_spots(window, qtbot, monkeypatch, tmp_path):
