@@ -20,7 +20,7 @@ SHAPES = [("Square", "square"), ("Rectangle", "rectangle"), ("Circle / ellipse",
 LEVEL_MODES = [("The palette's current level", "palette"), ("A fixed level", "fixed"),
                ("The drawing's own levels", "own")]
 CENTRE = QtGui.QColor(230, 40, 40)
-EMPTY = QtGui.QColor(48, 48, 48)
+EMPTY = (QtGui.QColor(62, 62, 62), QtGui.QColor(74, 74, 74))
 
 
 def grain_image(grain: GrainType, palette, level: int, cell: int = 1,
@@ -104,7 +104,7 @@ class GrainView(QtWidgets.QWidget):
 
     def paintEvent(self, ev):
         p = QtGui.QPainter(self)
-        p.fillRect(self.rect(), self.palette().color(QtGui.QPalette.ColorRole.Base))
+        p.fillRect(self.rect(), QtGui.QColor(43, 43, 43))
         cell, x0, y0 = self._geometry()
         h, w = self.mask.shape
         pal = self.palette_rgb
@@ -114,8 +114,8 @@ class GrainView(QtWidgets.QWidget):
                 if self.mask[r, c]:
                     colour = pal[min(int(self.levels[r, c]), len(pal) - 1)]
                     p.fillRect(rect, QtGui.QColor(*(int(v) for v in colour)))
-                else:
-                    p.fillRect(rect, EMPTY)
+                else:                                   # empty: a checker, as transparency
+                    p.fillRect(rect, EMPTY[(r + c) % 2])
         p.setPen(QtGui.QPen(QtGui.QColor(128, 128, 128, 140), 1))
         for r in range(h + 1):
             p.drawLine(QtCore.QPointF(x0, y0 + r * cell), QtCore.QPointF(x0 + w * cell, y0 + r * cell))
@@ -295,6 +295,10 @@ class GrainEditor(QtWidgets.QDialog):
         self.sides.setEnabled(shape == "polygon")
         self.size.setEnabled(not drawn)
         self.angle.setEnabled(not drawn)
+        own = self.level_mode.findData("own")
+        self.level_mode.model().item(own).setEnabled(drawn)
+        if not drawn and self.level_mode.currentIndex() == own:
+            self.level_mode.setCurrentIndex(self.level_mode.findData("palette"))
         self.fixed_level.setEnabled(self.level_mode.currentData() == "fixed")
         self.draw_box.setVisible(drawn)
         self.draw_hint.setVisible(not drawn)

@@ -19,7 +19,8 @@ from .canvas import colourize
 
 EXAMPLE = "6:7(2(1,2(2,3)),6:7(4,5,6:7(6,7),8))"
 MAX_DRAWN_CELLS = 16384
-PATH_COLOUR = QtGui.QColor(255, 70, 70)
+PATH_COLOUR = QtGui.QColor(255, 70, 70, 200)
+NAMED_COLOUR = QtGui.QColor(255, 220, 60)
 GRID_COLOUR = QtGui.QColor(255, 255, 255, 90)
 
 
@@ -65,6 +66,8 @@ class ScanView(QtWidgets.QWidget):
         scale, x0, y0 = self._frame()
         h, w = self.shape
         p.drawImage(QtCore.QRectF(x0, y0, w * scale, h * scale), self.image)
+        if self.assigned:                                  # a veil: the named cells stand out
+            p.fillRect(QtCore.QRectF(x0, y0, w * scale, h * scale), QtGui.QColor(0, 0, 0, 120))
         p.save()
         p.translate(x0, y0)
         p.scale(scale, scale)
@@ -76,6 +79,13 @@ class ScanView(QtWidgets.QWidget):
                 colour = QtGui.QColor(*(int(v) for v in self.palette_rgb[
                     min(level, len(self.palette_rgb) - 1)]))
                 p.fillRect(QtCore.QRectF(l + c * s, t + r * s, s, s), colour)
+        outline = QtGui.QPen(NAMED_COLOUR, 2)
+        outline.setCosmetic(True)
+        p.setPen(outline)
+        for index in self.assigned:
+            if index <= len(self.order):
+                r, c = self.order[index - 1]
+                p.drawRect(QtCore.QRectF(l + c * s, t + r * s, s, s))
         pen = QtGui.QPen(GRID_COLOUR, 0)
         p.setPen(pen)
         if len(self.order) and s * scale >= 4:
@@ -90,7 +100,9 @@ class ScanView(QtWidgets.QWidget):
             path.moveTo(*centres[0])
             for x, y in centres[1:]:
                 path.lineTo(x, y)
-            p.setPen(QtGui.QPen(PATH_COLOUR, max(1.0, 2.0 / scale) if s * scale >= 6 else 0))
+            pen = QtGui.QPen(PATH_COLOUR, 2 if s * scale >= 6 else 1)
+            pen.setCosmetic(True)
+            p.setPen(pen)
             p.drawPath(path)
         p.restore()
         self._numbers(p, scale, x0, y0)
@@ -138,11 +150,19 @@ class PeanoDialog(QtWidgets.QDialog):
         self.expression.setToolTip("Numbers are cells in scan order (1 = first). X(…): X is "
                                    "brighter than all inside; a:b equal; groups nest")
         form.addRow("Expression", self.expression)
-        self.error = QtWidgets.QLabel()
+        self.error = QtWidgets.QLabel()           # the expression and a caret under the fault
         self.error.setFont(mono)
         self.error.setStyleSheet("color: #d04040")
-        self.error.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
-        form.addRow("", self.error)
+        self.error.setSizePolicy(QtWidgets.QSizePolicy.Policy.Ignored,
+                                 QtWidgets.QSizePolicy.Policy.Preferred)
+        self.problem = QtWidgets.QLabel()         # what is wrong, in words
+        self.problem.setWordWrap(True)
+        self.problem.setStyleSheet("color: #d04040")
+        errors = QtWidgets.QVBoxLayout()
+        errors.setSpacing(0)
+        errors.addWidget(self.error)
+        errors.addWidget(self.problem)
+        form.addRow("", errors)
         cut = QtWidgets.QHBoxLayout()
         self.cell = self._spin(1, 4096, 8, " pt", "Side of the cells (sub-regions)")
         self.left = self._spin(0, 16383, 0, "", "First column of the cut", "x ")
@@ -233,6 +253,7 @@ class PeanoDialog(QtWidgets.QDialog):
         """Parse, assign, and show the scan and the tree (errors point at the character)."""
         doc = self.window.document
         self.error.clear()
+        self.problem.clear()
         self.tree.clear()
         assigned, tree = {}, None
         try:
@@ -240,28 +261,29 @@ class PeanoDialog(QtWidgets.QDialog):
             tree = peano.parse_dominance(action.expression)
             assigned = action.levels_of(doc.num_levels)
         except peano.DominanceError as exc:
-            self.error.setText(f"{exc.text}\n{' ' * exc.position}^ {exc.problem}")
+            self.error.setText(f"{exc.text}\n{' ' * exc.position}^")
+            self.problem.setText(exc.problem[0].upper() + exc.problem[1:] + ".")
         except TexeditorError as exc:
-            self.error.setText(str(exc))
+            self.problem.setText(str(exc))
         try:
             down, across = peano.cell_grid(doc.shape, self.cell.value(), self.top.value(),
                                            self.left.value(), self.down.value() or None,
                                            self.across.value() or None)
         except TexeditorError as exc:
-            self.error.setText(str(exc))
+            self.problem.setText(str(exc))
             down = across = 0
         total = down * across
         drawn = peano.scan_order(down, across) if 0 < total <= MAX_DRAWN_CELLS else \
             peano.scan_order(down, across, limit=min(total, max(assigned, default=0)))
         missing = [i for i in assigned if i > total]
-        if missing and not self.error.text():
-            self.error.setText(f"sub-region {max(missing)} does not exist: the cut has "
-                               f"{total} cells")
+        if missing and not self.problem.text():
+            self.problem.setText(f"Sub-region {max(missing)} does not exist: the cut has "
+                                 f"{total} cells.")
         self.view.set_scan(self.cell.value(), self.top.value(), self.left.value(), drawn, total,
                            {i: v for i, v in assigned.items() if i <= total})
         if tree is not None:
             self._fill_tree(tree, assigned)
-        self.apply_button.setEnabled(bool(assigned) and not self.error.text())
+        self.apply_button.setEnabled(bool(assigned) and not self.problem.text())
         note = "" if total <= MAX_DRAWN_CELLS else " (too many to draw the path: larger cells " \
                                                    "show it)"
         self.summary.setText(f"{across}×{down} = {total} cells along the Hilbert scan{note}; "

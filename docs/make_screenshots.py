@@ -215,5 +215,108 @@ def shot_spots(app, window, out: Path) -> None:
 MORE_SHOTS.append(shot_spots)
 
 
+def shot_paint(app, window, out: Path) -> None:
+    """Brushes and grains (issue 6): a texture painted by hand — spray clouds of random levels,
+    pebbles along paths, hexagon grains, a duplicated zone — with the Spray tool mid-stroke,
+    the Grain tool's ghost, the Scramble tool's band, the grain editor and the Peano dialog."""
+    import numpy as np
+
+    from app.brush_dock import open_peano
+    from app.tools.brush import SprayTool
+    from app.tools.grain import GrainTool
+    from app.tools.zone import ScrambleTool, Zone
+    from texeditor.actions import NewCanvas
+    from texeditor.history import History
+    from texeditor.paint_actions import DuplicateZone, PlaceGrains, Stroke
+
+    previous = window.history
+    earth = [(34, 30, 26), (84, 66, 48), (122, 96, 66), (158, 128, 88), (196, 168, 122),
+             (232, 214, 176)]
+    history = History()
+    history.apply(NewCanvas(256, 176, len(earth), earth))
+    rng = np.random.default_rng(6)
+    for k in range(7):                       # a ground of sprayed clouds, levels at random
+        y = 12 + 24 * k
+        history.apply(Stroke(points=((y, -10), (y + 9, 90), (y - 6, 180), (y + 4, 270)),
+                             level=1, size=30, distribution="cloud", density=0.35,
+                             concentration=1.0, level_choices="1, 1, 2, 3", seed=k, wrap=True))
+    for k in range(5):                       # pebbles along paths
+        y = 20 + 34 * k
+        history.apply(PlaceGrains(points=((y, 4), (y + 14, 120), (y, 250)), level=0,
+                                  shape="bitmap", size=7, own_levels=True, spacing=11.0,
+                                  jitter=3.0, seed=k, wrap=True,
+                                  bitmap="0123210/1344431/2345432/2345432/1344431/0123210"))
+    centres = tuple(map(tuple, rng.integers([0, 0], [176, 256], size=(40, 2))))
+    history.apply(PlaceGrains(points=centres, level=5, shape="hexagon", size=6))
+    history.apply(DuplicateZone(points=((10, 10), (70, 90)), offset_row=95, offset_col=150,
+                                wrap=True))
+    window.set_history(history)
+    canvas = window.canvas
+
+    # 1. the Spray tool in the middle of a stroke: the preview, then the Brushes dock
+    spray = next(t for t in window.tools if isinstance(t, SprayTool))
+    window.set_tool(spray)
+    spray.set_brush(next(b for b in window.brush_dock.brushes if b.name == "Soft spray 24"))
+    spray.opts.random.setChecked(True)
+    spray.opts.choices.setText("4, 5")
+    settle(app, 300)
+    gesture = spray.drag((30, 150), QtCore.Qt.KeyboardModifier.NoModifier)
+    next(gesture)
+    for x in range(34, 200, 6):
+        gesture.send((x, int(150 - 40 * np.sin(x / 40))))
+    window.statusBar().clearMessage()
+    settle(app)
+    save(window, out / "brush-spray.png")
+    gesture.close()
+    settle(app)
+
+    # 2. the Grain tool: the library dock, and the ghost of a hexagon under the pointer
+    grains = next(t for t in window.tools if isinstance(t, GrainTool))
+    grains.pick("Hexagon 12")
+    window.palette_dock.swatches.current = 5
+    settle(app, 300)
+    canvas.set_zoom(4.0, center=QtCore.QPointF(120, 70))
+    settle(app)
+    target = canvas.mapFromScene(canvas.view.mapViewToScene(QtCore.QPointF(120.5, 70.5)))
+    QtWidgets.QApplication.sendEvent(canvas.viewport(), _move_event(canvas.viewport(), target))
+    window.statusBar().clearMessage()
+    settle(app)
+    save(window, out / "grain-tool.png")
+
+    canvas.fit()
+
+    # 3. the grain editor on a grain drawn point by point
+    grains.pick("Pebble 6")
+    editor = grains.edit()
+    editor.move(window.geometry().center() - editor.rect().center())
+    settle(app, 300)
+    save(editor, out / "grain-editor.png")
+    editor.close()
+
+    # 4. the Scramble tool on the duplicated zone: the band that will change
+    scramble = next(t for t in window.tools if isinstance(t, ScrambleTool))
+    scramble.zone = Zone("rectangle", ((105, 160), (165, 240)))
+    window.set_tool(scramble)
+    scramble.opts.band.setValue(6)
+    window.statusBar().clearMessage()
+    settle(app, 300)
+    save(window, out / "scramble-band.png")
+    scramble.scramble()
+    settle(app)
+
+    # 5. Peano sub-regions: the thesis's example on cells of 16 points
+    dialog = open_peano(window)
+    dialog.cell.setValue(16)
+    settle(app, 300)
+    save(dialog, out / "peano-dialog.png")
+    dialog.close()
+
+    window.set_tool(window.tools[0])
+    window.set_history(previous)
+
+
+MORE_SHOTS.append(shot_paint)
+
+
 if __name__ == "__main__":
     sys.exit(main())

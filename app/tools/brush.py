@@ -20,7 +20,7 @@ from ..params_form import new_seed
 from . import Tool
 
 PREVIEW_Z = 6            # over the overlay (5), under the pixel grid (10)
-DIRTY_BLOCK = 64         # the preview repaints the 64×64 blocks a move touched
+DIRTY_BLOCK = 64         # a stroke wrapping round an edge repaints the blocks it touched
 SHAPE_NAMES = [("Disc", "disc"), ("Square", "square"), ("Diamond", "diamond"),
                ("Line", "line")]
 
@@ -61,17 +61,21 @@ class StrokePreview(QtWidgets.QGraphicsObject):
             painter.drawImage(QtCore.QRectF(rect), self.image, QtCore.QRectF(rect))
 
     def draw(self, rows, cols, colours) -> None:
-        """Show points (canvas rows, cols) in ARGB colours; repaint only their blocks."""
+        """Show points (canvas rows, cols) in ARGB colours; repaint only where they fell: their
+        box, or the 64×64 blocks they touched when they wrap round an edge."""
         if not len(rows):
             return
         self.buffer[rows, cols] = colours
+        t, l, b, r = rows.min(), cols.min(), rows.max() + 1, cols.max() + 1
         d = self.drawn
-        d[:] = [min(d[0], rows.min()), min(d[1], cols.min()),
-                max(d[2], rows.max() + 1), max(d[3], cols.max() + 1)]
+        d[:] = [min(d[0], t), min(d[1], l), max(d[2], b), max(d[3], r)]
         h, w = self.shape
-        blocks = np.unique((rows // DIRTY_BLOCK) * (w // DIRTY_BLOCK + 1) + cols // DIRTY_BLOCK)
-        for b in blocks.tolist():
-            by, bx = divmod(b, w // DIRTY_BLOCK + 1)
+        if 2 * (b - t) <= h and 2 * (r - l) <= w:
+            self.update(QtCore.QRectF(l, t, r - l, b - t))
+            return
+        across = w // DIRTY_BLOCK + 1
+        for block in np.unique((rows // DIRTY_BLOCK) * across + cols // DIRTY_BLOCK).tolist():
+            by, bx = divmod(block, across)
             self.update(QtCore.QRectF(bx * DIRTY_BLOCK, by * DIRTY_BLOCK, DIRTY_BLOCK,
                                       DIRTY_BLOCK))
 

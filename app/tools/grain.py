@@ -21,7 +21,8 @@ from ..params_form import new_seed
 from . import Tool
 from .brush import palette_argb, preview_for, unfold
 
-GHOST_ALPHA = 150
+GHOST_ALPHA = 190
+GHOST_EDGE = (40, 200, 255)
 DEFAULT_GRAIN = "Circle 5"
 
 
@@ -182,11 +183,16 @@ class GrainTool(Tool):
             self.window.canvas.set_overlay(None)
             return
         t, l = rows.min(), cols.min()
-        rgba = np.zeros((rows.max() - t + 1, cols.max() - l + 1, 4), np.uint8)
+        inside = np.zeros((rows.max() - t + 3, cols.max() - l + 3), bool)
+        inside[rows - t + 1, cols - l + 1] = True
+        edge = inside & ~(np.roll(inside, 1, 0) & np.roll(inside, -1, 0)
+                          & np.roll(inside, 1, 1) & np.roll(inside, -1, 1))
+        rgba = np.zeros(inside.shape + (4,), np.uint8)
         pal = np.asarray(self.document.palette, np.uint8)
-        rgba[rows - t, cols - l, :3] = pal[np.minimum(values, len(pal) - 1)]
-        rgba[rows - t, cols - l, 3] = GHOST_ALPHA
-        self.window.canvas.set_overlay(rgba, (int(l), int(t)))
+        rgba[rows - t + 1, cols - l + 1, :3] = pal[np.minimum(values, len(pal) - 1)]
+        rgba[inside, 3] = GHOST_ALPHA
+        rgba[edge] = (*GHOST_EDGE, 255)          # an outline shows it on any texture
+        self.window.canvas.set_overlay(rgba[1:-1, 1:-1], (int(l), int(t)))
 
     def drag(self, cell, modifiers):
         if modifiers & QtCore.Qt.KeyboardModifier.ShiftModifier:

@@ -72,6 +72,7 @@ class ZoneOptions(QtWidgets.QWidget):
         form.addRow(self.wrap)
         self.status = QtWidgets.QLabel()
         self.status.setWordWrap(True)
+        self.status.setMinimumHeight(2 * self.status.fontMetrics().lineSpacing() + 4)
         form.addRow(self.status)
 
 

@@ -325,10 +325,10 @@ def test_the_peano_dialog_points_at_errors_and_applies_levels(window, qtbot):
     edit.selectAll()
     QtTest.QTest.keyClicks(edit, "3(1,2")
     assert not dialog.apply_button.isEnabled()
-    lines = dialog.error.text().splitlines()
-    assert lines[0] == "3(1,2" and lines[1].startswith(" " * 5 + "^")
+    assert dialog.error.text().splitlines() == ["3(1,2", " " * 5 + "^"]
+    assert "never closed" in dialog.problem.text()
     QtTest.QTest.keyClicks(edit, ")")
-    assert dialog.error.text() == "" and dialog.apply_button.isEnabled()
+    assert dialog.error.text() == dialog.problem.text() == "" and dialog.apply_button.isEnabled()
     assert dialog.tree.topLevelItem(0).text(0) == "3" and dialog.tree.topLevelItem(0).childCount() == 2
     assert dialog.tree.topLevelItem(0).text(1) == str(window.document.num_levels - 1)
     QtTest.QTest.mouseClick(dialog.apply_button, LEFT)
