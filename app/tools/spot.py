@@ -140,6 +140,7 @@ class SpotTool(Tool):
         self.ghost: QtWidgets.QGraphicsPathItem | None = None
         self._shown_by_tool = False
         self._unsubscribe = None
+        self._colours = None          # (palette, level) the editor's preview was drawn with
 
     @property
     def editor(self):
@@ -248,6 +249,7 @@ class SpotTool(Tool):
             raise
 
     def hover(self, cell):
+        self._sync_colours()        # another document, or colours changed elsewhere
         if cell is None or self.ghost is None:
             self._set_ghost(None)
             return
@@ -419,7 +421,10 @@ class SpotTool(Tool):
 
     def _sync_colours(self, *args) -> None:
         """The editor previews the spot in the colours it will have: the document's palette at
-        the current level."""
+        the current level (redrawn only when those change)."""
         if self.window.history is None or not self.document.levels.size:
             return
-        self.editor.set_palette(self.document.palette, self.window.current_level)
+        key = (self.document.palette.tobytes(), self.window.current_level)
+        if key != self._colours:
+            self._colours = key
+            self.editor.set_palette(self.document.palette, self.window.current_level)

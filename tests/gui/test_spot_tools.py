@@ -259,3 +259,21 @@ def test_leaving_the_tool_hides_its_editor_and_ghost(window, qtbot):
 
 def _xy(point):
     return (point.x(), point.y())
+
+
+def test_a_past_placement_is_edited_in_the_history_dock(window, qtbot):
+    tool = spot_tool(window)
+    canvas = window.canvas
+    click(canvas.viewport(), cell_pos(canvas, 20, 20))
+    click(canvas.viewport(), cell_pos(canvas, 40, 25))
+    step = window.history.index - 2                     # the first placement (0-based)
+    dock = window.history_dock
+    dock.view.clicked.emit(dock.model.index(step))
+    dock.form.editor("scale").setValue(0.4)
+    dock.apply_button.click()
+    assert window.runner.wait(30_000)
+    edited = window.history.actions[step]
+    assert isinstance(edited, PlaceSpot) and edited.scale == 0.4
+    assert isinstance(window.history.actions[step + 1], PlaceSpot)
+    assert window.history.index == len(window.history.actions)
+    assert not window.errors and tool is window.tool
