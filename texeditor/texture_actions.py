@@ -1,0 +1,380 @@
+"""Grain rendering, composition and grey-level doubling as Actions (thesis §5.3, §5.4.1, §4.5).
+
+Tools build these from the Grain & density dock, the composition panel and the doubling dialog;
+`grain_render`, `composition` and `doubling` do the work. Each is a replayable record: editing a
+RenderGrains step later replays the edits made after it on the newly sized canvas.
+
+How a log refers to another texture. A composition source is a *recipe*: the action log that
+rebuilds it, as the JSON text of a `.texture`'s actions.json (``{"actions": [...]}``), plus the
+one DPJ it synthesises from, which the document keeps in its DPJ store (so a saved file carries
+it, like any DPJ it refers to). A synthesis of a stored DPJ is the one-step recipe
+``[Synthesize(ref, w, h, seed)]``; an opened `.texture` or a bank entry is its own log; "this
+document at step k" is its log cut at k. Replaying a recipe gives the same levels on every machine,
+so the composition replays bit for bit, and the result is kept in a small memo so a preview and
+the apply that follows it synthesise once. A doubling table is a DPJ (`doubling.learn`) in the
+same store, referred to by its reference.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import threading
+from collections import OrderedDict
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from . import composition, doubling
+from . import grain_render as gr
+from .actions import Action, param, register
+from .document import dpj_ref
+from .errors import FormatError, InputError
+
+MAX_RECIPE_CHARS = 2**24
+MAX_RECIPE_ACTIONS = 100_000
+MASKS = ("texture", "levels", "points")
+
+
+class _RecipeMemo:
+    """The last few recipes replayed, (levels, G): a preview and the apply that follows it, or
+    the replay of a log, synthesise a source once."""
+
+    def __init__(self, max_items: int = 6):
+        self.max_items = max_items
+        self._items: OrderedDict = OrderedDict()
+        self._lock = threading.Lock()
+
+    def get(self, key):
+        with self._lock:
+            if key in self._items:
+                self._items.move_to_end(key)
+            return self._items.get(key)
+
+    def put(self, key, value) -> None:
+        with self._lock:
+            self._items[key] = value
+            while len(self._items) > self.max_items:
+                self._items.popitem(last=False)
+
+
+_RECIPES = _RecipeMemo()
+
+
+# -- recipes: how a composition names another texture ---------------------------------------------
+
+def recipe_of(actions) -> str:
+    """The canonical text of a log (compact JSON, as a .texture's actions.json holds it)."""
+    return json.dumps({"actions": [a.to_json() for a in actions]}, separators=(",", ":"),
+                      ensure_ascii=False, allow_nan=False)
+
+
+def synthesis_recipe(ref: str, width: int, height: int, seed: int) -> str:
+    """The recipe of one synthesis of a stored DPJ."""
+    from .actions import Synthesize
+    return recipe_of([Synthesize(ref, width, height, seed)])
+
+
+def parse_recipe(text: str) -> tuple[Action, ...]:
+    """The actions of a recipe, every one checked (InputError says what is wrong)."""
+    from .actions import action_from_json
+    if not isinstance(text, str) or len(text) > MAX_RECIPE_CHARS:
+        raise InputError(f"a texture recipe is a JSON text of at most {MAX_RECIPE_CHARS} "
+                         "characters")
+    try:
+        obj = json.loads(text, parse_constant=_no_constant)
+    except (json.JSONDecodeError, RecursionError, ValueError) as exc:
+        raise InputError(f"the texture recipe is not valid JSON ({str(exc)[:80]})") from None
+    if not isinstance(obj, dict) or set(obj) != {"actions"} or not isinstance(obj["actions"], list):
+        raise InputError('a texture recipe is {"actions": [...]}, the log that rebuilds it')
+    if not 0 < len(obj["actions"]) <= MAX_RECIPE_ACTIONS:
+        raise InputError(f"a texture recipe holds 1..{MAX_RECIPE_ACTIONS} actions")
+    try:
+        return tuple(action_from_json(a) for a in obj["actions"])
+    except (FormatError, RecursionError) as exc:
+        raise InputError(f"the texture recipe: {exc}") from None
+
+
+def _no_constant(token):
+    raise ValueError(f"{token} is not allowed")
+
+
+def recipe_refs(actions) -> list[str]:
+    """The DPJ references a log uses (parameters of kind "ref"), in order of first use."""
+    seen: dict[str, None] = {}
+    for a in actions:
+        for f in dataclasses.fields(a):
+            if f.metadata.get("kind") == "ref" and getattr(a, f.name) is not None:
+                seen.setdefault(getattr(a, f.name))
+    return list(seen)
+
+
+def check_recipe(text: str, ref: str | None, what: str) -> None:
+    refs = recipe_refs(parse_recipe(text))
+    if len(refs) > 1:
+        raise InputError(f"{what} is made from {len(refs)} DPJs ({', '.join(refs)}); a "
+                         "composition source may use one: compose from a simpler texture")
+    if refs and refs[0] != ref:
+        raise InputError(f"{what} synthesises from DPJ {refs[0]}: give it as its DPJ "
+                         f"(got {ref})")
+
+
+def render_recipe(text: str, dpjs: dict, progress=None, cancel=None) -> tuple[np.ndarray, int]:
+    """(levels, G) of a recipe replayed on an empty document with ``dpjs``; memoised."""
+    from .history import replay
+    key = (hashlib.sha256(text.encode("utf-8")).hexdigest(),
+           tuple(sorted(dpj_ref(d) for d in dpjs.values())))
+    hit = _RECIPES.get(key)
+    if hit is not None:
+        return hit
+    doc = replay(parse_recipe(text), dpjs, progress=progress, cancel=cancel)
+    if not doc.levels.size:
+        raise InputError("the texture recipe gives an empty canvas")
+    levels = doc.levels.copy()
+    levels.flags.writeable = False
+    result = (levels, doc.num_levels)
+    _RECIPES.put(key, result)
+    return result
+
+
+def store_dpj(doc, dpj) -> str:
+    """Keep a DPJ in the document's store without making it the current one (a composition
+    source's DPJ, a doubling table); returns its reference."""
+    ref = dpj_ref(dpj)
+    doc.dpjs.setdefault(ref, dpj)
+    return ref
+
+
+def _recipe_field(doc: str, optional: bool = False):
+    return param("str", hi=MAX_RECIPE_CHARS, default=None if optional else dataclasses.MISSING,
+                 optional=optional, doc=doc)
+
+
+def _ref_field(doc: str):
+    return param("ref", default=None, optional=True, doc=doc)
+
+
+def _source_levels(doc, text: str, ref: str | None, progress=None, cancel=None):
+    dpjs = {}
+    if ref is not None:
+        if ref not in doc.dpjs:
+            raise InputError(f"DPJ {ref} of a composition source is not part of this document")
+        dpjs[ref] = doc.dpjs[ref]
+    return render_recipe(text, dpjs, progress, cancel)
+
+
+# -- grains and density (§5.3) ----------------------------------------------------------------------
+
+@register
+@dataclass(frozen=True)
+class RenderGrains(Action):
+    """Draw each point of the normalised texture as a grain: a new, larger canvas (§5.3).
+
+    The canvas becomes (H·pitch_y) × (W·pitch_x) pixels, see `grain_render`; the levels and
+    palette keep their meaning, level 0 stays background.
+    """
+
+    TYPE: ClassVar[str] = "render_grains"
+    EFFECT: ClassVar[str] = "canvas"
+    shape: str = param("str", hi=16, default="square",
+                       doc="square, rectangle, circle, diamond, hexagon, polygon, line, bitmap")
+    size: int = param("int", 1, 64, default=8, doc="grain diameter, pixels")
+    aspect: float = param("float", 1 / 16, 16, default=1.0,
+                          doc="height / width of a rectangle or an ellipse")
+    sides: int = param("int", 3, 64, default=6, doc="vertices of a regular polygon")
+    angle: float = param("float", -360, 360, default=0.0,
+                         doc="orientation, degrees counter-clockwise")
+    explosion_x: float = param("float", 1.0, gr.MAX_EXPLOSION, default=1.0,
+                               doc="blank space between grains across (1 = touching)")
+    explosion_y: float = param("float", 1.0, gr.MAX_EXPLOSION, default=1.0,
+                               doc="blank space between grains down (1 = touching)")
+    compression: float = param("float", 0.0, gr.MAX_COMPRESSION, default=0.0,
+                               doc="brings grains together until they overlap (0 = touching)")
+    overlap: str = param("str", hi=8, default="last",
+                         doc="where grains overlap: last (drawn later wins), max or min level")
+    lattice: str = param("str", hi=16, default="auto",
+                         doc="auto (honeycomb for hexagons), grid or honeycomb")
+    bitmap: str | None = param("str", hi=64 * 65, default=None, optional=True,
+                               doc="a drawn grain: rows of hex digits separated by /")
+
+    def _validate(self) -> None:
+        if self.overlap not in gr.OVERLAP_RULES:
+            raise InputError(f"overlap rule must be one of {', '.join(gr.OVERLAP_RULES)}")
+        if self.lattice not in gr.LATTICES:
+            raise InputError(f"lattice must be one of {', '.join(gr.LATTICES)}")
+        self.grain_lattice()
+
+    def mask(self) -> np.ndarray:
+        return gr.grain_of(self.shape, self.size, aspect=self.aspect, sides=self.sides,
+                           angle=self.angle, bitmap=self.bitmap)
+
+    def grain_lattice(self) -> gr.Lattice:
+        return gr.grain_lattice(self.mask(), shape=self.shape, lattice=self.lattice,
+                                explosion_x=self.explosion_x, explosion_y=self.explosion_y,
+                                compression=self.compression)
+
+    def render(self, levels) -> np.ndarray:
+        return gr.render_grains(levels, self.mask(), self.grain_lattice(), self.overlap)
+
+    def apply(self, doc) -> None:
+        doc._set_levels(self.render(doc.levels), copy=False)
+
+    def canvas_shape(self, shape):
+        return self.grain_lattice().shape(shape)
+
+    def label(self) -> str:
+        what = f"{self.shape} {self.size} px" + (f", {self.angle:g}°" if self.angle else "")
+        density = []
+        if self.explosion_x != 1 or self.explosion_y != 1:
+            density.append(f"explosion {self.explosion_x:g}×{self.explosion_y:g}")
+        if self.compression:
+            density.append(f"compression {self.compression:g} ({self.overlap})")
+        return "Grains: " + ", ".join([what] + density)
+
+
+# -- composition (§5.4.1) ---------------------------------------------------------------------------
+
+@register
+@dataclass(frozen=True)
+class Mix(Action):
+    """T3 = not[(a op1 T1) op2 (b op3 T2)] op4 c: T1 the document, T2 another texture.
+
+    Levels are mixed on the grey scale (`composition`); T2 is repeated or cropped to the canvas.
+    """
+
+    TYPE: ClassVar[str] = "mix"
+    EFFECT: ClassVar[str] = "levels"
+    source: str = _recipe_field("T2's recipe: the log that rebuilds it (JSON)")
+    source_dpj: str | None = _ref_field("the DPJ T2 is synthesised from")
+    a: float = param("float", 0, 1, default=1.0, doc="weight of T1 (0..1 of the grey scale)")
+    op1: str = param("str", hi=8, default="multiply", doc="a op1 T1")
+    op2: str = param("str", hi=8, default="max", doc="(a op1 T1) op2 (b op3 T2)")
+    b: float = param("float", 0, 1, default=1.0, doc="weight of T2")
+    op3: str = param("str", hi=8, default="multiply", doc="b op3 T2")
+    negate: bool = param("bool", default=False, doc="take the complement (not) of the bracket")
+    op4: str = param("str", hi=8, default="max", doc="[…] op4 c")
+    c: float = param("float", 0, 1, default=0.0, doc="the constant C")
+
+    def _validate(self) -> None:
+        for op in (self.op1, self.op2, self.op3, self.op4):
+            composition.check_op(op)
+        check_recipe(self.source, self.source_dpj, "T2")
+
+    def prepare(self, doc, progress=None, cancel=None) -> None:
+        _source_levels(doc, self.source, self.source_dpj, progress, cancel)
+
+    def apply(self, doc) -> None:
+        t2, g2 = _source_levels(doc, self.source, self.source_dpj)
+        new = composition.mix(doc.levels, composition.fit(t2, doc.shape), levels=doc.num_levels,
+                              levels2=g2, **self.ops())
+        _commit(doc, new)
+
+    def ops(self) -> dict:
+        return {k: getattr(self, k) for k in ("a", "op1", "op2", "b", "op3", "negate", "op4", "c")}
+
+    def label(self) -> str:
+        inner = f"({self.a:g} {self.op1} T1) {self.op2} ({self.b:g} {self.op3} T2)"
+        inner = f"not[{inner}]" if self.negate else inner
+        return f"Mix {inner} {self.op4} {self.c:g}"
+
+
+@register
+@dataclass(frozen=True)
+class Incrust(Action):
+    """Incrustation: where the membership mask holds, another texture T2 shows; elsewhere the
+    document stays (T3 = if bool then T2 else T1).
+
+    The mask is a third texture's levels (``texture``: a recipe, the points whose level is in
+    ``levels``), the document's own levels (``levels``), or painted points — a brush, or a
+    selection frozen into its points (``points``). N textures are N − 1 incrustations, each with
+    its own levels of one mask texture.
+    """
+
+    TYPE: ClassVar[str] = "incrust"
+    EFFECT: ClassVar[str] = "levels"
+    source: str = _recipe_field("T2's recipe: the log that rebuilds it (JSON)")
+    source_dpj: str | None = _ref_field("the DPJ T2 is synthesised from")
+    mask: str = param("str", hi=8, default="texture",
+                      doc="texture (a third texture's levels), levels (the document's), points")
+    levels: str = param("str", hi=64, default="1-15",
+                        doc="the mask's levels where T2 shows, like 1,3-5")
+    mask_source: str | None = _recipe_field("the mask texture's recipe", optional=True)
+    mask_dpj: str | None = _ref_field("the DPJ the mask texture is synthesised from")
+    points: tuple = param("points", 0, 16383, default=(),
+                          doc="painted (row, col) points where T2 shows")
+
+    def _validate(self) -> None:
+        if self.mask not in MASKS:
+            raise InputError(f"mask must be one of {', '.join(MASKS)}, got {self.mask!r}")
+        composition.parse_level_set(self.levels)
+        check_recipe(self.source, self.source_dpj, "T2")
+        if self.mask == "texture":
+            if self.mask_source is None:
+                raise InputError("a texture mask needs the mask texture's recipe")
+            check_recipe(self.mask_source, self.mask_dpj, "the mask texture")
+
+    def prepare(self, doc, progress=None, cancel=None) -> None:
+        _source_levels(doc, self.source, self.source_dpj, progress, cancel)
+        if self.mask == "texture":
+            _source_levels(doc, self.mask_source, self.mask_dpj, progress, cancel)
+
+    def membership(self, doc) -> np.ndarray:
+        """Where T2 shows, on the document's canvas."""
+        if self.mask == "points":
+            return composition.membership_from_points(self.points, doc.shape)
+        chosen = composition.parse_level_set(self.levels)
+        if self.mask == "levels":
+            return composition.membership_from_levels(doc.levels, chosen)
+        m, _ = _source_levels(doc, self.mask_source, self.mask_dpj)
+        return composition.membership_from_levels(composition.fit(m, doc.shape), chosen)
+
+    def apply(self, doc) -> None:
+        t2, g2 = _source_levels(doc, self.source, self.source_dpj)
+        t2 = composition.convert_levels(composition.fit(t2, doc.shape), g2, doc.num_levels)
+        _commit(doc, composition.incrust(self.membership(doc), [doc.levels, t2]))
+
+    def label(self) -> str:
+        where = {"texture": f"levels {self.levels} of a mask texture",
+                 "levels": f"the document's levels {self.levels}",
+                 "points": f"{len(self.points)} painted points"}[self.mask]
+        return f"Incrust T2 where {where}"
+
+
+def _commit(doc, new: np.ndarray) -> None:
+    """Write only the points that change (the undo record is their bounding box)."""
+    changed = new != doc.levels
+    if changed.any():
+        doc._write_where(changed, new)
+
+
+# -- grey-level doubling (§4.5) ---------------------------------------------------------------------
+
+@register
+@dataclass(frozen=True)
+class DoubleLevels(Action):
+    """Turn the G-level texture into 2G levels with a doubling table learnt from a photo: each
+    point b becomes 2b or 2b + 1; the palette becomes the photo's 2G colours."""
+
+    TYPE: ClassVar[str] = "double_levels"
+    EFFECT: ClassVar[str] = "other"
+    table: str = param("ref", doc="the doubling table (a 3×3 DPJ of the photo at 2G levels)")
+    seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
+
+    def apply(self, doc) -> None:
+        table = doc.dpjs.get(self.table)
+        if table is None:
+            raise InputError(f"doubling table {self.table} is not part of this document")
+        g = doubling.check_table(table)
+        if doc.num_levels != g:
+            raise InputError(f"this table doubles textures of G = {g} levels; the document has "
+                             f"G = {doc.num_levels}")
+        result = doubling.double_levels(doc.levels, table, self.seed)
+        doc._set_levels(result.levels, table.palette, copy=False)
+
+    def label(self) -> str:
+        return f"Double the levels, seed {self.seed}"
+
+
+TEXTURE_ACTIONS = (RenderGrains, Mix, Incrust, DoubleLevels)
