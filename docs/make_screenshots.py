@@ -190,6 +190,7 @@ def shot_spots(app, window, out: Path) -> None:
     editor.load(editor.library.get("Stone"))
     editor.interior.setCurrentIndex(editor.interior.findData("relief"))
     editor.density.set_value(0.4)
+    editor.seed.set_value(2024)
     window.palette_dock.swatches.current = 4
     window.palette_dock._level_clicked(4)
     opts.mode.setCurrentIndex(opts.mode.findData("place"))
