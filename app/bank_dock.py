@@ -40,6 +40,7 @@ class BankDock(QtWidgets.QDockWidget):
         self._search_timer.timeout.connect(self.refresh)
         self._build()
         self._set_enabled(False)
+        self._sized = False
 
     # -- construction -------------------------------------------------------------------------------
     def _build(self) -> None:
@@ -160,8 +161,25 @@ class BankDock(QtWidgets.QDockWidget):
         row.addStretch(1)
         return row
 
-    def _build_details(self) -> QtWidgets.QGroupBox:
-        box = QtWidgets.QGroupBox("Selected entry")
+    def _build_details(self) -> QtWidgets.QWidget:
+        """Name, tags, description and attributes of the selected entry, under a header that
+        folds them away when the grid needs the room."""
+        panel = QtWidgets.QWidget()
+        outer = QtWidgets.QVBoxLayout(panel)
+        outer.setContentsMargins(0, 0, 0, 0)
+        outer.setSpacing(2)
+        self.details_toggle = QtWidgets.QToolButton()
+        self.details_toggle.setText("Selected entry")
+        self.details_toggle.setCheckable(True)
+        self.details_toggle.setChecked(True)
+        self.details_toggle.setAutoRaise(True)
+        self.details_toggle.setToolButtonStyle(QtCore.Qt.ToolButtonStyle.ToolButtonTextBesideIcon)
+        self.details_toggle.setArrowType(QtCore.Qt.ArrowType.DownArrow)
+        box = QtWidgets.QFrame()
+        box.setFrameShape(QtWidgets.QFrame.Shape.StyledPanel)
+        self.details_toggle.toggled.connect(box.setVisible)
+        self.details_toggle.toggled.connect(lambda on: self.details_toggle.setArrowType(
+            QtCore.Qt.ArrowType.DownArrow if on else QtCore.Qt.ArrowType.RightArrow))
         form = QtWidgets.QFormLayout(box)
         form.setContentsMargins(6, 4, 6, 4)
         self.name_edit = QtWidgets.QLineEdit()
@@ -170,7 +188,6 @@ class BankDock(QtWidgets.QDockWidget):
         self.description_edit = QtWidgets.QPlainTextEdit()
         self.description_edit.setFixedHeight(46)
         self.info = QtWidgets.QLabel()
-        self.info.setWordWrap(True)
         self.apply_button = QtWidgets.QPushButton("Apply")
         self.apply_button.setToolTip("Store the new name, tags and description")
         self.apply_button.clicked.connect(self.apply_details)
@@ -183,8 +200,28 @@ class BankDock(QtWidgets.QDockWidget):
         form.addRow("About:", self.description_edit)
         form.addRow(self.info)
         form.addRow(self.apply_button)
+        outer.addWidget(self.details_toggle)
+        outer.addWidget(box)
+        panel.setSizePolicy(QtWidgets.QSizePolicy.Policy.Preferred,
+                            QtWidgets.QSizePolicy.Policy.Fixed)   # the grid takes any squeeze
         self.details = box
-        return box
+        return panel
+
+    def showEvent(self, ev) -> None:
+        super().showEvent(ev)
+        if not self._sized:
+            self._sized = True          # after the window has sized its own docks
+            QtCore.QTimer.singleShot(0, lambda: QtCore.QTimer.singleShot(0, self._take_height))
+
+    def _take_height(self) -> None:
+        """The tool options above keep their natural height; the browser takes the rest."""
+        above = self.main.tool_dock
+        if above.isFloating() or self.isFloating() or not above.isVisible():
+            return
+        natural = above.widget().sizeHint().height() + 30
+        total = above.height() + self.height()
+        self.main.resizeDocks([above, self], [natural, max(200, total - natural)],
+                              QtCore.Qt.Orientation.Vertical)
 
     # -- the bank -----------------------------------------------------------------------------------
     def load(self, path=None, *, prepare: bool = True) -> bool:
@@ -579,7 +616,7 @@ class BankDock(QtWidgets.QDockWidget):
 
 
 def _summary(entry) -> str:
-    """Size, steps and attributes of an entry, in a few words."""
+    """Size, steps and attributes of an entry, in short lines."""
     kind = " · built-in" if entry.builtin else ""
     steps = f"{entry.actions} step{'s' if entry.actions != 1 else ''}"
     head = f"{entry.width}×{entry.height}, G = {entry.levels}, {steps}{kind}"
@@ -588,7 +625,8 @@ def _summary(entry) -> str:
         return head + "\nAttributes not computed yet."
     direction = (f"oriented {a.orientation:.0f}° ({a.directivity:.2f})" if a.directivity >= 0.2
                  else f"isotropic ({a.directivity:.2f})")
-    regular = f"regular, period {a.period:.0f}" if a.period else "irregular"
-    return (f"{head}\ncontrast {a.contrast:.2f} · regions {a.granularity:.0f} pts · density "
-            f"{a.density:.2f}\n{direction} · {regular} ({a.regularity:.2f}) · coarseness "
-            f"{a.coarseness:.1f}")
+    regular = f"period {a.period:.0f} ({a.regularity:.2f})" if a.period else \
+        f"irregular ({a.regularity:.2f})"
+    return "\n".join([head, f"contrast {a.contrast:.2f} · density {a.density:.2f}",
+                      f"regions of {a.granularity:.0f} points · coarseness {a.coarseness:.1f}",
+                      f"{direction} · {regular}"])

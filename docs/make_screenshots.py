@@ -10,11 +10,14 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+# a fresh texture bank holding only the built-ins, so the pictures never show a user's own entries
+os.environ.setdefault("TEXEDITOR_BANK", tempfile.mkdtemp(prefix="texeditor-screenshots-"))
 
 from PySide6 import QtCore, QtWidgets  # noqa: E402
 
@@ -317,6 +320,53 @@ def shot_paint(app, window, out: Path) -> None:
 
 
 MORE_SHOTS.append(shot_paint)
+
+
+def shot_bank(app, window, out: Path) -> None:
+    """The texture bank (issue 10): the browser with an edited built-in open on the canvas; the
+    browser filtered by attribute ranges, then "more like this"; the Save to bank dialog."""
+    dock = window.bank_dock
+    if dock.bank is None:
+        dock.load()
+        window.runner.wait()
+    previous = window.history
+    dock.raise_()                                     # its tab, if tabified with others
+    target = next(e.id for e in dock.bank.search("filled copied"))
+    dock.open_entry(target)
+    window.runner.wait()
+    dock._take_height()                               # as at start-up, after the other tools
+    window.statusBar().clearMessage()
+    settle(app, 300)
+    save(window, out / "bank-browser.png")
+
+    dock.filter_button.click()
+    dock.filters.set_range("density", 0.0, 0.9)
+    dock.filters.set_range("coarseness", 2.5, 10.0)
+    dock.refresh()
+    dock.select(dock.model.ids[0])
+    settle(app, 300)
+    save(dock, out / "bank-filters.png")
+    for use, _lo, _hi in dock.filters.rows.values():
+        use.setChecked(False)
+    dock.filter_button.click()
+
+    dock.set_like(next(e.id for e in dock.bank.search("gravel") if e.name == "Gravel"))
+    settle(app, 300)
+    save(dock, out / "bank-like.png")
+    dock.set_like(None)
+
+    dialog = dock.save_current()
+    dialog.name.setText("Warm gravel, centre filled")
+    dialog.tags.setText("gravel, warm, regions, mine")
+    dialog.description.setPlainText("The built-in in warm colours, kept as my own version.")
+    settle(app, 200)
+    save(dialog, out / "bank-save.png")
+    dialog.reject()
+    window.mark_clean()
+    window.set_history(previous)
+
+
+MORE_SHOTS.append(shot_bank)
 
 
 if __name__ == "__main__":

@@ -97,8 +97,9 @@ def test_the_application_opens_on_a_builtin_entry_of_the_bank(window, qtbot):
     assert np.array_equal(window.canvas.levels, window.document.levels)
     assert dock.bank.pending() == [] and not window.errors
     assert not window.is_modified()
-    dock.model.fetch()
-    assert all(dock.model.pixmaps.get(i) is not None for i in dock.model.ids[:6])
+    dock.raise_()                            # (its tab, when tabified with other docks)
+    qtbot.waitUntil(lambda: all(i in dock.model.pixmaps for i in dock.model.ids[:6]),
+                    timeout=5000)            # the visible thumbnails are read once painted
 
 
 def test_the_bank_is_not_opened_until_asked(window):
