@@ -49,7 +49,8 @@ def test_a_tool_gets_clicks_and_drags_as_cells_and_submits_actions(window, qtbot
     click(canvas.viewport(), a)
     assert window.document.levels[2, 3] == level and window.history.index == 2
     b, c = cell_pos(canvas, 10, 7), cell_pos(canvas, 14, 7)
-    drag(canvas.viewport(), QtCore.Qt.MouseButton.LeftButton, (b.x(), b.y()), (c.x(), c.y()))
+    drag(canvas.viewport(), QtCore.Qt.MouseButton.LeftButton, (b.x(), b.y()), (c.x(), c.y()),
+         steps=16)       # small steps: every cell crossed gets a move
     assert (window.document.levels[7, 10:15] == level).all()
     steps = window.history.index
     assert steps == 2 + 5            # this test tool makes one step per cell crossed
