@@ -177,9 +177,6 @@ class BankDock(QtWidgets.QDockWidget):
         self.details_toggle.setArrowType(QtCore.Qt.ArrowType.DownArrow)
         box = QtWidgets.QFrame()
         box.setFrameShape(QtWidgets.QFrame.Shape.StyledPanel)
-        self.details_toggle.toggled.connect(box.setVisible)
-        self.details_toggle.toggled.connect(lambda on: self.details_toggle.setArrowType(
-            QtCore.Qt.ArrowType.DownArrow if on else QtCore.Qt.ArrowType.RightArrow))
         form = QtWidgets.QFormLayout(box)
         form.setContentsMargins(6, 4, 6, 4)
         self.name_edit = QtWidgets.QLineEdit()
@@ -200,10 +197,21 @@ class BankDock(QtWidgets.QDockWidget):
         form.addRow("About:", self.description_edit)
         form.addRow(self.info)
         form.addRow(self.apply_button)
+        area = _FitArea()                      # on a small screen the details scroll
+        area.setWidget(box)
+        area.setWidgetResizable(True)
+        area.setFrameShape(QtWidgets.QFrame.Shape.NoFrame)
+        area.setMinimumHeight(40)
+        area.setSizePolicy(QtWidgets.QSizePolicy.Policy.Preferred,
+                           QtWidgets.QSizePolicy.Policy.Maximum)   # never taller than needed
+        self.details_toggle.toggled.connect(area.setVisible)
+        self.details_toggle.toggled.connect(lambda on: self.details_toggle.setArrowType(
+            QtCore.Qt.ArrowType.DownArrow if on else QtCore.Qt.ArrowType.RightArrow))
         outer.addWidget(self.details_toggle)
-        outer.addWidget(box)
+        outer.addWidget(area)
+        self.details_area = area
         panel.setSizePolicy(QtWidgets.QSizePolicy.Policy.Preferred,
-                            QtWidgets.QSizePolicy.Policy.Fixed)   # the grid takes any squeeze
+                            QtWidgets.QSizePolicy.Policy.Maximum)
         self.details = box
         return panel
 
@@ -351,6 +359,7 @@ class BankDock(QtWidgets.QDockWidget):
         self.description_edit.blockSignals(False)
         self.info.setText(_summary(entry) if entry else "No entry selected.")
         self.apply_button.setEnabled(False)
+        self.details_area.updateGeometry()     # a scroll area does not pass size changes up
 
     def _update_buttons(self) -> None:
         chosen = self.selected() is not None
@@ -613,6 +622,13 @@ class BankDock(QtWidgets.QDockWidget):
         win.runner.run("Verifying the bank…",
                        lambda progress, cancel: bank.verify(progress=progress, cancel=cancel),
                        done, on_error=lambda exc: win.show_error("Cannot verify the bank", exc))
+
+
+class _FitArea(QtWidgets.QScrollArea):
+    """A scroll area that asks for its content's full height (Qt's asks for less)."""
+
+    def sizeHint(self) -> QtCore.QSize:
+        return self.widget().sizeHint() + QtCore.QSize(0, 2)
 
 
 def _summary(entry) -> str:

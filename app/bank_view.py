@@ -177,6 +177,10 @@ class ThumbnailGrid(QtWidgets.QListView):
         self.verticalScrollBar().setSingleStep(CELL.height() // 3)
         self.setMinimumHeight(CELL.height() + 8)
 
+    def sizeHint(self) -> QtCore.QSize:
+        """Two rows: the grid asks for little and takes what is left (the details come first)."""
+        return QtCore.QSize(3 * CELL.width() + 20, 2 * CELL.height() + 8)
+
     def resizeEvent(self, ev) -> None:
         super().resizeEvent(ev)
         width = self.viewport().width()

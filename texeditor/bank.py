@@ -540,9 +540,8 @@ class Bank:
         for ref, data in self._read("SELECT d.ref, d.data FROM entry_dpjs x JOIN dpjs d "
                                     "ON d.ref = x.ref WHERE x.entry = ?", (entry_id,)):
             dpjs[ref] = DPJ.from_bytes(bytes(data), f"{what}: DPJ {ref}")
-        missing = sorted(set(_referenced(actions)) - set(dpjs))
-        if missing or (main is not None and main not in dpjs):
-            raise FormatError(f"{what}: the DPJs {missing or [main]} of its log are missing")
+        if main is not None and main not in dpjs:
+            raise FormatError(f"{what}: its current DPJ {main} is missing")
         return Recipe(actions, dpjs, main)
 
     def open(self, entry_id: int, *, progress=None, cancel=None, **history_options) -> History:
@@ -751,7 +750,7 @@ def make_record(source, name: str, *, tags=(), description: str = "", progress=N
     name, tags = check_name(name), normalize_tags(tags)
     description = check_description(description)
     actions = _shortest(tuple(actions), doc, progress, cancel)
-    refs = list(_referenced(actions))
+    refs = _dpj_refs(actions, doc.dpjs)
     main = doc.dpj_ref if doc.dpj_ref in doc.dpjs else None
     if main is not None and main not in refs:
         refs.append(main)
@@ -780,11 +779,18 @@ def pending_record(tex: TextureFile, name: str) -> Record:
     """A Record from a validated `.texture` without replaying it (thumbnail and attributes
     come later; the hash is the file's, checked when they are computed)."""
     m = tex.manifest
-    refs = list(_referenced(tex.actions)) + ([m.dpj] if m.dpj else [])
+    refs = _dpj_refs(tex.actions, tex.dpjs) + ([m.dpj] if m.dpj else [])
     return Record(name=check_name(name), description=check_description(m.description),
                   tags=normalize_tags(m.tags), width=m.width, height=m.height, levels=m.levels,
                   actions=tex.actions, dpjs={r: tex.dpjs[r] for r in dict.fromkeys(refs)},
                   main_dpj=m.dpj, grain=grain_parameters(tex.actions), sha256=m.result_sha256)
+
+
+def _dpj_refs(actions, dpjs: dict) -> list:
+    """The DPJs the log uses: its "ref" parameters that name a DPJ (other references, such as
+    a spot placement's fingerprint, are not DPJs). A DPJ the log needs but that is missing
+    shows up when the entry is replayed."""
+    return [r for r in _referenced(actions) if r in dpjs]
 
 
 def grain_parameters(actions) -> dict:
