@@ -139,8 +139,8 @@ class BrushDock(QtWidgets.QDockWidget):
 # -- the painting tools' menu entries and keys -------------------------------------------------------
 
 def install_paint_ui(window) -> None:
-    """Add the Brushes and Grains docks, [ and ] (tool size), the Grains menu and Image ▸ Peano
-    sub-regions."""
+    """Add the Brushes and Grains docks (hidden until the Brush, Spray or Grain tool shows them,
+    or View shows them), [ and ] (tool size), the Grains menu and Image ▸ Peano sub-regions."""
     from .grain_editor import GrainDock
     window.brush_dock = BrushDock(window)
     window.grain_dock = GrainDock(_grain_tool(window), window)
@@ -151,7 +151,8 @@ def install_paint_ui(window) -> None:
     if bank is not None:                                     # one column of docks, as tabs
         window.tabifyDockWidget(bank, window.brush_dock)
     window.tabifyDockWidget(window.brush_dock, window.grain_dock)
-    (bank or window.brush_dock).raise_()
+    for dock in (window.brush_dock, window.grain_dock):     # shown by their tools, on demand
+        dock.hide()
     _grain_tool(window).reload()
     window.act_smaller = window._action("Smaller brush", lambda: _resize(window, False), "[",
                                         "Brush, spray or grain one step smaller")

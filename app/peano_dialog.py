@@ -134,6 +134,7 @@ class PeanoDialog(QtWidgets.QDialog):
     def __init__(self, window):
         super().__init__(window)
         self.window = window
+        self._shown = False
         self.setWindowTitle("Peano sub-regions")
         self.view = ScanView()
         self.tree = QtWidgets.QTreeWidget()
@@ -234,10 +235,13 @@ class PeanoDialog(QtWidgets.QDialog):
     def refresh(self) -> None:
         """Follow the document: its texture, palette and top level."""
         doc = self.window.document
-        self.high.setMaximum(doc.num_levels - 1)
-        self.low.setMaximum(doc.num_levels - 1)
-        if self.high.value() == 3 or self.high.value() >= doc.num_levels:
-            self.high.setValue(doc.num_levels - 1)
+        top = doc.num_levels - 1
+        first = self.high.maximum() != top or not self._shown
+        self._shown = True
+        self.high.setMaximum(top)
+        self.low.setMaximum(top)
+        if first:                              # the full range of the document's levels
+            self.high.setValue(top)
         self.view.set_texture(doc.levels, doc.palette)
         self.update_scan()
 

@@ -153,7 +153,8 @@ class Stroke(Action):
 
     def label(self) -> str:
         kind = "Spray" if self.distribution == "cloud" else "Stroke"
-        return f"{kind} {self.shape} {self.size}, level {self.level}, {len(self.points)} points"
+        levels = f"levels {self.level_choices}" if self.level_choices else f"level {self.level}"
+        return f"{kind}, {self.shape} {self.size}, {levels}"
 
 
 # -- grains (§3.3.3a) --------------------------------------------------------------------------------

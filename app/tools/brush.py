@@ -227,6 +227,7 @@ class BrushTool(Tool):
     def activate(self):
         dock = getattr(self.window, "brush_dock", None)
         if dock is not None:
+            dock.show()
             dock.raise_()                        # the presets in view while painting
 
     @property

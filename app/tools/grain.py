@@ -61,7 +61,7 @@ class GrainOptions(QtWidgets.QWidget):
         grid.addWidget(self.wrap, 2, 0, 1, 4)
 
     def show_grain(self, grain: GrainType) -> None:
-        self.current.setText(f"<b>{grain.name}</b>")
+        self.current.setText(f"<b>{grain.name}</b> · {grain.size} pt")
         self.current.setToolTip(describe(grain))
 
 
@@ -95,6 +95,7 @@ class GrainTool(Tool):
         self._show()
         dock = getattr(self.window, "grain_dock", None)
         if dock is not None:
+            dock.show()
             dock.raise_()                        # the library in view while placing grains
 
     def reload(self) -> None:
@@ -148,11 +149,14 @@ class GrainTool(Tool):
         return self.editor
 
     def resize(self, bigger: bool) -> None:
-        """[ and ]: the current grain one point bigger or smaller (drawn grains keep theirs)."""
+        """[ and ]: the current grain one point bigger or smaller (drawn grains keep theirs);
+        the library keeps its own size."""
         if self.grain.shape == "bitmap":
             return
         size = max(1, min(self.grain.size + (1 if bigger else -1), 256))
-        self.use(self.grain.replace(size=size, name=f"{self.grain.name.split(' (')[0]} ({size})"))
+        self.grain = self.grain.replace(size=size)
+        self._show()
+        self.window.statusBar().showMessage(describe(self.grain), 2000)
 
     # -- gestures ---------------------------------------------------------------------------------------
     def action(self, points, **options) -> PlaceGrains:

@@ -348,3 +348,15 @@ def test_the_peano_menu_entry_opens_the_dialog(window, qtbot):
     window.act_peano.trigger()
     assert window._peano_dialog.isVisible()
     window._peano_dialog.close()
+
+
+def test_brackets_resize_the_grain_without_growing_the_library(window, qtbot):
+    window.set_tool(tool(window, GrainTool))
+    pick_grain(window, "Circle 5")
+    count = window.grain_dock.list.count()
+    press_key(window, QtCore.Qt.Key.Key_BracketRight)
+    press_key(window, QtCore.Qt.Key.Key_BracketRight)
+    assert window.tool.grain.size == 7 and window.tool.grain.shape == "circle"
+    assert window.grain_dock.list.count() == count
+    click(window.canvas.viewport(), cell_pos(window.canvas, 30, 20))
+    assert last(window).size == 7
