@@ -19,6 +19,7 @@ from texeditor.errors import TexeditorError
 from .bank_view import IdRole, RangeFilters, SaveToBankDialog, ThumbnailGrid
 
 SEARCH_DELAY_MS = 150
+WATCH_MS = 2000                   # how often the browser looks for changes made elsewhere
 START_ENTRY = "Gravel"            # the built-in the window opens on
 TEXTURE_FILTER = "Textures (*.texture);;All files (*)"
 
@@ -38,6 +39,9 @@ class BankDock(QtWidgets.QDockWidget):
         self._search_timer.setSingleShot(True)
         self._search_timer.setInterval(SEARCH_DELAY_MS)
         self._search_timer.timeout.connect(self.refresh)
+        self._watch = QtCore.QTimer(self)        # another window or program changed the bank
+        self._watch.setInterval(WATCH_MS)
+        self._watch.timeout.connect(self._check_elsewhere)
         self._build()
         self._set_enabled(False)
         self._sized = False
@@ -246,6 +250,8 @@ class BankDock(QtWidgets.QDockWidget):
             self.open_bank_button.setText("Try again to open the bank")
             return False
         self._set_enabled(True)
+        self.bank.changed_elsewhere()
+        self._watch.start()
         self.refresh()
         if prepare and self.bank.pending() and not self.main.runner.busy:
             self._prepare(None)
@@ -298,6 +304,17 @@ class BankDock(QtWidgets.QDockWidget):
         self.open_bank_button.setVisible(not on)
         if on:
             self._update_buttons()
+
+    def _check_elsewhere(self) -> None:
+        if self.bank is None or not self.isVisible():
+            return
+        try:
+            changed = self.bank.changed_elsewhere()
+        except TexeditorError:
+            return
+        if changed:
+            self.model.forget()
+            self.refresh()
 
     # -- listing ------------------------------------------------------------------------------------
     def refresh(self) -> None:

@@ -416,6 +416,17 @@ def test_likeness_sees_entries_added_by_another_program(bank, known):
     other.close()
 
 
+def test_a_change_made_by_another_program_is_noticed(bank):
+    bank.changed_elsewhere()
+    other = Bank(bank.path, builtins=False)
+    bank.add(stripes(2, True), "mine")
+    assert not bank.changed_elsewhere()           # its own writes are not news
+    other.add(stripes(4, True), "theirs")
+    assert bank.changed_elsewhere() and not bank.changed_elsewhere()
+    assert names(bank, bank.find("theirs")) == ["theirs"]
+    other.close()
+
+
 def test_search_without_fts5_falls_back_to_substrings(tmp_path, monkeypatch):
     path = tmp_path / "bank.sqlite"
     monkeypatch.setattr(bk, "_has_fts5", lambda conn: False)

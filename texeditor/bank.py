@@ -194,6 +194,7 @@ class Bank:
         self.timeout = timeout
         self._lock = threading.RLock()
         self._feature_cache = None
+        self._data_version = None
         self._conn = self._connect()
         try:
             self.fts = _has_fts5(self._conn)
@@ -270,6 +271,13 @@ class Bank:
             ids = [r[0] for r in conn.execute("SELECT id FROM entries")]
             self._index(conn, ids)
             conn.execute("DELETE FROM meta WHERE key = 'fts'")
+
+    def changed_elsewhere(self) -> bool:
+        """True when another connection (another window, the command line) committed a change
+        since the last call: a browser then lists the bank again."""
+        version = self._read("PRAGMA data_version")[0][0]
+        changed, self._data_version = version != self._data_version, version
+        return changed
 
     @property
     def search_mode(self) -> str:
@@ -585,7 +593,8 @@ class Bank:
     def verify(self, *, progress=None, cancel=None) -> list:
         """Replay every entry (trash included) and compare hashes; one Check per entry, the
         database's own integrity first. A damaged entry never stops the others."""
-        checks = [Check(None, "database", self.integrity() == "ok", self.integrity())]
+        sound = self.integrity()
+        checks = [Check(None, "database", sound == "ok", sound)]
         ids = [r[0] for r in self._read("SELECT id FROM entries ORDER BY id")]
         for k, entry_id in enumerate(ids):
             checks.append(self._check(entry_id, cancel))

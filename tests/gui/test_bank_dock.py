@@ -278,6 +278,12 @@ def test_save_without_an_open_bank_opens_it(window, qtbot, tmp_path, monkeypatch
     assert dock.bank.find("first") and not window.errors
 
 
+def test_an_entry_saved_by_another_window_appears(dock, qtbot):
+    with Bank(dock.bank.path) as other:           # another window, or the command line
+        other.add(noise(9), "From elsewhere", tags=["shared"])
+    qtbot.waitUntil(lambda: "From elsewhere" in shown(dock), timeout=10_000)
+
+
 # -- import, export, many entries -----------------------------------------------------------------
 
 def test_import_and_export_through_the_menu(dock, window, qtbot, tmp_path, monkeypatch):
