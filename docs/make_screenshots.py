@@ -278,6 +278,7 @@ def shot_paint(app, window, out: Path) -> None:
     grains = next(t for t in window.tools if isinstance(t, GrainTool))
     grains.pick("Hexagon 12")
     window.palette_dock.swatches.current = 5
+    window.palette_dock._level_clicked(5)
     settle(app, 300)
     canvas.set_zoom(4.0, center=QtCore.QPointF(120, 70))
     settle(app)
