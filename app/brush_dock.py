@@ -136,7 +136,7 @@ class BrushDock(QtWidgets.QDockWidget):
         self.reload()
 
 
-# -- the painting tools' menu entries and keys -------------------------------------------------------
+# -- the painting tools' menu entries and keys -----------------------------------------------------
 
 def install_paint_ui(window) -> None:
     """Add the Brushes and Grains docks (hidden until the Brush, Spray or Grain tool shows them,

@@ -117,10 +117,11 @@ class GrainView(QtWidgets.QWidget):
                 else:                                   # empty: a checker, as transparency
                     p.fillRect(rect, EMPTY[(r + c) % 2])
         p.setPen(QtGui.QPen(QtGui.QColor(128, 128, 128, 140), 1))
+        right, bottom = x0 + w * cell, y0 + h * cell
         for r in range(h + 1):
-            p.drawLine(QtCore.QPointF(x0, y0 + r * cell), QtCore.QPointF(x0 + w * cell, y0 + r * cell))
+            p.drawLine(QtCore.QPointF(x0, y0 + r * cell), QtCore.QPointF(right, y0 + r * cell))
         for c in range(w + 1):
-            p.drawLine(QtCore.QPointF(x0 + c * cell, y0), QtCore.QPointF(x0 + c * cell, y0 + h * cell))
+            p.drawLine(QtCore.QPointF(x0 + c * cell, y0), QtCore.QPointF(x0 + c * cell, bottom))
         if self.mask.any():
             cy, cx = grains.centre_of_gravity(self.mask)
             ay, ax = grains.anchor(self.mask)
@@ -372,7 +373,7 @@ class GrainEditor(QtWidgets.QDialog):
         self.drawing[:] = 0
         self.refresh()
 
-    # -- buttons ------------------------------------------------------------------------------------
+    # -- buttons -----------------------------------------------------------------------------------
     def _checked_grain(self) -> GrainType | None:
         try:
             return self.grain()

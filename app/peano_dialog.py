@@ -141,8 +141,9 @@ class PeanoDialog(QtWidgets.QDialog):
         self.tree.setHeaderLabels(["Dominance tree", "Level"])
         self.tree.setMinimumWidth(220)
         self.tree.header().setStretchLastSection(False)
-        self.tree.header().setSectionResizeMode(0, QtWidgets.QHeaderView.ResizeMode.Stretch)
-        self.tree.header().setSectionResizeMode(1, QtWidgets.QHeaderView.ResizeMode.ResizeToContents)
+        modes = QtWidgets.QHeaderView.ResizeMode
+        self.tree.header().setSectionResizeMode(0, modes.Stretch)
+        self.tree.header().setSectionResizeMode(1, modes.ResizeToContents)
 
         form = QtWidgets.QFormLayout()
         self.expression = QtWidgets.QLineEdit(EXAMPLE)
@@ -201,7 +202,8 @@ class PeanoDialog(QtWidgets.QDialog):
         self.summary.setWordWrap(True)
 
         buttons = QtWidgets.QDialogButtonBox()
-        self.apply_button = buttons.addButton("Apply", QtWidgets.QDialogButtonBox.ButtonRole.ApplyRole)
+        self.apply_button = buttons.addButton("Apply",
+                                              QtWidgets.QDialogButtonBox.ButtonRole.ApplyRole)
         self.apply_button.setDefault(True)
         close = buttons.addButton(QtWidgets.QDialogButtonBox.StandardButton.Close)
         self.apply_button.clicked.connect(self.apply)

@@ -198,7 +198,7 @@ def test_later_dabs_win_where_the_stroke_crosses_itself():
     assert sorted(zip(rows.tolist(), cols.tolist(), values.tolist())) == [(0, 0, 2), (1, 1, 3)]
 
 
-# -- presets ----------------------------------------------------------------------------------------
+# -- presets ---------------------------------------------------------------------------------------
 
 def test_brush_validation_and_json():
     b = Brush("Mine", 7, "diamond", angle=30, distribution="cloud", density=0.5)

@@ -172,7 +172,7 @@ def parse_levels(text: str | None) -> tuple[int, ...] | None:
     return levels
 
 
-# -- strokes ----------------------------------------------------------------------------------------
+# -- strokes ---------------------------------------------------------------------------------------
 
 class PathWalker:
     """Positions every ``step`` points along a polyline given one vertex at a time.
@@ -294,7 +294,7 @@ def paint_stroke(brush: Brush, canvas_shape, points, level: int, *, choices=None
     return last_wins(rows, cols, values, canvas_shape)
 
 
-# -- presets ----------------------------------------------------------------------------------------
+# -- presets ---------------------------------------------------------------------------------------
 
 def standard_brushes() -> list[Brush]:
     """The brushes every user has: round and square pens, a calligraphic nib, sprays."""

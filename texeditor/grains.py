@@ -51,8 +51,8 @@ def grain_mask(shape: str, size: int, *, aspect: float = 1.0, sides: int = 6, an
     ``square``, ``rectangle`` (``size`` long, ``size * aspect`` high), ``circle`` (an ellipse
     when ``aspect`` ≠ 1), ``diamond``, ``hexagon`` (pointy top, for a honeycomb of offset rows),
     ``polygon`` (regular, ``sides`` vertices, one at the top; ``size`` is the circumscribed
-    circle's diameter), ``line`` (``size`` points along the axis, one thick, no gaps) and ``bitmap`` (a drawn grain, see
-    :func:`parse_bitmap`, scaled so its longer side is ``size``).
+    circle's diameter), ``line`` (``size`` points along the axis, one thick, no gaps) and
+    ``bitmap`` (a drawn grain, see :func:`parse_bitmap`, scaled so its longer side is ``size``).
 
     >>> grain_mask("circle", 4).astype(int)
     array([[0, 1, 1, 0],

@@ -83,7 +83,7 @@ def _check_levels(doc, *levels) -> None:
         doc._check_values(np.uint8(level))
 
 
-# -- brush strokes (§3.2.2) --------------------------------------------------------------------------
+# -- brush strokes (§3.2.2) ------------------------------------------------------------------------
 
 @register
 @dataclass(frozen=True)
@@ -157,7 +157,7 @@ class Stroke(Action):
         return f"{kind}, {self.shape} {self.size}, {levels}"
 
 
-# -- grains (§3.3.3a) --------------------------------------------------------------------------------
+# -- grains (§3.3.3a) ------------------------------------------------------------------------------
 
 @register
 @dataclass(frozen=True)
@@ -265,7 +265,7 @@ class GrainPainter:
         return brushes.on_canvas(rows, cols, values, self.shape, self.action.wrap)
 
 
-# -- zones (§3.3.3a) ---------------------------------------------------------------------------------
+# -- zones (§3.3.3a) -------------------------------------------------------------------------------
 
 @register
 @dataclass(frozen=True)

@@ -1,4 +1,4 @@
-"""Zone duplication and frontier scrambling (thesis §3.3.3a): helpers for grain textures made by hand.
+"""Zone duplication and frontier scrambling (thesis §3.3.3a), for grain textures made by hand.
 
 The eye sees symmetries but not repetitions, so a user duplicates zones of a texture elsewhere
 (a rectangle or a lasso, copied with the copy operator of `regions`); where the frontier of a

@@ -85,7 +85,7 @@ class GrainTool(Tool):
         self.opts: GrainOptions | None = None
         self.editor: GrainEditor | None = None
 
-    # -- the grain type -------------------------------------------------------------------------------
+    # -- the grain type ----------------------------------------------------------------------------
     def build_options(self):
         self.opts = GrainOptions(self)
         self.opts.show_grain(self.grain)
@@ -158,7 +158,7 @@ class GrainTool(Tool):
         self._show()
         self.window.statusBar().showMessage(describe(self.grain), 2000)
 
-    # -- gestures ---------------------------------------------------------------------------------------
+    # -- gestures ----------------------------------------------------------------------------------
     def action(self, points, **options) -> PlaceGrains:
         self.options()
         return PlaceGrains.from_grain(self.grain, points, self.window.current_level,

@@ -8,7 +8,7 @@ shows, the Scramble tool adds grains at random in a band along it (one ScrambleF
 from __future__ import annotations
 
 import numpy as np
-from PySide6 import QtCore, QtWidgets
+from PySide6 import QtWidgets
 
 from texeditor import zones
 from texeditor.errors import TexeditorError

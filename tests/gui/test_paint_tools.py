@@ -272,7 +272,7 @@ def test_the_grains_menu_lists_the_library_and_selects_a_grain(window, qtbot):
     assert isinstance(window.tool, GrainTool) and window.tool.grain.shape == "hexagon"
 
 
-# -- zones -------------------------------------------------------------------------------------------
+# -- zones -----------------------------------------------------------------------------------------
 
 def test_duplicate_a_zone_then_scramble_its_frontier(window, qtbot):
     press_key(window, QtCore.Qt.Key.Key_D)
@@ -329,8 +329,9 @@ def test_the_peano_dialog_points_at_errors_and_applies_levels(window, qtbot):
     assert "never closed" in dialog.problem.text()
     QtTest.QTest.keyClicks(edit, ")")
     assert dialog.error.text() == dialog.problem.text() == "" and dialog.apply_button.isEnabled()
-    assert dialog.tree.topLevelItem(0).text(0) == "3" and dialog.tree.topLevelItem(0).childCount() == 2
-    assert dialog.tree.topLevelItem(0).text(1) == str(window.document.num_levels - 1)
+    root = dialog.tree.topLevelItem(0)
+    assert root.text(0) == "3" and root.childCount() == 2
+    assert root.text(1) == str(window.document.num_levels - 1)
     QtTest.QTest.mouseClick(dialog.apply_button, LEFT)
     action = last(window)
     assert isinstance(action, PeanoLevels) and action.expression == "3(1,2)"
