@@ -660,6 +660,12 @@ def _summary(entry) -> str:
                  else f"isotropic ({a.directivity:.2f})")
     regular = f"period {a.period:.0f} ({a.regularity:.2f})" if a.period else \
         f"irregular ({a.regularity:.2f})"
-    return "\n".join([head, f"contrast {a.contrast:.2f} · density {a.density:.2f}",
-                      f"regions of {a.granularity:.0f} points · coarseness {a.coarseness:.1f}",
-                      f"{direction} · {regular}"])
+    lines = [head, f"contrast {a.contrast:.2f} · density {a.density:.2f}",
+             f"regions of {a.granularity:.0f} points · coarseness {a.coarseness:.1f}",
+             f"{direction} · {regular}"]
+    g = entry.grain.get("render_grains")
+    if g:
+        lines.append(f"grains: {g.get('shape')} {g.get('size')} px, explosion "
+                     f"{g.get('explosion_x', 1):g}×{g.get('explosion_y', 1):g}, compression "
+                     f"{g.get('compression', 0):g}")
+    return "\n".join(lines)

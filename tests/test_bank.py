@@ -3,20 +3,26 @@ and likeness, schema migrations, damaged and locked files, concurrent writers, h
 
 import json
 import sqlite3
+import subprocess
+import sys
+import tempfile
 import threading
 import zipfile
+from pathlib import Path
 
 import imageio.v3 as iio
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
-from test_history_support import REFS, TINY_DPJS
+from test_history_support import PROPERTY, REFS, TINY_DPJS, random_history
 from test_region_actions import EXAMPLES, history_of
 from test_regions import T
 from texeditor import attributes as attrs
 from texeditor import bank as bk
 from texeditor import texturefile as tf
-from texeditor.actions import (REGISTRY, Action, CropCanvas, NewCanvas, ResizeCanvas, SetLevels,
+from texeditor.actions import (REGISTRY, CropCanvas, NewCanvas, ResizeCanvas, SetLevels,
                                SetPalette, Synthesize)
 from texeditor import doubling
 from texeditor.bank import Bank, BankError
@@ -148,6 +154,20 @@ def test_save_then_open_gives_the_identical_matrix(bank, name, history):
     assert bank.render(entry_id).result_hash() == doc.result_hash()
 
 
+@settings(PROPERTY, max_examples=25)
+@given(st.data())
+def test_random_logs_reopen_identical(data):
+    history = random_history(data)
+    assume(history.document.levels.size)
+    with tempfile.TemporaryDirectory() as folder, \
+            Bank(Path(folder) / "b.sqlite", builtins=False) as bank:
+        entry = bank.get(bank.add(history, "random"))
+        again = bank.open(entry.id).document
+        assert np.array_equal(again.levels, history.document.levels)
+        assert again.result_hash() == history.document.result_hash() == entry.sha256
+        assert entry.actions <= len(history.applied)
+
+
 def test_the_stored_log_is_the_optimised_one(bank):
     history = synthesised(2)
     for k in range(6):                            # each covered by the next, then by the last
@@ -189,15 +209,16 @@ def test_an_entry_has_thumbnail_attributes_and_times(bank):
     assert np.array_equal(grey[::4, ::4] > 127, history.document.levels == 1)
 
 
-def test_grain_and_density_parameters_are_picked_from_the_log():
-    class GrainShape(Action):                     # stands for the grain actions of issue 9
-        TYPE = "grain_shape"
-
-    class Other(Action):
-        TYPE = "fill_something"
-
-    params = bk.grain_parameters([GrainShape(), Other(), SetLevels(0, 0, 1, 1, 1)])
-    assert params == {"grain_shape": {}}
+def test_grain_and_density_parameters_are_kept_with_the_entry(bank):
+    from texeditor.texture_actions import RenderGrains
+    history = stripes(4, True, size=16)
+    history.apply(RenderGrains("hexagon", 4, explosion_x=2.0, compression=0.0))
+    history.apply(SetPalette([(0, 0, 0), (200, 180, 150)]))
+    entry = bank.get(bank.add(history, "grains"))
+    assert entry.grain["render_grains"]["shape"] == "hexagon"
+    assert entry.grain["render_grains"]["explosion_x"] == 2.0
+    assert bank.open(entry.id).document.result_hash() == history.document.result_hash()
+    assert bank.get(bank.add(stripes(2, True), "plain")).grain == {}
 
 
 def test_an_empty_document_and_bad_names_are_refused(bank):
@@ -333,6 +354,36 @@ def test_two_connections_writing_at_once_do_not_corrupt_the_bank(tmp_path):
     assert all(c.ok for c in banks[0].verify())
     for b in banks:
         b.close()
+
+
+WRITER = """
+import sys
+from texeditor.actions import NewCanvas, SetLevels
+from texeditor.bank import Bank
+from texeditor.history import History
+bank = Bank(sys.argv[1], builtins=False, timeout=60)
+for k in range(15):
+    h = History()
+    h.apply(NewCanvas(16, 16, 2))
+    h.apply(SetLevels(k % 16, 0, 1, 16, 1))
+    entry = bank.add(h, f"{sys.argv[2]} {k}", tags=[sys.argv[2]])
+    bank.update(entry, description=f"written by process {sys.argv[2]}")
+    bank.find(sys.argv[2])
+"""
+
+
+def test_two_processes_writing_at_once_do_not_corrupt_the_bank(tmp_path):
+    path = tmp_path / "bank.sqlite"
+    Bank(path, builtins=False).close()
+    procs = [subprocess.Popen([sys.executable, "-c", WRITER, str(path), name],
+                              cwd=Path(__file__).resolve().parent.parent,
+                              stderr=subprocess.PIPE, text=True) for name in ("alpha", "beta")]
+    errors = [p.communicate(timeout=120)[1] for p in procs]
+    assert [p.returncode for p in procs] == [0, 0], errors
+    with Bank(path, builtins=False) as bank:
+        assert bank.integrity() == "ok" and bank.count() == 30
+        assert len(bank.find("tag:alpha")) == len(bank.find("process beta")) == 15
+        assert all(c.ok for c in bank.verify())
 
 
 # -- search -----------------------------------------------------------------------------------------

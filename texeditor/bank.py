@@ -39,7 +39,7 @@ SCHEMA_VERSION = 2
 THUMB = 128                       # thumbnail side in pixels: a central crop shown 1:1 (or enlarged)
 MAX_NAME_CHARS, MAX_TAGS, MAX_TAG_CHARS = 200, 64, 64
 BUILTIN_DIR = RESOURCES / "bank"
-GRAIN_WORDS = ("grain", "density", "explode", "explosion", "expand", "compress")
+GRAIN_TYPES = ("render_grains",)  # §5.3: grain shape, explosion, compression (texture_actions)
 _SEP = "\x1f"                     # joins tags in one SQL value (a character no tag may hold)
 
 
@@ -804,10 +804,11 @@ def _dpj_refs(actions, dpjs: dict) -> list:
 
 def grain_parameters(actions) -> dict:
     """The grain and density parameters of the log (§5.4.2: a texture is its DPJ, its grain
-    and density parameters and its actions): the last action of each grain/density type."""
+    and density parameters and its actions), kept apart so the browser can show them without
+    reading the log: the last RenderGrains (shape, size, explosion, compression…)."""
     found = {}
     for a in actions:
-        if any(word in a.TYPE for word in GRAIN_WORDS):
+        if a.TYPE in GRAIN_TYPES:
             found[a.TYPE] = {k: v for k, v in a.to_json().items() if k not in ("type", "version")}
     return found
 
