@@ -6,6 +6,8 @@ import json
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from texeditor import grains
 from texeditor.document import Document
@@ -212,3 +214,25 @@ def test_an_oversized_library_is_refused_before_reading(tmp_path):
     lib.path.write_bytes(b" " * (5 * 2**20))
     with pytest.raises(FormatError, match="limit"):
         lib.user()
+
+
+json_values = st.recursive(st.none() | st.booleans() | st.integers(-10**6, 10**6)
+                           | st.floats(allow_nan=True) | st.text(max_size=12),
+                           lambda inner: st.lists(inner, max_size=3)
+                           | st.dictionaries(st.text(max_size=5), inner, max_size=3),
+                           max_leaves=6)
+fields = st.sampled_from(["name", "shape", "size", "aspect", "sides", "angle", "level",
+                          "own_levels", "bitmap"])
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.dictionaries(fields, json_values, max_size=9))
+def test_any_json_object_is_a_grain_or_an_input_error(obj):
+    """A library file is the user's: whatever it holds, reading it never crashes."""
+    from texeditor.brushes import Brush
+    for cls, extra in ((GrainType, {}), (Brush, {"distribution": "cloud"})):
+        try:
+            cls.from_json({**extra, **{k: v for k, v in obj.items()
+                                       if k in {f for f in cls.__dataclass_fields__}}})
+        except InputError:
+            pass
