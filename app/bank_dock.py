@@ -420,7 +420,13 @@ class BankDock(QtWidgets.QDockWidget):
     def open_entry(self, entry_id: int) -> None:
         """Replay an entry in the worker (its hash checked), then show it on the canvas."""
         win = self.main
-        if self.bank is None or win.runner.busy or not win.maybe_save():
+        if self.bank is None:
+            return
+        if win.runner.busy:
+            win.statusBar().showMessage("Wait for the current work to end (or cancel it), "
+                                        "then open the entry.", 5000)
+            return
+        if not win.maybe_save():
             return
         bank, name = self.bank, self.bank.get(entry_id).name
         win.runner.run(f"Opening “{name}” from the bank…",
