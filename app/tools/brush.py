@@ -2,7 +2,7 @@
 
 A stroke is one Action on release (its points, brush and seed); while dragging, a StrokePainter
 computes the dabs each pointer move brings and the StrokePreview draws just those points over the
-texture, repainting only their dirty rectangles — never the whole 2048² image per move.
+texture, repainting only their dirty rectangle — never the whole 2048² image per move.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ from . import Tool
 
 PREVIEW_Z = 6            # over the overlay (5), under the pixel grid (10)
 DIRTY_BLOCK = 64         # a stroke wrapping round an edge repaints the blocks it touched
+TILE = 256               # the preview's tiles, made where the stroke goes
 SHAPE_NAMES = [("Disc", "disc"), ("Square", "square"), ("Diamond", "diamond"),
                ("Line", "line")]
 
@@ -36,17 +37,16 @@ def palette_argb(palette) -> np.ndarray:
 class StrokePreview(QtWidgets.QGraphicsObject):
     """Points painted during a gesture, shown over the texture until the Action lands.
 
-    A transparent canvas-sized ARGB buffer (numpy, shared with a QImage): a move writes its new
-    points and asks Qt to repaint only the blocks they touched; ``clear`` wipes what was drawn.
+    Transparent ARGB tiles of 256×256 points (numpy arrays shared with QImages), made only where
+    the stroke goes, so a stroke on a huge canvas costs the memory of what it covers. A move
+    writes its new points and asks Qt to repaint only where they fell; ``clear`` drops the tiles.
     """
 
     def __init__(self, shape):
         super().__init__()
         self.shape = tuple(shape)
+        self.tiles: dict[tuple[int, int], tuple[np.ndarray, QtGui.QImage]] = {}
         h, w = self.shape
-        self.buffer = np.zeros((h, w), np.uint32)
-        self.image = QtGui.QImage(self.buffer.data, w, h, 4 * w,
-                                  QtGui.QImage.Format.Format_ARGB32_Premultiplied)
         self.drawn: list[int] = [h, w, 0, 0]          # the box of what is drawn: t, l, b, r
         self.setFlag(QtWidgets.QGraphicsItem.GraphicsItemFlag.ItemUsesExtendedStyleOption)
         self.setZValue(PREVIEW_Z)
@@ -54,18 +54,34 @@ class StrokePreview(QtWidgets.QGraphicsObject):
     def boundingRect(self) -> QtCore.QRectF:
         return QtCore.QRectF(0, 0, self.shape[1], self.shape[0])
 
+    def _tile(self, key) -> np.ndarray:
+        if key not in self.tiles:
+            pixels = np.zeros((TILE, TILE), np.uint32)
+            image = QtGui.QImage(pixels.data, TILE, TILE, 4 * TILE,
+                                 QtGui.QImage.Format.Format_ARGB32_Premultiplied)
+            self.tiles[key] = (pixels, image)
+        return self.tiles[key][0]
+
     def paint(self, painter, option, widget=None):
-        rect = option.exposedRect.toAlignedRect().intersected(
+        exposed = option.exposedRect.toAlignedRect().intersected(
             QtCore.QRect(0, 0, self.shape[1], self.shape[0]))
-        if not rect.isEmpty():
-            painter.drawImage(QtCore.QRectF(rect), self.image, QtCore.QRectF(rect))
+        for (ty, tx), (_pixels, image) in self.tiles.items():
+            tile = QtCore.QRect(tx * TILE, ty * TILE, TILE, TILE)
+            part = tile.intersected(exposed)
+            if not part.isEmpty():
+                painter.drawImage(QtCore.QRectF(part), image,
+                                  QtCore.QRectF(part.translated(-tile.x(), -tile.y())))
 
     def draw(self, rows, cols, colours) -> None:
         """Show points (canvas rows, cols) in ARGB colours; repaint only where they fell: their
         box, or the 64×64 blocks they touched when they wrap round an edge."""
         if not len(rows):
             return
-        self.buffer[rows, cols] = colours
+        keys = (rows // TILE) * (self.shape[1] // TILE + 1) + cols // TILE
+        for key in np.unique(keys).tolist():
+            here = keys == key
+            pixels = self._tile(divmod(key, self.shape[1] // TILE + 1))
+            pixels[rows[here] % TILE, cols[here] % TILE] = colours[here]
         t, l, b, r = rows.min(), cols.min(), rows.max() + 1, cols.max() + 1
         d = self.drawn
         d[:] = [min(d[0], t), min(d[1], l), max(d[2], b), max(d[3], r)]
@@ -81,10 +97,18 @@ class StrokePreview(QtWidgets.QGraphicsObject):
 
     def clear(self) -> None:
         t, l, b, r = self.drawn
+        self.tiles.clear()
         if b > t:
-            self.buffer[t:b, l:r] = 0
             self.update(QtCore.QRectF(l, t, r - l, b - t))
         self.drawn[:] = [self.shape[0], self.shape[1], 0, 0]
+
+    def snapshot(self) -> np.ndarray:
+        """The preview as one (H, W) ARGB array (for checks on small canvases)."""
+        h, w = self.shape
+        out = np.zeros((h + TILE, w + TILE), np.uint32)
+        for (ty, tx), (pixels, _image) in self.tiles.items():
+            out[ty * TILE:(ty + 1) * TILE, tx * TILE:(tx + 1) * TILE] = pixels
+        return out[:h, :w]
 
 
 def preview_for(window) -> StrokePreview:

@@ -96,10 +96,10 @@ def test_the_stroke_shows_in_the_preview_and_reaches_the_document_on_release(win
     for x in (14, 20, 30):
         move_to(canvas, (x, 12))
     preview = canvas._stroke_preview
-    assert preview.isVisible() and (preview.buffer[11:14, 10:30] != 0).any()
+    assert preview.isVisible() and (preview.snapshot()[11:14, 10:30] != 0).any()
     assert (window.document.levels == before).all()          # nothing written yet
     release(canvas, (30, 12))
-    assert not preview.buffer.any()
+    assert not preview.snapshot().any() and not preview.tiles
     assert (window.document.levels[11:13, 12:30] == 2).all()
 
 
@@ -361,3 +361,17 @@ def test_brackets_resize_the_grain_without_growing_the_library(window, qtbot):
     assert window.grain_dock.list.count() == count
     click(window.canvas.viewport(), cell_pos(window.canvas, 30, 20))
     assert last(window).size == 7
+
+
+def test_the_preview_keeps_tiles_only_where_the_stroke_goes(qtbot):
+    from app.tools.brush import StrokePreview
+    preview = StrokePreview((600, 1000))
+    rows = np.array([0, 255, 256, 599, 300])
+    cols = np.array([0, 999, 256, 5, 700])
+    preview.draw(rows, cols, np.arange(1, 6, dtype=np.uint32) | 0xFF000000)
+    assert sorted(preview.tiles) == [(0, 0), (0, 3), (1, 1), (1, 2), (2, 0)]
+    snap = preview.snapshot()
+    assert snap.shape == (600, 1000) and (snap[rows, cols] & 0xFF).tolist() == [1, 2, 3, 4, 5]
+    assert np.count_nonzero(snap) == 5
+    preview.clear()
+    assert not preview.tiles and not preview.snapshot().any()
