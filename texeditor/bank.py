@@ -228,7 +228,7 @@ class Bank:
         self._check_kind()
         try:
             self._conn.execute("PRAGMA journal_mode = WAL")     # readers never wait for writers
-            self._conn.execute("PRAGMA synchronous = NORMAL")   # durable enough with WAL
+            self._conn.execute("PRAGMA synchronous = FULL")     # a commit survives a power cut
         except sqlite3.Error as exc:
             raise self._error(exc) from None
         if self._version() == SCHEMA_VERSION:
