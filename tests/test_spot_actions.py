@@ -348,3 +348,14 @@ def test_a_big_scatter_is_rasterised_ahead_with_progress_and_can_be_cancelled():
     assert seen and seen[-1] == 1.0 and seen == sorted(seen)
     with pytest.raises(Cancelled):
         ScatterSpots(DISC, 64, seed=6).rasterise((48, 64), cancel=lambda: True)
+
+
+def test_a_log_with_a_deleted_spot_saves_and_reopens(tmp_path):
+    from texeditor.texturefile import load_texture, save_texture
+
+    history = canvas(base=1)
+    history.apply(PlaceSpot(DISC, 16, 16, level=2, seed=5))    # step 2
+    delete(history, 2)
+    save_texture(tmp_path / "deleted.texture", history)
+    reopened, _ = load_texture(tmp_path / "deleted.texture")
+    assert np.array_equal(reopened.document.levels, history.document.levels)

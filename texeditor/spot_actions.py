@@ -404,7 +404,7 @@ class DeleteSpot(Action):
     TYPE: ClassVar[str] = "delete_spot"
     EFFECT: ClassVar[str] = "levels"
     step: int = param("int", 0, MAX_LOG, doc="log index of the placement (0 = first step)")
-    placement: str = param("ref", doc="fingerprint of the placement (spot_ref)")
+    placement: str = param("str", hi=64, doc="fingerprint of the placement (spot_ref): not a DPJ")
     spot: int | None = param("int", 0, MAX_SCATTER - 1, default=None, optional=True,
                              doc="which spot of a scatter (none: all of that placement)")
 
