@@ -21,6 +21,7 @@ from .bank_dock import BankDock
 from .brush_dock import install_paint_ui
 from .canvas import CanvasView
 from .files import FileOps
+from .grain_dock import install as install_texture_ui
 from .history_dock import HistoryDock
 from .palette_dock import PaletteDock
 from .synthesis_dock import SynthesisDock
@@ -64,6 +65,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self._build_menus()
         self._build_tools()
         install_paint_ui(self)       # brush dock, [ and ], Grains menu, Peano sub-regions
+        install_texture_ui(self)     # Grain & density dock, Image ▸ Composition…, Double the levels…
         self._connect()
         if history is not None:
             self.set_history(history, path)
@@ -271,6 +273,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.palette_dock.set_palette(doc.palette)
         self.history_dock.refresh()
         self.synthesis_dock.set_dpj(doc.dpj)
+        self.density_dock.refresh()
         self.act_undo.setEnabled(self.history.index > 1)
         self.act_redo.setEnabled(self.history.can_redo)
         self._update_title()

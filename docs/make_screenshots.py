@@ -370,5 +370,104 @@ def shot_bank(app, window, out: Path) -> None:
 MORE_SHOTS.append(shot_bank)
 
 
+
+def shot_grains(app, window, out: Path) -> None:
+    """Grains, density and composition (issue 9): one texture in square, circle and hexagon grains,
+    expanded and compressed (the thesis's Fig. 5.5–5.7), each panel made with the Grain & density
+    dock; the dock itself; the composition and doubling dialogs."""
+    import numpy as np
+    from PySide6 import QtGui
+
+    from app.images import qimage_from_rgb
+    from texeditor import DPJ
+    from texeditor.actions import SetPalette
+    from texeditor.history import History
+    from texeditor.resources import bundled_dpj
+    from texeditor.texture_actions import RenderGrains, store_dpj
+
+    previous = window.history
+    history = History()
+    history.add_dpj(DPJ.load(bundled_dpj("gravel-3x3-g4")))
+    window.set_history(history)
+    synth = window.synthesis_dock
+    synth.width_box.setValue(48)
+    synth.height_box.setValue(48)
+    synth.seed.set_value(3)
+    window.synthesise_from_dock()
+    window.runner.wait()
+    window.submit(SetPalette(((236, 230, 218), (176, 132, 86), (112, 74, 44), (42, 30, 22))))
+    dock = window.density_dock
+    dock.show()
+    dock.raise_()
+    panels = [("Square grains, 8 px", RenderGrains("square", 8)),
+              ("Circle grains, 8 px", RenderGrains("circle", 8)),
+              ("Hexagons, 10 px, honeycomb", RenderGrains("hexagon", 10)),
+              ("Explosion 2× across", RenderGrains("circle", 8, explosion_x=2.0)),
+              ("Explosion 1.6× both ways", RenderGrains("square", 6, explosion_x=1.6,
+                                                        explosion_y=1.6)),
+              ("Compression 0.5, max level", RenderGrains("circle", 10, compression=0.5,
+                                                          overlap="max"))]
+    side, caption, gap = 240, 26, 12
+    figure = QtGui.QImage(3 * side + 4 * gap, 2 * (side + caption) + 3 * gap,
+                          QtGui.QImage.Format.Format_RGB888)
+    figure.fill(QtGui.QColor(250, 250, 250))
+    painter = QtGui.QPainter(figure)
+    font = painter.font()
+    font.setPointSize(10)
+    painter.setFont(font)
+    for k, (text, action) in enumerate(panels):
+        dock.show_action(action)
+        dock.commit()                       # as a slider's release does
+        window.runner.wait()
+        doc = window.document
+        rgb = np.asarray(doc.palette)[doc.levels[:side, :side]]
+        x, y = gap + (k % 3) * (side + gap), gap + (k // 3) * (side + caption + gap)
+        painter.drawImage(x, y, qimage_from_rgb(rgb))
+        painter.setPen(QtGui.QColor(40, 40, 40))
+        painter.drawText(QtCore.QRect(x, y + side, side, caption),
+                         QtCore.Qt.AlignmentFlag.AlignCenter, text)
+    painter.end()
+    path = out / "grains-density.png"
+    figure.save(str(path))
+    print(path.relative_to(ROOT) if path.is_relative_to(ROOT) else path)
+
+    dock.show_action(RenderGrains("hexagon", 12, explosion_x=1.25, explosion_y=1.25))
+    dock.commit()
+    window.runner.wait()
+    window.canvas.actual_pixels()
+    settle(app, 300)
+    window.statusBar().clearMessage()
+    save(window, out / "grain-dock.png")
+
+    window.act_undo.trigger()               # back to the normalised texture
+    window.synthesis_dock.width_box.setValue(160)
+    window.synthesis_dock.height_box.setValue(160)
+    window.synthesise_from_dock()
+    window.runner.wait()
+    grass = store_dpj(window.document, DPJ.load(bundled_dpj("grass-2x2-g8")))
+    window.act_compose.trigger()
+    dialog = window._composition_dialog
+    dialog.source.reload()
+    dialog.source.dpj.setCurrentIndex(dialog.source.dpj.findData(grass))
+    dialog.mask_kind.setCurrentIndex(dialog.mask_kind.findData("texture"))
+    dialog.mask_source.seed.set_value(77)
+    dialog.mask_levels.setText("3")
+    settle(app, 300)
+    window.runner.wait()
+    settle(app, 300)
+    save(dialog, out / "composition.png")
+    dialog.close()
+    window.act_double.trigger()
+    doubling = window.doubling_dialog
+    settle(app, 300)
+    save(doubling, out / "doubling.png")
+    doubling.reject()
+    window.mark_clean()
+    window.set_history(previous)
+
+
+MORE_SHOTS.append(shot_grains)
+
+
 if __name__ == "__main__":
     sys.exit(main())

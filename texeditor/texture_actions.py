@@ -122,10 +122,10 @@ def check_recipe(text: str, ref: str | None, what: str) -> None:
 
 
 def render_recipe(text: str, dpjs: dict, progress=None, cancel=None) -> tuple[np.ndarray, int]:
-    """(levels, G) of a recipe replayed on an empty document with ``dpjs``; memoised."""
+    """(levels, G) of a recipe replayed on an empty document with ``dpjs`` (reference → DPJ, a
+    reference naming its DPJ's content); memoised."""
     from .history import replay
-    key = (hashlib.sha256(text.encode("utf-8")).hexdigest(),
-           tuple(sorted(dpj_ref(d) for d in dpjs.values())))
+    key = (hashlib.sha256(text.encode("utf-8")).hexdigest(), tuple(sorted(dpjs)))
     hit = _RECIPES.get(key)
     if hit is not None:
         return hit

@@ -1,0 +1,533 @@
+"""Image ▸ Composition… (thesis §5.4.1): incrust another texture into this one where a mask says,
+or mix the two, T3 = not[(a op1 T1) op2 (b op3 T2)] op4 c — with a preview, one Action per Apply.
+
+T1 is the current texture; T2 (and a mask texture) is picked as a synthesis of a DPJ of the
+document, an opened `.texture` file, or this texture at an earlier step: each becomes a *recipe*
+(the log that rebuilds it, see `texture_actions`). Sources are rendered in the worker; the
+composition itself is instant and previewed on a copy of the document, never on the document.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from texeditor import composition
+from texeditor.errors import TexeditorError
+from texeditor.texture_actions import Incrust, Mix, recipe_of, recipe_refs, synthesis_recipe
+
+from .images import qimage_from_rgb
+from .params_form import SeedEdit, dpj_summary
+
+PREVIEW = 320
+TINT = (40, 200, 255)             # the selection tint of the region tools
+OP_NAMES = {"and": "and", "or": "or", "xor": "xor", "min": "min", "max": "max",
+            "add": "add (clipped)", "multiply": "× (multiply)", "replace": "replace (over)"}
+PRESETS = [("Custom", None),
+           ("Average of T1 and T2", dict(a=0.5, op1="multiply", op2="add", b=0.5,
+                                         op3="multiply", negate=False, op4="max", c=0.0)),
+           ("T2 over T1 (T2's background clear)", dict(a=1.0, op1="multiply", op2="replace",
+                                                       b=1.0, op3="multiply", negate=False,
+                                                       op4="max", c=0.0)),
+           ("Exclusive or", dict(a=1.0, op1="multiply", op2="xor", b=1.0, op3="multiply",
+                                 negate=False, op4="max", c=0.0)),
+           ("Darker of the two", dict(a=1.0, op1="multiply", op2="min", b=1.0, op3="multiply",
+                                      negate=False, op4="max", c=0.0)),
+           ("Negative of the brighter", dict(a=1.0, op1="multiply", op2="max", b=1.0,
+                                             op3="multiply", negate=True, op4="max", c=0.0))]
+MASKS = [("Levels of another texture", "texture"), ("Levels of this texture", "levels"),
+         ("The Extract tool's selection", "selection"), ("Painted on the preview", "painted")]
+
+
+class SourcePicker(QtWidgets.QWidget):
+    """Which texture: a synthesis of a DPJ of the document, a .texture file, or this one at a
+    step. ``recipe()`` gives (recipe text, DPJ reference or None)."""
+
+    changed = QtCore.Signal()
+
+    def __init__(self, window, seed: int):
+        super().__init__()
+        self.window = window
+        self.file_recipe: tuple[str, str | None] | None = None
+        self.file_name = ""
+        form = QtWidgets.QFormLayout(self)
+        form.setContentsMargins(0, 0, 0, 0)
+        self.kind = QtWidgets.QComboBox()
+        self.kind.addItem("Synthesis of a DPJ", "synth")
+        self.kind.addItem("Texture file…", "file")
+        self.kind.addItem("This texture at a step", "step")
+        self.dpj = QtWidgets.QComboBox()
+        self.dpj.setSizeAdjustPolicy(
+            QtWidgets.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.dpj.setMinimumContentsLength(18)
+        self.seed = SeedEdit(seed)
+        self.open_button = QtWidgets.QPushButton("Open a texture…")
+        self.file_label = QtWidgets.QLabel("no file")
+        self.step = QtWidgets.QSpinBox()
+        self.step.setToolTip("The texture after this many steps of the history")
+        form.addRow("Source", self.kind)
+        self.rows = {"synth": [self._row(form, "DPJ", self.dpj), self._row(form, "Seed", self.seed)],
+                     "file": [self._row(form, self.open_button, self.file_label)],
+                     "step": [self._row(form, "After step", self.step)]}
+        self.kind.currentIndexChanged.connect(self._kind_changed)
+        self.dpj.currentIndexChanged.connect(self.changed)
+        self.seed.changed.connect(self.changed)
+        self.step.valueChanged.connect(self.changed)
+        self.open_button.clicked.connect(self.open_file)
+        self.reload()
+        self._kind_changed()
+
+    @staticmethod
+    def _row(form, label, widget):
+        form.addRow(label, widget)
+        return (form.labelForField(widget), widget)
+
+    def _kind_changed(self) -> None:
+        kind = self.kind.currentData()
+        for key, rows in self.rows.items():
+            for label, widget in rows:
+                for w in (label, widget):
+                    if w is not None:
+                        w.setVisible(key == kind)
+        self.changed.emit()
+
+    def reload(self) -> None:
+        """Follow the document: its DPJs and the number of steps."""
+        history = self.window.history
+        current = self.dpj.currentData()
+        self.dpj.blockSignals(True)
+        self.dpj.clear()
+        doc = history.document
+        for ref, dpj in doc.dpjs.items():
+            if dpj.meta.get("source") != "doubling table":
+                self.dpj.addItem(dpj_summary(dpj), ref)
+        index = self.dpj.findData(current if current is not None else doc.dpj_ref)
+        self.dpj.setCurrentIndex(max(0, index))
+        self.dpj.blockSignals(False)
+        self.step.setRange(1, max(1, history.index))
+        if self.step.value() == 0 or self.step.value() > history.index:
+            self.step.setValue(max(1, history.index))
+
+    def open_file(self, path=None) -> None:
+        from texeditor.texturefile import read_texture
+        if path is None:
+            path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Open a texture", "",
+                                                            "Textures (*.texture)")
+            if not path:
+                return
+        try:
+            tex = read_texture(path)
+            refs = recipe_refs(tex.actions)
+            if len(refs) > 1:
+                raise TexeditorError(f"{Path(path).name} is made from {len(refs)} DPJs; a "
+                                     "composition source may use one")
+        except TexeditorError as exc:
+            self.window.show_error("Cannot use this texture", exc)
+            return
+        for ref in refs:        # kept under the file's own reference, as a file's DPJ is
+            self.window.document.dpjs.setdefault(ref, tex.dpjs[ref])
+        self.file_recipe = (recipe_of(tex.actions), refs[0] if refs else None)
+        self.file_name = Path(path).name
+        self.file_label.setText(self.file_name)
+        self.changed.emit()
+
+    def recipe(self) -> tuple[str, str | None]:
+        kind = self.kind.currentData()
+        history = self.window.history
+        if kind == "synth":
+            ref = self.dpj.currentData()
+            if ref is None:
+                raise TexeditorError("the document holds no DPJ: acquire one, or pick a file")
+            h, w = history.document.shape
+            return synthesis_recipe(ref, w, h, self.seed.value()), ref
+        if kind == "file":
+            if self.file_recipe is None:
+                raise TexeditorError("open a .texture file first")
+            return self.file_recipe
+        actions = history.applied[:self.step.value()]
+        refs = recipe_refs(actions)
+        if len(refs) > 1:
+            raise TexeditorError(f"at step {self.step.value()} the texture is made from "
+                                 f"{len(refs)} DPJs; a composition source may use one")
+        return recipe_of(actions), (refs[0] if refs else None)
+
+    def describe(self) -> str:
+        kind = self.kind.currentData()
+        if kind == "synth":
+            return f"a synthesis (seed {self.seed.value()})"
+        if kind == "file":
+            return self.file_name or "a file"
+        return f"this texture at step {self.step.value()}"
+
+
+class PaintablePreview(QtWidgets.QLabel):
+    """The preview; in painting mode a drag marks membership points under a round brush."""
+
+    painted = QtCore.Signal()
+
+    def __init__(self):
+        super().__init__()
+        self.setFixedSize(PREVIEW, PREVIEW)
+        self.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        self.setFrameShape(QtWidgets.QFrame.Shape.StyledPanel)
+        self.painting = False
+        self.radius = 3
+        self.mask: np.ndarray | None = None
+        self._scale, self._origin = 1.0, (0, 0)
+
+    def show_rgb(self, rgb: np.ndarray) -> None:
+        h, w = rgb.shape[:2]
+        scale = min(PREVIEW / w, PREVIEW / h)
+        scale = float(int(scale)) if scale >= 1 else scale
+        image = qimage_from_rgb(rgb).scaled(max(1, round(w * scale)), max(1, round(h * scale)),
+                                            QtCore.Qt.AspectRatioMode.IgnoreAspectRatio,
+                                            QtCore.Qt.TransformationMode.FastTransformation)
+        self._scale = scale
+        self._origin = ((PREVIEW - image.width()) // 2, (PREVIEW - image.height()) // 2)
+        self.setPixmap(QtGui.QPixmap.fromImage(image))
+
+    def cell_at(self, pos: QtCore.QPointF) -> tuple[int, int]:
+        return (int((pos.y() - self._origin[1]) // self._scale),
+                int((pos.x() - self._origin[0]) // self._scale))
+
+    def paint_at(self, pos) -> None:
+        if not self.painting or self.mask is None:
+            return
+        r0, c0 = self.cell_at(pos)
+        h, w = self.mask.shape
+        rr, cc = np.ogrid[:h, :w]
+        self.mask |= (rr - r0) ** 2 + (cc - c0) ** 2 <= self.radius ** 2
+        self.painted.emit()
+
+    def mousePressEvent(self, ev) -> None:
+        self.paint_at(ev.position())
+
+    def mouseMoveEvent(self, ev) -> None:
+        if ev.buttons() & QtCore.Qt.MouseButton.LeftButton:
+            self.paint_at(ev.position())
+
+
+class CompositionDialog(QtWidgets.QDialog):
+    def __init__(self, window):
+        super().__init__(window)
+        self.window = window
+        self.setWindowTitle("Composition")
+        self._pending = False
+        outer = QtWidgets.QHBoxLayout(self)
+        left = QtWidgets.QVBoxLayout()
+        outer.addLayout(left, 1)
+
+        self.tabs = QtWidgets.QTabWidget()
+        self.tabs.addTab(self._incrust_page(), "Incrustation")
+        self.tabs.addTab(self._mix_page(), "Mixing")
+        t2 = QtWidgets.QGroupBox("T2: the other texture")
+        box = QtWidgets.QVBoxLayout(t2)
+        self.source = SourcePicker(window, 2)
+        box.addWidget(self.source)
+        left.addWidget(t2)
+        left.addWidget(self.tabs)
+        left.addStretch(1)
+
+        right = QtWidgets.QVBoxLayout()
+        self.preview = PaintablePreview()
+        self.preview.setToolTip("T3, the composed texture (the top-left corner, enlarged)")
+        self.status = QtWidgets.QLabel()
+        self.status.setWordWrap(True)
+        self.status.setFixedWidth(PREVIEW)
+        right.addWidget(QtWidgets.QLabel("Preview (T1 is the current texture)"))
+        right.addWidget(self.preview)
+        self.tint = QtWidgets.QCheckBox("Tint where T2 shows (incrustation)")
+        self.tint.setChecked(True)
+        self.tint.toggled.connect(self.schedule)
+        right.addWidget(self.tint)
+        right.addWidget(self.status)
+        right.addStretch(1)
+        buttons = QtWidgets.QDialogButtonBox(QtWidgets.QDialogButtonBox.StandardButton.Close)
+        self.apply_button = buttons.addButton("Apply",
+                                              QtWidgets.QDialogButtonBox.ButtonRole.ApplyRole)
+        self.apply_button.setDefault(True)
+        self.apply_button.clicked.connect(self.apply)
+        buttons.rejected.connect(self.reject)
+        right.addWidget(buttons)
+        outer.addLayout(right)
+
+        self.timer = QtCore.QTimer(self)
+        self.timer.setSingleShot(True)
+        self.timer.setInterval(150)
+        self.timer.timeout.connect(self.update_preview)
+        for signal in (self.source.changed, self.mask_source.changed, self.tabs.currentChanged,
+                       self.preview.painted):
+            signal.connect(self.schedule)
+        self._unsubscribe = window.history.subscribe(self._document_changed)
+        self._history = window.history
+        self.reset_painting()
+        self.schedule()
+
+    # -- pages ----------------------------------------------------------------------------------------
+    def _incrust_page(self) -> QtWidgets.QWidget:
+        page = QtWidgets.QWidget()
+        form = QtWidgets.QFormLayout(page)
+        form.addRow(QtWidgets.QLabel("T3 = if mask then T2 else T1: T2 shows where the mask "
+                                     "holds, the current texture elsewhere."))
+        self.mask_kind = QtWidgets.QComboBox()
+        for text, value in MASKS:
+            self.mask_kind.addItem(text, value)
+        self.mask_levels = QtWidgets.QLineEdit("1-15")
+        self.mask_levels.setToolTip("The mask's levels where T2 shows, like 1,3-5 (0 is the "
+                                    "background)")
+        self.mask_source = SourcePicker(self.window, 3)
+        self.mask_group = QtWidgets.QGroupBox("Mask texture")
+        QtWidgets.QVBoxLayout(self.mask_group).addWidget(self.mask_source)
+        self.radius = QtWidgets.QSpinBox()
+        self.radius.setRange(0, 64)
+        self.radius.setValue(3)
+        self.radius.setSuffix(" points")
+        self.clear_paint = QtWidgets.QPushButton("Clear the painting")
+        paint_row = QtWidgets.QHBoxLayout()
+        paint_row.addWidget(self.radius)
+        paint_row.addWidget(self.clear_paint)
+        self.paint_widget = QtWidgets.QWidget()
+        self.paint_widget.setLayout(paint_row)
+        form.addRow("Mask", self.mask_kind)
+        form.addRow("Levels", self.mask_levels)
+        form.addRow(self.mask_group)
+        form.addRow("Brush radius", self.paint_widget)
+        self.mask_kind.currentIndexChanged.connect(self._mask_kind_changed)
+        self.mask_levels.textChanged.connect(self.schedule)
+        self.radius.valueChanged.connect(lambda r: setattr(self.preview, "radius", r))
+        self.clear_paint.clicked.connect(self.reset_painting)
+        self._mask_form = form
+        QtCore.QTimer.singleShot(0, self._mask_kind_changed)
+        return page
+
+    def _mix_page(self) -> QtWidgets.QWidget:
+        page = QtWidgets.QWidget()
+        form = QtWidgets.QFormLayout(page)
+        form.addRow(QtWidgets.QLabel("T3 = not[(a op1 T1) op2 (b op3 T2)] op4 c, on the grey "
+                                     "scale (0 background … 1 top level)."))
+        self.preset = QtWidgets.QComboBox()
+        for text, values in PRESETS:
+            self.preset.addItem(text, values)
+        self.weights = {k: self._weight(v) for k, v in (("a", 1.0), ("b", 1.0), ("c", 0.0))}
+        self.ops = {k: self._op(v) for k, v in (("op1", "multiply"), ("op2", "max"),
+                                                 ("op3", "multiply"), ("op4", "max"))}
+        self.negate = QtWidgets.QCheckBox("not[…]: the complement of the bracket")
+        form.addRow("Preset", self.preset)
+        form.addRow("a op1 T1", self._pair(self.weights["a"], self.ops["op1"]))
+        form.addRow("op2", self.ops["op2"])
+        form.addRow("b op3 T2", self._pair(self.weights["b"], self.ops["op3"]))
+        form.addRow(self.negate)
+        form.addRow("op4 c", self._pair(self.ops["op4"], self.weights["c"]))
+        self.preset.currentIndexChanged.connect(self._preset_chosen)
+        for w in self.weights.values():
+            w.valueChanged.connect(self._custom)
+        for w in self.ops.values():
+            w.currentIndexChanged.connect(self._custom)
+        self.negate.toggled.connect(self._custom)
+        return page
+
+    @staticmethod
+    def _weight(value: float) -> QtWidgets.QDoubleSpinBox:
+        box = QtWidgets.QDoubleSpinBox()
+        box.setRange(0.0, 1.0)
+        box.setSingleStep(0.05)
+        box.setDecimals(3)
+        box.setValue(value)
+        box.setToolTip("A proportion of the grey scale: 0 the background, 1 the top level")
+        return box
+
+    @staticmethod
+    def _op(value: str) -> QtWidgets.QComboBox:
+        combo = QtWidgets.QComboBox()
+        for op in composition.OPS:
+            combo.addItem(OP_NAMES[op], op)
+        combo.setCurrentIndex(combo.findData(value))
+        return combo
+
+    @staticmethod
+    def _pair(*widgets) -> QtWidgets.QWidget:
+        w = QtWidgets.QWidget()
+        row = QtWidgets.QHBoxLayout(w)
+        row.setContentsMargins(0, 0, 0, 0)
+        for x in widgets:
+            row.addWidget(x)
+        return w
+
+    def _preset_chosen(self) -> None:
+        values = self.preset.currentData()
+        if not values:
+            return
+        self._setting = True
+        for k, w in self.weights.items():
+            w.setValue(values[k])
+        for k, w in self.ops.items():
+            w.setCurrentIndex(w.findData(values[k]))
+        self.negate.setChecked(values["negate"])
+        self._setting = False
+        self.schedule()
+
+    def _custom(self) -> None:
+        if not getattr(self, "_setting", False):
+            self.preset.blockSignals(True)
+            self.preset.setCurrentIndex(0)
+            self.preset.blockSignals(False)
+        self.schedule()
+
+    def _mask_kind_changed(self) -> None:
+        kind = self.mask_kind.currentData()
+        form = self._mask_form
+        for widget, shown in ((self.mask_levels, kind in ("texture", "levels")),
+                              (self.mask_group, kind == "texture"),
+                              (self.paint_widget, kind == "painted")):
+            widget.setVisible(shown)
+            label = form.labelForField(widget)
+            if label is not None:
+                label.setVisible(shown)
+        self.preview.painting = kind == "painted" and self.tabs.currentIndex() == 0
+        self.preview.setCursor(QtCore.Qt.CursorShape.CrossCursor if self.preview.painting
+                               else QtCore.Qt.CursorShape.ArrowCursor)
+        self.schedule()
+
+    def reset_painting(self) -> None:
+        self.preview.mask = np.zeros(self.window.document.shape, bool)
+        self.schedule()
+
+    # -- the action ----------------------------------------------------------------------------------
+    def action(self):
+        """The Incrust or Mix of the current settings (TexeditorError says what is missing)."""
+        source, ref = self.source.recipe()
+        if self.tabs.currentIndex() == 1:
+            values = {k: w.value() for k, w in self.weights.items()}
+            values.update({k: w.currentData() for k, w in self.ops.items()})
+            return Mix(source, ref, negate=self.negate.isChecked(), **values)
+        kind = self.mask_kind.currentData()
+        if kind == "texture":
+            mask_source, mask_ref = self.mask_source.recipe()
+            return Incrust(source, ref, mask="texture", levels=self.mask_levels.text(),
+                           mask_source=mask_source, mask_dpj=mask_ref)
+        if kind == "levels":
+            return Incrust(source, ref, mask="levels", levels=self.mask_levels.text())
+        mask = self._selection() if kind == "selection" else self.preview.mask
+        if mask is None or not mask.any():
+            raise TexeditorError("the mask is empty: " + (
+                "select with the Extract tool (E) first" if kind == "selection"
+                else "paint on the preview"))
+        points = tuple(map(tuple, np.argwhere(mask).tolist()))
+        return Incrust(source, ref, mask="points", points=points)
+
+    def _selection(self):
+        from .tools.regions import ExtractTool
+        tool = next((t for t in self.window.tools if isinstance(t, ExtractTool)), None)
+        return None if tool is None else tool.mask()
+
+    # -- preview and apply -----------------------------------------------------------------------------
+    def schedule(self) -> None:
+        self.preview.painting = (self.mask_kind.currentData() == "painted"
+                                 and self.tabs.currentIndex() == 0)
+        self.timer.start()
+
+    def hideEvent(self, ev) -> None:
+        self.timer.stop()                 # no work is started for a closed dialog
+        super().hideEvent(ev)
+
+    def showEvent(self, ev) -> None:
+        super().showEvent(ev)
+        QtCore.QTimer.singleShot(0, self._document_changed)   # catch up with the document
+
+    def _document_changed(self) -> None:
+        if self.window.history is not self._history or not self.isVisible():
+            return
+        self.source.reload()
+        self.mask_source.reload()
+        if self.preview.mask is None or self.preview.mask.shape != self.window.document.shape:
+            self.reset_painting()
+        self.schedule()
+
+    def update_preview(self) -> None:
+        """Render the sources in the worker if needed, then compose on a copy of the document."""
+        try:
+            action = self.action()
+        except TexeditorError as exc:
+            self.status.setText(str(exc))
+            self.apply_button.setEnabled(False)
+            self._show(self.window.document.levels)
+            return
+        runner = self.window.runner
+        if not self.isVisible():
+            return
+        if runner.busy:
+            self.timer.start()
+            return
+        dpjs = dict(self.window.document.dpjs)
+        holder = _Store(dpjs)
+        runner.run("Rendering the composition's sources…",
+                   lambda progress, cancel: action.prepare(holder, progress, cancel),
+                   lambda _=None: self._compose(action),
+                   on_error=lambda exc: self.status.setText(f"Cannot render a source: {exc}"))
+
+    def _compose(self, action) -> None:
+        scratch = self.window.document.copy()
+        try:
+            action.apply(scratch)
+        except TexeditorError as exc:
+            self.status.setText(str(exc))
+            self.apply_button.setEnabled(False)
+            return
+        changed = int((scratch.levels != self.window.document.levels).sum())
+        inside = None
+        if isinstance(action, Incrust) and self.tint.isChecked():
+            inside = action.membership(self.window.document)
+        self._show(scratch.levels, inside)
+        self.status.setText(f"{action.label()}, T2 = {self.source.describe()}: "
+                            f"{changed:,} points change.")
+        self.apply_button.setEnabled(True)
+        self._last = action
+
+    def _show(self, levels, inside=None) -> None:
+        """The levels in the document's colours; where T2 shows, tinted (and the painting)."""
+        palette = np.asarray(self.window.document.palette)
+        rgb = palette[levels[:PREVIEW, :PREVIEW]].copy()
+        if self.preview.painting and self.preview.mask is not None:
+            inside = self.preview.mask if inside is None else inside | self.preview.mask
+        if inside is not None:
+            m = inside[:PREVIEW, :PREVIEW]
+            rgb[m] = (rgb[m] * 0.7 + np.array(TINT) * 0.3).astype(np.uint8)
+        self.preview.show_rgb(rgb)
+
+    def apply(self) -> None:
+        try:
+            action = self.action()
+        except TexeditorError as exc:
+            self.window.show_error("Cannot compose", exc)
+            return
+        if self.window.runner.busy:
+            return
+        holder = _Store(dict(self.window.document.dpjs))
+        self.window.runner.run("Rendering the composition's sources…",
+                               lambda progress, cancel: action.prepare(holder, progress, cancel),
+                               lambda _=None: self.window.submit(action),
+                               on_error=lambda exc: self.window.show_error("Cannot compose", exc))
+
+
+class _Store:
+    """What a source's preparation reads from a document: its DPJs (a copy, for the worker)."""
+
+    def __init__(self, dpjs):
+        self.dpjs = dpjs
+
+
+def open_composition(window) -> CompositionDialog:
+    """Show the (non-modal) composition dialog for the current document."""
+    dialog = getattr(window, "_composition_dialog", None)
+    if dialog is None or dialog._history is not window.history:
+        if dialog is not None:
+            dialog._unsubscribe()
+            dialog.close()
+            dialog.deleteLater()
+        dialog = CompositionDialog(window)
+        window._composition_dialog = dialog
+    dialog.show()
+    dialog.raise_()
+    return dialog

@@ -1,0 +1,163 @@
+"""Image ▸ Double the levels… (thesis §4.5): learn from a photo how each grey level splits in two
+given its 8 neighbours, then turn the G-level texture into a 2G-level one — one Action.
+
+The photo defaults to the one the current DPJ was acquired from (and its quantiser), so the step
+reads "acquire, synthesise with few levels, double". The table is a DPJ kept in the document's
+store and saved with it; learning takes milliseconds, so it runs here on the GUI thread.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from PySide6 import QtCore, QtWidgets
+
+from texeditor import doubling
+from texeditor.errors import TexeditorError
+from texeditor.levels import load_image
+from texeditor.texture_actions import DoubleLevels, store_dpj
+
+from . import resources
+from .acquire_dialog import IMAGE_FILTER, QUANTISERS
+from .images import pixmap
+from .params_form import SeedEdit
+
+PREVIEW = 200
+
+
+class DoublingDialog(QtWidgets.QDialog):
+    def __init__(self, window):
+        super().__init__(window)
+        self.window = window
+        self.setWindowTitle("Double the grey levels")
+        self.table = None
+        self.paths: list[Path] = list(resources.sample_images())
+        self.photo = QtWidgets.QComboBox()
+        for path in self.paths:
+            self.photo.addItem(path.stem, str(path))
+        self.browse = QtWidgets.QPushButton("Browse…")
+        self.method = QtWidgets.QComboBox()
+        for text, key in QUANTISERS:
+            self.method.addItem(text, key)
+        self.seed = SeedEdit(1)
+        self.photo_view = self._view("The photo at 2G levels: each level of the G-level "
+                                     "quantisation cut in two at its mean grey")
+        self.before_view = self._view("The texture now, at G levels (its top-left corner)")
+        self.result_view = self._view("The texture doubled (its top-left corner)")
+        self.info = QtWidgets.QLabel()
+        self.info.setWordWrap(True)
+        buttons = QtWidgets.QDialogButtonBox(QtWidgets.QDialogButtonBox.StandardButton.Cancel)
+        self.apply_button = buttons.addButton("Double",
+                                              QtWidgets.QDialogButtonBox.ButtonRole.AcceptRole)
+        self.apply_button.setDefault(True)
+        buttons.accepted.connect(self.apply)
+        buttons.rejected.connect(self.reject)
+
+        layout = QtWidgets.QVBoxLayout(self)
+        form = QtWidgets.QFormLayout()
+        row = QtWidgets.QHBoxLayout()
+        row.addWidget(self.photo, 1)
+        row.addWidget(self.browse)
+        form.addRow("Photo", row)
+        form.addRow("Quantiser", self.method)
+        form.addRow("Seed", self.seed)
+        layout.addLayout(form)
+        views = QtWidgets.QGridLayout()
+        for k, (text, view) in enumerate((("Photo at 2G levels", self.photo_view),
+                                          ("Texture now, G levels", self.before_view),
+                                          ("Texture doubled, 2G levels", self.result_view))):
+            views.addWidget(QtWidgets.QLabel(text), 0, k)
+            views.addWidget(view, 1, k)
+        layout.addLayout(views)
+        layout.addWidget(self.info)
+        layout.addWidget(buttons)
+
+        self._defaults()
+        self.photo.currentIndexChanged.connect(self.recompute)
+        self.method.currentIndexChanged.connect(self.recompute)
+        self.seed.changed.connect(self.recompute)
+        self.browse.clicked.connect(self.choose_file)
+        self.recompute()
+
+    @staticmethod
+    def _view(tip: str) -> QtWidgets.QLabel:
+        label = QtWidgets.QLabel()
+        label.setFixedSize(PREVIEW, PREVIEW)
+        label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        label.setFrameShape(QtWidgets.QFrame.Shape.StyledPanel)
+        label.setToolTip(tip)
+        return label
+
+    def _defaults(self) -> None:
+        """The photo and quantiser the current DPJ was acquired with, when known."""
+        dpj = self.window.document.dpj
+        meta = dpj.meta if dpj is not None else {}
+        image = str(meta.get("image") or meta.get("source") or meta.get("name") or "")
+        for k, path in enumerate(self.paths):
+            if path.name == image or path.stem in image.split():
+                self.photo.setCurrentIndex(k)
+        method = meta.get("quantiser") or meta.get("quantizer")
+        if method is not None and self.method.findData(method) >= 0:
+            self.method.setCurrentIndex(self.method.findData(method))
+
+    def choose_file(self) -> None:
+        path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Photo to learn from", "",
+                                                        IMAGE_FILTER)
+        if path:
+            self.set_photo(path)
+
+    def set_photo(self, path) -> None:
+        path = Path(path)
+        index = self.photo.findData(str(path))
+        if index < 0:
+            self.photo.addItem(path.name, str(path))
+            index = self.photo.count() - 1
+        self.photo.setCurrentIndex(index)
+
+    def recompute(self) -> None:
+        """Learn the table from the photo and preview the doubled texture."""
+        self.table = None
+        self.apply_button.setEnabled(False)
+        doc = self.window.document
+        g = doc.num_levels
+        try:
+            path = self.photo.currentData()
+            if path is None:
+                raise TexeditorError("choose a photo with Browse…")
+            image = load_image(path)
+            refined = doubling.refine(image, g, self.method.currentData())
+            table = doubling.learn(image, g, self.method.currentData(), name=Path(path).stem)
+            crop = doc.levels[:PREVIEW, :PREVIEW]
+            result = doubling.double_levels(crop, table, self.seed.value())
+        except TexeditorError as exc:
+            self.info.setText(f"<span style='color:#b00020'>{exc}</span>")
+            return
+        self.photo_view.setPixmap(pixmap(np.asarray(refined.palette)[refined.children], PREVIEW))
+        self.before_view.setPixmap(pixmap(np.asarray(doc.palette)[crop], PREVIEW))
+        self.result_view.setPixmap(pixmap(np.asarray(table.palette)[result.levels], PREVIEW))
+        eight, four, own, none = result.contexts
+        self.info.setText(
+            f"G = {g} → {2 * g} levels: every level b becomes 2b or 2b + 1, drawn with the "
+            f"photo's law given the 8 neighbours ({len(table):,} configurations learnt). "
+            f"In the preview: {eight:,} points decided by 8 neighbours, {four:,} by 4, "
+            f"{own + none:,} by their level alone. Works best on fine grains (§4.5).")
+        self.table = table
+        self.apply_button.setEnabled(True)
+
+    def apply(self) -> None:
+        if self.table is None:
+            return
+        ref = store_dpj(self.window.document, self.table)
+        if self.window.submit(DoubleLevels(ref, self.seed.value())):
+            self.accept()
+
+
+def open_doubling(window) -> DoublingDialog | None:
+    if not window.document.levels.size:
+        return None
+    dialog = DoublingDialog(window)
+    dialog.finished.connect(dialog.deleteLater)
+    window.doubling_dialog = dialog
+    dialog.open()
+    return dialog

@@ -1,0 +1,392 @@
+"""The Grain & density dock (thesis §5.3, §5.4.1): the texture's grain shape, size and orientation,
+its explosion and compression, with a live preview; each committed setting is one Action.
+
+A texture is "its DPJ, its grain and density parameters and its actions" (§5.4.2): the dock edits
+*the* RenderGrains step of the log — the last one since the texture was synthesised. With none,
+the first setting appends one; after that, a new setting replaces that step and the edits made
+after it are replayed on the new canvas (the main window's edit_step, in the worker). So Ctrl+Z
+always returns to the normalised texture, whatever the number of settings tried.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6 import QtCore, QtGui, QtWidgets
+
+from texeditor.errors import TexeditorError
+from texeditor.grain_render import LATTICES, MAX_COMPRESSION, MAX_EXPLOSION, OVERLAP_RULES
+from texeditor.texture_actions import RenderGrains
+
+from .images import qimage_from_rgb
+from .widgets import scrolled
+
+SHAPES = [("Square", "square"), ("Rectangle", "rectangle"), ("Circle / ellipse", "circle"),
+          ("Diamond", "diamond"), ("Hexagon (honeycomb)", "hexagon"),
+          ("Regular polygon", "polygon"), ("Line", "line"), ("Drawn grain", "bitmap")]
+OVERLAPS = [("Later grain wins", "last"), ("Highest level", "max"), ("Lowest level", "min")]
+LATTICE_NAMES = [("Automatic", "auto"), ("Grid", "grid"), ("Honeycomb", "honeycomb")]
+PREVIEW = 200                 # preview side, pixels (shown 1:1: the real grain)
+PREVIEW_DELAY_MS = 40
+COMMIT_DELAY_MS = 600         # a setting typed or stepped with keys is committed after a pause
+assert [v for _, v in OVERLAPS] == list(OVERLAP_RULES) and [v for _, v in LATTICE_NAMES] == \
+    list(LATTICES)
+
+
+def grain_step(history) -> int | None:
+    """The index of the texture's grain step: the last RenderGrains applied since the last
+    synthesis or new canvas (None when the texture is still normalised)."""
+    for i in range(history.index - 1, -1, -1):
+        action = history.actions[i]
+        if isinstance(action, RenderGrains):
+            return i
+        if action.EFFECT == "reset":
+            return None
+    return None
+
+
+class ValueSlider(QtWidgets.QWidget):
+    """A slider for a number (``scale`` steps per unit) with its value written beside it."""
+
+    changed = QtCore.Signal()
+    released = QtCore.Signal()
+
+    def __init__(self, lo: float, hi: float, scale: int = 1, fmt: str = "{:g}", suffix=""):
+        super().__init__()
+        self.scale, self.fmt, self.suffix = scale, fmt, suffix
+        row = QtWidgets.QHBoxLayout(self)
+        row.setContentsMargins(0, 0, 0, 0)
+        self.slider = QtWidgets.QSlider(QtCore.Qt.Orientation.Horizontal)
+        self.slider.setRange(round(lo * scale), round(hi * scale))
+        self.slider.setPageStep(max(1, scale // 2) if scale > 1 else 2)
+        self.label = QtWidgets.QLabel()
+        width = max(len(self._text(v)) for v in (lo, hi, (lo + hi) / 3))
+        self.label.setMinimumWidth(QtGui.QFontMetrics(self.label.font()).horizontalAdvance(
+            "0" * (width + 1)))
+        self.label.setAlignment(QtCore.Qt.AlignmentFlag.AlignRight
+                                | QtCore.Qt.AlignmentFlag.AlignVCenter)
+        row.addWidget(self.slider, 1)
+        row.addWidget(self.label)
+        self.slider.valueChanged.connect(self._moved)
+        self.slider.sliderReleased.connect(self.released)
+        self._moved()
+
+    def _text(self, value: float) -> str:
+        return self.fmt.format(value) + self.suffix
+
+    def _moved(self) -> None:
+        self.label.setText(self._text(self.value()))
+        self.changed.emit()
+
+    def value(self) -> float:
+        v = self.slider.value() / self.scale
+        return int(v) if self.scale == 1 else v
+
+    def set_value(self, value: float) -> None:
+        self.slider.setValue(round(value * self.scale))
+
+
+class GrainDensityDock(QtWidgets.QDockWidget):
+    """Grain shape, size, orientation; explosion across and down; compression and overlap."""
+
+    def __init__(self, window):
+        super().__init__("Grain && density", window)
+        self.setObjectName("GrainDensityDock")
+        self.window = window
+        self._loading = False
+        self._base_key = None
+        self._base = None               # (levels, palette) of the normalised texture
+        self._bitmap: str | None = None
+        self._shown_step = object()     # nothing shown yet
+        self._build()
+        self.show_action(None)
+        self._preview_timer = self._timer(PREVIEW_DELAY_MS, self.update_preview)
+        self._commit_timer = self._timer(COMMIT_DELAY_MS, self.commit)
+
+    # -- construction -------------------------------------------------------------------------------
+    def _build(self) -> None:
+        body = QtWidgets.QWidget()
+        layout = QtWidgets.QVBoxLayout(body)
+        layout.setContentsMargins(6, 6, 6, 6)
+        grain = QtWidgets.QGroupBox("Grain (§5.3.1)")
+        form = QtWidgets.QFormLayout(grain)
+        self.shape = QtWidgets.QComboBox()
+        for text, value in SHAPES:
+            self.shape.addItem(text, value)
+        self.shape.setToolTip("The shape every point of the normalised texture is drawn with; "
+                              "hexagons sit on a honeycomb, continuous in both directions")
+        self.size = ValueSlider(1, 32, suffix=" px")
+        self.size.setToolTip("Grain diameter in pixels")
+        self.angle = ValueSlider(-90, 90, suffix="°")
+        self.angle.setToolTip("Orientation: turns every grain counter-clockwise")
+        self.aspect = ValueSlider(0.25, 4, 20, "{:.2f}")
+        self.aspect.setToolTip("Height ÷ width of a rectangle or an ellipse")
+        self.sides = QtWidgets.QSpinBox()
+        self.sides.setRange(3, 12)
+        self.sides.setValue(5)
+        self.sides.setToolTip("Vertices of the regular polygon")
+        self.from_tool = QtWidgets.QPushButton("Use the Grain tool's grain")
+        self.from_tool.setToolTip("Copy the shape, size, orientation (and drawing) of the grain "
+                                  "chosen in the Grains dock")
+        form.addRow("Shape", self.shape)
+        form.addRow("Size", self.size)
+        form.addRow("Orientation", self.angle)
+        form.addRow("Aspect", self.aspect)
+        form.addRow("Sides", self.sides)
+        form.addRow(self.from_tool)
+        density = QtWidgets.QGroupBox("Density (§5.3.2)")
+        form = QtWidgets.QFormLayout(density)
+        self.explode_x = ValueSlider(1, MAX_EXPLOSION / 2, 10, "{:.1f}", "×")
+        self.explode_x.setToolTip("Explosion across: blank space between grains (1× = touching)")
+        self.explode_y = ValueSlider(1, MAX_EXPLOSION / 2, 10, "{:.1f}", "×")
+        self.explode_y.setToolTip("Explosion down: blank space between rows of grains")
+        self.compression = ValueSlider(0, MAX_COMPRESSION, 100, "{:.2f}")
+        self.compression.setToolTip("Brings grains together until they overlap; strong, it turns "
+                                    "a grain texture into a spot texture")
+        self.overlap = QtWidgets.QComboBox()
+        for text, value in OVERLAPS:
+            self.overlap.addItem(text, value)
+        self.overlap.setToolTip("Where compressed grains overlap, which level shows")
+        self.lattice = QtWidgets.QComboBox()
+        for text, value in LATTICE_NAMES:
+            self.lattice.addItem(text, value)
+        self.lattice.setToolTip("Automatic: a honeycomb for hexagons, a grid for the others")
+        form.addRow("Explosion across", self.explode_x)
+        form.addRow("Explosion down", self.explode_y)
+        form.addRow("Compression", self.compression)
+        form.addRow("Overlap", self.overlap)
+        form.addRow("Lattice", self.lattice)
+        self.natural = QtWidgets.QPushButton("Grains touching")
+        self.natural.setToolTip("Explosion 1×, no compression")
+        form.addRow(self.natural)
+
+        self.preview = QtWidgets.QLabel()
+        self.preview.setFixedSize(PREVIEW, PREVIEW)
+        self.preview.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        self.preview.setFrameShape(QtWidgets.QFrame.Shape.StyledPanel)
+        self.preview.setToolTip("The top-left corner of the texture with these grains, at 100 %")
+        self.info = QtWidgets.QLabel()
+        self.info.setWordWrap(True)
+        layout.addWidget(self.preview, 0, QtCore.Qt.AlignmentFlag.AlignHCenter)
+        layout.addWidget(self.info)
+        layout.addWidget(grain)
+        layout.addWidget(density)
+        layout.addStretch(1)
+        self.setWidget(scrolled(body))
+
+        for slider in (self.size, self.angle, self.aspect, self.explode_x, self.explode_y,
+                       self.compression):
+            slider.changed.connect(self._edited)
+            slider.released.connect(self.commit)
+        for combo in (self.shape, self.overlap, self.lattice):
+            combo.currentIndexChanged.connect(self._edited_now)
+        self.sides.valueChanged.connect(self._edited)
+        self.from_tool.clicked.connect(self.use_tool_grain)
+        self.natural.clicked.connect(self.make_natural)
+        self._enable_fields()
+
+    def _timer(self, ms: int, slot) -> QtCore.QTimer:
+        timer = QtCore.QTimer(self)
+        timer.setSingleShot(True)
+        timer.setInterval(ms)
+        timer.timeout.connect(slot)
+        return timer
+
+    # -- the settings ---------------------------------------------------------------------------------
+    def params(self) -> dict:
+        shape = self.shape.currentData()
+        return {"shape": shape, "size": self.size.value(), "aspect": self.aspect.value(),
+                "sides": self.sides.value(), "angle": float(self.angle.value()),
+                "explosion_x": self.explode_x.value(), "explosion_y": self.explode_y.value(),
+                "compression": self.compression.value(), "overlap": self.overlap.currentData(),
+                "lattice": self.lattice.currentData(),
+                "bitmap": self._bitmap if shape == "bitmap" else None}
+
+    def action(self) -> RenderGrains | None:
+        """The RenderGrains of the current settings (None, explained below the preview, if the
+        settings cannot make one)."""
+        try:
+            return RenderGrains(**self.params())
+        except TexeditorError as exc:
+            self.info.setText(f"<span style='color:#b00020'>{exc}</span>")
+            return None
+
+    def show_action(self, action: RenderGrains | None) -> None:
+        """Set the controls from a grain step (or the defaults for a normalised texture)."""
+        action = action or RenderGrains("square", 1)
+        self._loading = True
+        try:
+            self.shape.setCurrentIndex(max(0, self.shape.findData(action.shape)))
+            self.size.set_value(min(action.size, 32))
+            self.angle.set_value(max(-90.0, min(90.0, action.angle)))
+            self.aspect.set_value(action.aspect)
+            self.sides.setValue(min(action.sides, 12))
+            self.explode_x.set_value(action.explosion_x)
+            self.explode_y.set_value(action.explosion_y)
+            self.compression.set_value(action.compression)
+            self.overlap.setCurrentIndex(self.overlap.findData(action.overlap))
+            self.lattice.setCurrentIndex(self.lattice.findData(action.lattice))
+            self._bitmap = action.bitmap or self._bitmap
+        finally:
+            self._loading = False
+        self._enable_fields()
+
+    def _enable_fields(self) -> None:
+        shape = self.shape.currentData()
+        self.aspect.setEnabled(shape in ("rectangle", "circle", "polygon", "hexagon", "diamond"))
+        self.sides.setEnabled(shape == "polygon")
+        bitmap_ok = shape != "bitmap" or self._bitmap is not None
+        self.shape.setToolTip("" if bitmap_ok else "Draw or choose a grain in the Grains dock, "
+                              "then press “Use the Grain tool's grain”")
+
+    def _edited(self) -> None:
+        if self._loading:
+            return
+        self._enable_fields()
+        self._preview_timer.start()
+        self._commit_timer.start()
+
+    def _edited_now(self) -> None:
+        """A choice in a list is one decision: preview and commit at once."""
+        if self._loading:
+            return
+        self._enable_fields()
+        self.update_preview()
+        self.commit()
+
+    def use_tool_grain(self) -> None:
+        from .tools.grain import GrainTool
+        tool = next((t for t in self.window.tools if isinstance(t, GrainTool)), None)
+        if tool is None:
+            return
+        grain = tool.grain
+        self._bitmap = grain.bitmap
+        params = {**self.params(), "shape": grain.shape, "size": grain.size,
+                  "aspect": grain.aspect, "sides": grain.sides, "angle": grain.angle,
+                  "bitmap": grain.bitmap}
+        try:
+            self.show_action(RenderGrains(**params))
+        except TexeditorError as exc:
+            self.window.show_error("This grain cannot draw the texture", exc)
+            return
+        self._edited_now()
+
+    def make_natural(self) -> None:
+        self._loading = True
+        self.explode_x.set_value(1)
+        self.explode_y.set_value(1)
+        self.compression.set_value(0)
+        self._loading = False
+        self._edited_now()
+
+    # -- following the document -----------------------------------------------------------------------
+    def refresh(self) -> None:
+        """After any change of the history: show the grain step's settings, if it changed."""
+        history = self.window.history
+        if history is None:
+            return
+        i = grain_step(history)
+        step = history.actions[i] if i is not None else None
+        if step != self._shown_step:
+            self._shown_step = step
+            if not self._commit_timer.isActive():
+                self.show_action(step)
+        if self.isVisible():
+            self._preview_timer.start()
+
+    def normalised(self):
+        """(levels, palette) of the texture before its grain step (the current one if none)."""
+        history = self.window.history
+        i = grain_step(history)
+        if i is None:
+            doc = history.document
+            return doc.levels, doc.palette
+        key = (id(history), tuple(history.actions[:i]))
+        if key != self._base_key:
+            from texeditor.history import replay
+            doc = replay(history.actions[:i], history.document.dpjs)
+            self._base_key, self._base = key, (doc.levels.copy(), doc.palette)
+        return self._base
+
+    def update_preview(self) -> None:
+        action = self.action()
+        if action is None or self.window.history is None:
+            return
+        try:
+            levels, palette = self.normalised()
+        except TexeditorError as exc:
+            self.info.setText(str(exc))
+            return
+        if not levels.size:
+            self.preview.clear()
+            return
+        lat = action.grain_lattice()
+        rows = min(levels.shape[0], PREVIEW // lat.pitch_y + 3)
+        cols = min(levels.shape[1], PREVIEW // lat.pitch_x + 3)
+        try:
+            picture = action.render(levels[:rows, :cols])
+        except TexeditorError as exc:
+            self.info.setText(str(exc))
+            return
+        rgb = np.asarray(palette)[picture[:PREVIEW, :PREVIEW]]
+        self.preview.setPixmap(QtGui.QPixmap.fromImage(qimage_from_rgb(rgb)))
+        oh, ow = lat.shape(levels.shape)
+        self.info.setText(f"{levels.shape[1]}×{levels.shape[0]} points → {ow}×{oh} pixels; "
+                          f"one grain every {lat.pitch_x}×{lat.pitch_y} px"
+                          + (", odd rows shifted" if lat.row_offset else ""))
+
+    def showEvent(self, ev) -> None:
+        super().showEvent(ev)
+        self._preview_timer.start()
+
+    # -- committing -----------------------------------------------------------------------------------
+    def commit(self) -> None:
+        """Make the settings the texture's grain step: append one, or replace it and replay."""
+        self._commit_timer.stop()
+        window = self.window
+        action = self.action()
+        if (action is None or window.history is None or not window.document.levels.size
+                or not window.isVisible()):
+            return
+        if window.runner.busy:             # a synthesis or replay is running: try again soon
+            self._commit_timer.start()
+            return
+        i = grain_step(window.history)
+        if i is None:
+            if action == RenderGrains("square", 1):
+                return                     # the normalised texture already looks like this
+            base = window.document.levels.copy(), window.document.palette
+            if window.submit(action):
+                self._base_key = (id(window.history), tuple(window.history.actions[:-1]))
+                self._base = base
+        elif window.history.actions[i] != action:
+            window.edit_step(i, action)
+
+
+def install(window) -> GrainDensityDock:
+    """Add the dock (a tab beside the grain library's, in the tall left column) and the Image
+    menu's Composition… and Double the levels… entries."""
+    dock = GrainDensityDock(window)
+    window.density_dock = dock
+    window.addDockWidget(QtCore.Qt.DockWidgetArea.LeftDockWidgetArea, dock)
+    neighbour = next((d for d in (getattr(window, n, None) for n in
+                                  ("grain_dock", "brush_dock", "bank_dock")) if d is not None),
+                     None)
+    if neighbour is not None:
+        window.tabifyDockWidget(neighbour, dock)
+        (getattr(window, "bank_dock", None) or neighbour).raise_()
+    dock.visibilityChanged.connect(lambda shown: shown and dock.refresh())
+    from .composition_dialog import open_composition
+    from .doubling_dialog import open_doubling
+    window.act_compose = window._action("&Composition…", lambda: open_composition(window),
+                                        "Ctrl+Shift+K", "Incrust or mix another texture into "
+                                        "this one (thesis §5.4.1)")
+    window.act_double = window._action("&Double the levels…", lambda: open_doubling(window),
+                                       None, "Turn a G-level texture into 2G levels, learnt "
+                                       "from a photo (thesis §4.5)")
+    menus = {a.text().replace("&", ""): a.menu() for a in window.menuBar().actions()}
+    if "Image" in menus:
+        menus["Image"].addSeparator()
+        menus["Image"].addActions([window.act_compose, window.act_double])
+    if "View" in menus:
+        menus["View"].addAction(dock.toggleViewAction())
+    return dock

@@ -1,0 +1,228 @@
+"""The Grain & density dock, the composition dialog and the doubling dialog (issue 9), driven by
+mouse and keys on the real widgets; every check is on the document."""
+
+import numpy as np
+import pytest
+from PySide6 import QtCore, QtWidgets
+
+from app.grain_dock import grain_step
+from app.tools.regions import FillTool
+from texeditor import grain_render as gr
+from texeditor import regions
+from texeditor.history import replay
+from texeditor.texture_actions import DoubleLevels, Incrust, Mix, RenderGrains
+
+from .events import cell_pos, click, drag, press_key
+
+LEFT = QtCore.Qt.MouseButton.LeftButton
+
+
+@pytest.fixture
+def dock(window):
+    d = window.density_dock
+    d.show()
+    d.raise_()
+    window.canvas.fit()
+    QtWidgets.QApplication.processEvents()
+    return d
+
+
+def handle_pos(vs, value=None) -> QtCore.QPoint:
+    """Where a ValueSlider's handle is drawn (for ``value``: where it would be)."""
+    s = vs.slider
+    style = s.style()
+    length = style.pixelMetric(QtWidgets.QStyle.PixelMetric.PM_SliderLength, None, s)
+    v = s.value() if value is None else round(value * vs.scale)
+    x = QtWidgets.QStyle.sliderPositionFromValue(s.minimum(), s.maximum(), v,
+                                                 s.width() - length)
+    return QtCore.QPoint(x + length // 2, s.height() // 2)
+
+
+def slide(vs, value) -> None:
+    """Drag the slider's handle with the mouse to (about) ``value``; the release commits."""
+    a, b = handle_pos(vs), handle_pos(vs, value)
+    drag(vs.slider, LEFT, (a.x(), a.y()), (b.x(), b.y()))
+
+
+def settled(window, qtbot) -> None:
+    assert window.runner.wait(60_000)
+    qtbot.wait(10)
+
+
+def test_moving_size_and_density_sliders_renders_the_document_and_undo_returns(window, dock,
+                                                                                qtbot):
+    normal = window.document.levels.copy()
+    steps = window.history.index
+    slide(dock.size, 6)
+    settled(window, qtbot)
+    size = dock.size.value()
+    assert size > 1 and dock.size.slider.isSliderDown() is False
+    assert window.history.index == steps + 1
+    assert window.document.shape == (48 * size, 64 * size)
+    assert np.array_equal(window.document.levels, gr.render(normal, "square", size))
+
+    slide(dock.explode_x, 2.0)
+    settled(window, qtbot)
+    ex = dock.explode_x.value()
+    assert ex > 1.0
+    assert window.history.index == steps + 1              # the same grain step, edited
+    assert np.array_equal(window.document.levels,
+                          gr.render(normal, "square", size, explosion_x=ex))
+    assert window.document.shape[1] == 64 * round(size * ex)
+
+    slide(dock.compression, 0.5)
+    settled(window, qtbot)
+    comp = dock.compression.value()
+    assert np.array_equal(window.document.levels,
+                          gr.render(normal, "square", size, explosion_x=ex, compression=comp))
+
+    window.act_undo.trigger()
+    assert np.array_equal(window.document.levels, normal)  # back to the normalised texture
+    assert dock.size.value() == 1                            # the dock follows the document
+    window.act_redo.trigger()
+    assert dock.compression.value() == comp and dock.size.value() == size
+
+
+def test_changing_the_shape_renders_hexagons_on_a_honeycomb(window, dock, qtbot):
+    normal = window.document.levels.copy()
+    slide(dock.size, 8)
+    settled(window, qtbot)
+    size = dock.size.value()
+    dock.shape.setCurrentIndex(dock.shape.findData("hexagon"))
+    settled(window, qtbot)
+    assert np.array_equal(window.document.levels, gr.render(normal, "hexagon", size))
+    assert "odd rows shifted" in dock.info.text()
+    assert not dock.preview.pixmap().isNull()
+
+
+def test_editing_the_grain_size_after_a_fill_replays_the_fill(window, dock, qtbot):
+    normal = window.document.levels.copy()
+    slide(dock.size, 4)
+    settled(window, qtbot)
+    size = dock.size.value()
+    grain_index = grain_step(window.history)
+    # a later edit: the Fill tool clicked on the rendered canvas
+    press_key(window, QtCore.Qt.Key.Key_F)
+    assert isinstance(window.tool, FillTool)
+    window.palette_dock.swatches.current = 0
+    window.canvas.fit()
+    qtbot.wait(20)
+    click(window.canvas.viewport(), cell_pos(window.canvas, 5, 5))
+    fill = window.history.actions[-1]
+    assert window.history.index == grain_index + 2 and fill.TYPE == "fill"
+
+    slide(dock.size, 7)                                   # back in the dock: a new size
+    settled(window, qtbot)
+    new = dock.size.value()
+    assert new != size
+    assert window.history.actions[grain_index] == RenderGrains("square", new)
+    assert window.history.actions[grain_index + 1] == fill   # the fill is still there...
+    rendered = gr.render(normal, "square", new)
+    expect = regions.fill(rendered, (fill.row, fill.col), fill.value)
+    assert not np.array_equal(expect, rendered)
+    assert np.array_equal(window.document.levels, expect)    # ...replayed on the new canvas
+    again = replay(window.history.applied, window.document.dpjs)
+    assert again.result_hash() == window.document.result_hash()
+
+
+def test_keyboard_steps_commit_after_a_pause(window, dock, qtbot):
+    dock.size.slider.setFocus()
+    for _ in range(3):
+        press_key(dock.size.slider, QtCore.Qt.Key.Key_Right)
+    assert dock.size.value() == 4
+    qtbot.waitUntil(lambda: grain_step(window.history) is not None, timeout=5000)
+    assert window.document.shape == (48 * 4, 64 * 4)
+
+
+# -- composition -------------------------------------------------------------------------------
+
+def open_composition(window, qtbot):
+    window.act_compose.trigger()
+    dialog = window._composition_dialog
+    qtbot.waitExposed(dialog)
+    settled(window, qtbot)
+    return dialog
+
+
+def test_incrust_a_synthesis_where_this_texture_is_background(window, qtbot):
+    before = window.document.levels.copy()
+    assert (before == 0).any()
+    dialog = open_composition(window, qtbot)
+    dialog.tabs.setCurrentIndex(0)
+    dialog.mask_kind.setCurrentIndex(dialog.mask_kind.findData("levels"))
+    dialog.mask_levels.setText("0")
+    dialog.source.seed.set_value(99)
+    dialog.update_preview()
+    settled(window, qtbot)
+    assert "points change" in dialog.status.text()
+    assert np.array_equal(window.document.levels, before)    # a preview never edits
+    dialog.apply_button.click()
+    settled(window, qtbot)
+    action = window.history.actions[-1]
+    assert isinstance(action, Incrust) and action.mask == "levels"
+    from texeditor.texture_actions import render_recipe
+    t2, _ = render_recipe(action.source, {action.source_dpj: window.document.dpjs[
+        action.source_dpj]})
+    assert np.array_equal(window.document.levels, np.where(before == 0, t2, before))
+    window.act_undo.trigger()
+    assert np.array_equal(window.document.levels, before)
+    dialog.close()
+
+
+def test_mix_preset_xor_with_another_seed(window, qtbot):
+    before = window.document.levels.copy()
+    dialog = open_composition(window, qtbot)
+    dialog.tabs.setCurrentIndex(1)
+    dialog.preset.setCurrentIndex(dialog.preset.findText("Exclusive or"))
+    dialog.source.seed.set_value(5)
+    dialog.apply_button.setEnabled(True)
+    dialog.apply_button.click()
+    settled(window, qtbot)
+    action = window.history.actions[-1]
+    assert isinstance(action, Mix) and action.op2 == "xor"
+    assert not np.array_equal(window.document.levels, before)
+    dialog.close()
+
+
+def test_painted_incrustation_changes_only_the_painted_points(window, qtbot):
+    before = window.document.levels.copy()
+    dialog = open_composition(window, qtbot)
+    dialog.tabs.setCurrentIndex(0)
+    dialog.mask_kind.setCurrentIndex(dialog.mask_kind.findData("painted"))
+    dialog.source.seed.set_value(11)
+    dialog.radius.setValue(2)
+    settled(window, qtbot)
+    preview = dialog.preview
+    a = QtCore.QPoint(preview._origin[0] + int(10.5 * preview._scale),
+                      preview._origin[1] + int(10.5 * preview._scale))
+    b = QtCore.QPoint(a.x() + int(20 * preview._scale), a.y())
+    drag(preview, LEFT, (a.x(), a.y()), (b.x(), b.y()))
+    assert preview.mask.sum() > 20
+    dialog.update_preview()
+    settled(window, qtbot)
+    dialog.apply_button.click()
+    settled(window, qtbot)
+    action = window.history.actions[-1]
+    assert isinstance(action, Incrust) and action.mask == "points"
+    changed = window.document.levels != before
+    assert changed.any() and not changed[~preview.mask].any()
+    assert {tuple(p) for p in action.points} == set(map(tuple, np.argwhere(preview.mask)))
+    dialog.close()
+
+
+# -- doubling ----------------------------------------------------------------------------------
+
+def test_double_the_levels_from_the_photo(window, qtbot):
+    before = window.document.levels.copy()
+    g = window.document.num_levels
+    window.act_double.trigger()
+    dialog = window.doubling_dialog
+    qtbot.waitExposed(dialog)
+    assert dialog.apply_button.isEnabled(), dialog.info.text()
+    assert "neighbours" in dialog.info.text()
+    dialog.apply_button.click()
+    doc = window.document
+    assert isinstance(window.history.actions[-1], DoubleLevels)
+    assert doc.num_levels == 2 * g and np.array_equal(doc.levels // 2, before)
+    window.act_undo.trigger()
+    assert doc.num_levels == g and np.array_equal(doc.levels, before)
