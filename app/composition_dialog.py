@@ -68,7 +68,8 @@ class SourcePicker(QtWidgets.QWidget):
         self.step = QtWidgets.QSpinBox()
         self.step.setToolTip("The texture after this many steps of the history")
         form.addRow("Source", self.kind)
-        self.rows = {"synth": [self._row(form, "DPJ", self.dpj), self._row(form, "Seed", self.seed)],
+        self.rows = {"synth": [self._row(form, "DPJ", self.dpj),
+                               self._row(form, "Seed", self.seed)],
                      "file": [self._row(form, self.open_button, self.file_label)],
                      "step": [self._row(form, "After step", self.step)]}
         self.kind.currentIndexChanged.connect(self._kind_changed)
@@ -265,7 +266,7 @@ class CompositionDialog(QtWidgets.QDialog):
         self.reset_painting()
         self.schedule()
 
-    # -- pages ----------------------------------------------------------------------------------------
+    # -- pages -------------------------------------------------------------------------------------
     def _incrust_page(self) -> QtWidgets.QWidget:
         page = QtWidgets.QWidget()
         form = QtWidgets.QFormLayout(page)
@@ -394,7 +395,7 @@ class CompositionDialog(QtWidgets.QDialog):
         self.preview.mask = np.zeros(self.window.document.shape, bool)
         self.schedule()
 
-    # -- the action ----------------------------------------------------------------------------------
+    # -- the action --------------------------------------------------------------------------------
     def action(self):
         """The Incrust or Mix of the current settings (TexeditorError says what is missing)."""
         source, ref = self.source.recipe()
@@ -422,7 +423,7 @@ class CompositionDialog(QtWidgets.QDialog):
         tool = next((t for t in self.window.tools if isinstance(t, ExtractTool)), None)
         return None if tool is None else tool.mask()
 
-    # -- preview and apply -----------------------------------------------------------------------------
+    # -- preview and apply -------------------------------------------------------------------------
     def schedule(self) -> None:
         self.preview.painting = (self.mask_kind.currentData() == "painted"
                                  and self.tabs.currentIndex() == 0)

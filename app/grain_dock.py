@@ -102,7 +102,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self._preview_timer = self._timer(PREVIEW_DELAY_MS, self.update_preview)
         self._commit_timer = self._timer(COMMIT_DELAY_MS, self.commit)
 
-    # -- construction -------------------------------------------------------------------------------
+    # -- construction ------------------------------------------------------------------------------
     def _build(self) -> None:
         body = QtWidgets.QWidget()
         layout = QtWidgets.QVBoxLayout(body)
@@ -191,7 +191,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         timer.timeout.connect(slot)
         return timer
 
-    # -- the settings ---------------------------------------------------------------------------------
+    # -- the settings ------------------------------------------------------------------------------
     def params(self) -> dict:
         shape = self.shape.currentData()
         return {"shape": shape, "size": self.size.value(), "aspect": self.aspect.value(),
@@ -278,7 +278,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self._loading = False
         self._edited_now()
 
-    # -- following the document -----------------------------------------------------------------------
+    # -- following the document --------------------------------------------------------------------
     def refresh(self) -> None:
         """After any change of the history: show the grain step's settings, if it changed."""
         history = self.window.history
@@ -338,7 +338,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         super().showEvent(ev)
         self._preview_timer.start()
 
-    # -- committing -----------------------------------------------------------------------------------
+    # -- committing --------------------------------------------------------------------------------
     def commit(self) -> None:
         """Make the settings the texture's grain step: append one, or replace it and replay."""
         self._commit_timer.stop()
@@ -352,8 +352,8 @@ class GrainDensityDock(QtWidgets.QDockWidget):
             return
         i = grain_step(window.history)
         if i is None:
-            if action == RenderGrains("square", 1):
-                return                     # the normalised texture already looks like this
+            if action.mask().shape == (1, 1) and action.grain_lattice().shape((1, 1)) == (1, 1):
+                return                     # one pixel a point: the texture already looks so
             base = window.document.levels.copy(), window.document.palette
             if window.submit(action):
                 self._base_key = (id(window.history), tuple(window.history.actions[:-1]))

@@ -14,7 +14,6 @@ import platform
 import time
 from pathlib import Path
 
-import numpy as np
 
 from texeditor import DPJ, synthesize
 from texeditor import composition, doubling

@@ -115,7 +115,7 @@ def test_mix_errors():
         cp.mix(X4, Y4, levels=2)
 
 
-# -- incrustation ------------------------------------------------------------------------------------
+# -- incrustation ----------------------------------------------------------------------------------
 
 def test_incrustation_with_a_boolean_is_if_then_else():
     t1, t2 = np.full((2, 3), 1), np.full((2, 3), 2)

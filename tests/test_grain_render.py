@@ -246,7 +246,7 @@ def test_errors_name_what_to_change():
         gr.render_grains(np.ones((4096, 4096), np.uint8), np.ones((8, 8), bool), gr.Lattice(8, 8))
 
 
-# -- the compiled kernel is the definition ----------------------------------------------------------
+# -- the compiled kernel is the definition ---------------------------------------------------------
 
 @PROPERTY
 @given(levels=st.tuples(st.integers(1, 5), st.integers(1, 5)).flatmap(

@@ -76,7 +76,7 @@ def test_bad_grain_parameters_are_refused_on_load(obj, what):
         action_from_json({"type": "render_grains", "version": 1, **obj})
 
 
-# -- RenderGrains -------------------------------------------------------------------------------------
+# -- RenderGrains ----------------------------------------------------------------------------------
 
 def test_render_grains_makes_a_larger_canvas_of_grains():
     history = history_of(T, extra=[RenderGrains("circle", 4)])
@@ -129,7 +129,7 @@ def test_render_grains_too_large_is_refused_and_the_document_kept():
     assert np.array_equal(history.document.levels, before)
 
 
-# -- composition ----------------------------------------------------------------------------------------
+# -- composition -----------------------------------------------------------------------------------
 
 def synth_levels(recipe):
     return render_recipe(recipe, dict(TINY))[0]
@@ -224,7 +224,7 @@ def test_composition_errors():
     assert history.index == 1
 
 
-# -- doubling -------------------------------------------------------------------------------------------
+# -- doubling --------------------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
 def table():

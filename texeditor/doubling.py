@@ -46,7 +46,7 @@ class Doubling(NamedTuple):
     contexts: tuple          # points drawn with 8 neighbours, 4 neighbours, own level, none
 
 
-# -- learning ---------------------------------------------------------------------------------------
+# -- learning --------------------------------------------------------------------------------------
 
 def refine(image, levels: int, method: str = "band") -> Refinement:
     """Quantise a photo at G levels (``texeditor.levels.quantize``) and split each level in two."""

@@ -10,8 +10,9 @@ Geometry. Point (r, c) of an H×W texture owns the cell of ``pitch_y × pitch_x`
 ones (a honeycomb: alternate rows shifted by half a pitch). Its grain's box is centred on the cell:
 the mask's cell (h // 2, w // 2) lands on the cell's (pitch_y // 2, pitch_x // 2), so at the
 natural pitch the boxes tile the picture even for a lopsided drawn grain (for a symmetric grain
-that cell holds its centre of gravity, as `grains.anchor` would place it). The picture is (H·pitch_y) × (W·pitch_x) pixels and is a torus:
-what passes one edge comes back on the other, so a tileable texture stays tileable.
+that cell holds its centre of gravity, as `grains.anchor` would place it). The picture is
+(H·pitch_y) × (W·pitch_x) pixels and is a torus: what passes one edge comes back on the other, so
+a tileable texture stays tileable.
 
 Density. The *natural* pitch makes grains touch: the mask's box on a grid; for hexagons, the
 honeycomb pitch with no hole between grains and the least overlap (found once per mask). The
@@ -56,7 +57,7 @@ class Lattice:
         return h * self.pitch_y, w * self.pitch_x
 
 
-# -- the lattice ------------------------------------------------------------------------------------
+# -- the lattice -----------------------------------------------------------------------------------
 
 def natural_lattice(mask, honeycomb: bool = False) -> Lattice:
     """The pitch at which grains of this mask touch (explosion 1, no compression).
@@ -120,7 +121,7 @@ def grain_lattice(mask, *, shape: str = "square", lattice: str = "auto", explosi
                            explosion_y=explosion_y, compression=compression)
 
 
-# -- drawing ----------------------------------------------------------------------------------------
+# -- drawing ---------------------------------------------------------------------------------------
 
 def render_grains(levels, mask, lattice: Lattice, overlap: str = "last") -> np.ndarray:
     """Draw every non-background point of ``levels`` as the grain ``mask`` on ``lattice``.
@@ -191,7 +192,7 @@ def _draw(levels, dy, dx, py, px, row_offset, rule, out):   # pragma: no cover -
     return out
 
 
-# -- one call for the Action and the dock -----------------------------------------------------------
+# -- one call for the Action and the dock ----------------------------------------------------------
 
 def grain_of(shape: str = "square", size: int = 8, *, aspect: float = 1.0, sides: int = 6,
              angle: float = 0.0, bitmap: str | None = None) -> np.ndarray:

@@ -165,7 +165,7 @@ def _source_levels(doc, text: str, ref: str | None, progress=None, cancel=None):
     return render_recipe(text, dpjs, progress, cancel)
 
 
-# -- grains and density (§5.3) ----------------------------------------------------------------------
+# -- grains and density (§5.3) ---------------------------------------------------------------------
 
 @register
 @dataclass(frozen=True)
@@ -234,7 +234,7 @@ class RenderGrains(Action):
         return "Grains: " + ", ".join([what] + density)
 
 
-# -- composition (§5.4.1) ---------------------------------------------------------------------------
+# -- composition (§5.4.1) --------------------------------------------------------------------------
 
 @register
 @dataclass(frozen=True)
@@ -349,7 +349,7 @@ def _commit(doc, new: np.ndarray) -> None:
         doc._write_where(changed, new)
 
 
-# -- grey-level doubling (§4.5) ---------------------------------------------------------------------
+# -- grey-level doubling (§4.5) --------------------------------------------------------------------
 
 @register
 @dataclass(frozen=True)
