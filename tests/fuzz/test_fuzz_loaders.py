@@ -240,7 +240,7 @@ def test_corpus(tmp_path):
     """Every kept crasher now loads or fails cleanly (the folder names the loader)."""
     for kind, loader in LOADERS.items():
         for path in sorted((CORPUS / kind).glob("*")):
-            extra = (tmp_path,) if kind == "image" else ()
+            extra = (tmp_path,) if kind in ("image", "bank") else ()
             only_texeditor_errors(loader, path.read_bytes(), *extra)
 
 
@@ -256,3 +256,54 @@ def load_image_bytes(blob):
         path = Path(d) / "seed.png"
         path.write_bytes(blob)
         return load_image(path)
+
+
+# -- the bank's database ----------------------------------------------------------------------------
+
+def _bank_bytes() -> bytes:
+    import tempfile
+
+    from texeditor.bank import Bank, make_record
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "bank.sqlite"
+        bank = Bank(path, builtins=False)
+        history = History()
+        ref = history.add_dpj(_dpj())
+        from texeditor.actions import Synthesize
+        history.apply(Synthesize(ref, 16, 16, 1))
+        bank.insert(make_record(history, "seed entry", tags=("fuzz",)))
+        bank.close()
+        return path.read_bytes()
+
+
+BANK_BYTES = _bank_bytes()
+
+
+def load_bank(blob: bytes, tmp_dir: Path) -> None:
+    """Open a mutated bank file, list and search it, open and verify every entry."""
+    from texeditor.bank import Bank
+
+    path = tmp_dir / "bank.sqlite"
+    for stale in tmp_dir.glob("bank.sqlite*"):
+        stale.unlink()
+    path.write_bytes(blob)
+    bank = Bank(path, builtins=False)
+    try:
+        for entry in bank.entries():
+            bank.render(entry.id)
+        bank.search("seed")
+        bank.verify()
+    finally:
+        bank.close()
+
+
+LOADERS["bank"] = load_bank
+
+
+@settings(max_examples=max(EXAMPLES // 3, 20), deadline=None,
+          derandomize=not os.environ.get("CI_FUZZ_RANDOM"),
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(byte_mutations(BANK_BYTES))
+def test_fuzz_bank(tmp_path_factory, blob):
+    only_texeditor_errors(load_bank, blob, tmp_path_factory.mktemp("bank"))
