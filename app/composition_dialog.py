@@ -16,7 +16,8 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor import composition
 from texeditor.errors import TexeditorError
-from texeditor.texture_actions import Incrust, Mix, recipe_of, recipe_refs, synthesis_recipe
+from texeditor.actions import dpj_refs
+from texeditor.texture_actions import Incrust, Mix, recipe_of, synthesis_recipe
 
 from .images import qimage_from_rgb
 from .params_form import SeedEdit, dpj_summary
@@ -120,7 +121,7 @@ class SourcePicker(QtWidgets.QWidget):
                 return
         try:
             tex = read_texture(path)
-            refs = recipe_refs(tex.actions)
+            refs = dpj_refs(tex.actions)
             if len(refs) > 1:
                 raise TexeditorError(f"{Path(path).name} is made from {len(refs)} DPJs; a "
                                      "composition source may use one")
@@ -148,7 +149,7 @@ class SourcePicker(QtWidgets.QWidget):
                 raise TexeditorError("open a .texture file first")
             return self.file_recipe
         actions = history.applied[:self.step.value()]
-        refs = recipe_refs(actions)
+        refs = dpj_refs(actions)
         if len(refs) > 1:
             raise TexeditorError(f"at step {self.step.value()} the texture is made from "
                                  f"{len(refs)} DPJs; a composition source may use one")

@@ -12,6 +12,8 @@ from PySide6 import QtWidgets
 
 from texeditor import region_actions as ra
 
+from .widgets import spin_box
+
 OPERATORS = [
     ("Rotate (isometry)", "isometry"),
     ("Zoom (similarity)", "similarity"),
@@ -30,13 +32,15 @@ class GlobalOperatorsDialog(QtWidgets.QDialog):
         for text, key in OPERATORS:
             self.operator.addItem(text, key)
         form.addRow("Operator", self.operator)
-        self.angle = _spin(-360, 360, 45, 1, "°", "Counter-clockwise turn about the centre")
-        self.factor = _spin(0.05, 16, 0.5, 3, "×", "Below 1: finer and denser; above 1: coarser")
-        self.shear = _spin(-4, 4, 0.5, 3, "", "Columns move by this times the row: squares "
-                           "become parallelograms")
-        self.dx = _spin(-4096, 4096, 32, 0, "", "Columns across to the first copy", "x ")
-        self.dy = _spin(-4096, 4096, 0, 0, "", "Rows down to the first copy", "y ")
-        self.copies = _spin(1, 64, 2, 0, "", "Copies along each axis", "× ")
+        self.angle = spin_box(-360, 360, 45, decimals=1, suffix="°",
+                              tip="Counter-clockwise turn about the centre")
+        self.factor = spin_box(0.05, 16, 0.5, decimals=3, suffix="×",
+                               tip="Below 1: finer and denser; above 1: coarser")
+        self.shear = spin_box(-4, 4, 0.5, decimals=3, tip="Columns move by this times the row: "
+                              "squares become parallelograms")
+        self.dx = spin_box(-4096, 4096, 32, prefix="x ", tip="Columns across to the first copy")
+        self.dy = spin_box(-4096, 4096, 0, prefix="y ", tip="Rows down to the first copy")
+        self.copies = spin_box(1, 64, 2, prefix="× ", tip="Copies along each axis")
         self.rows = {}
         for key, label, widget in (("angle", "Angle", self.angle), ("factor", "Factor", self.factor),
                                    ("shear", "Shear", self.shear), ("dx", "Offset", self.dx),
@@ -110,17 +114,3 @@ class GlobalOperatorsDialog(QtWidgets.QDialog):
 
     def apply(self) -> None:
         self.window.submit(self.action())
-
-
-def _spin(lo, hi, value, decimals, suffix, tip, prefix=""):
-    s = QtWidgets.QDoubleSpinBox() if decimals else QtWidgets.QSpinBox()
-    if decimals:
-        s.setDecimals(decimals)
-    s.setRange(lo, hi)
-    s.setValue(value)
-    s.setSuffix(suffix)
-    s.setPrefix(prefix)
-    s.setToolTip(tip)
-    return s
-
-

@@ -16,6 +16,7 @@ from texeditor.errors import TexeditorError
 from texeditor.paint_actions import PeanoLevels
 
 from .canvas import colourize
+from .widgets import spin_box
 
 EXAMPLE = "6:7(2(1,2(2,3)),6:7(4,5,6:7(6,7),8))"
 MAX_DRAWN_CELLS = 16384
@@ -166,15 +167,15 @@ class PeanoDialog(QtWidgets.QDialog):
         errors.addWidget(self.problem)
         form.addRow("", errors)
         cut = QtWidgets.QHBoxLayout()
-        self.cell = self._spin(1, 4096, 8, " pt", "Side of the cells (sub-regions)")
-        self.left = self._spin(0, 16383, 0, "", "First column of the cut", "x ")
-        self.top = self._spin(0, 16383, 0, "", "First row of the cut", "y ")
+        self.cell = spin_box(1, 4096, 8, suffix=" pt", tip="Side of the cells (sub-regions)")
+        self.left = spin_box(0, 16383, 0, prefix="x ", tip="First column of the cut")
+        self.top = spin_box(0, 16383, 0, prefix="y ", tip="First row of the cut")
         for w in (self.cell, self.left, self.top):
             cut.addWidget(w)
         form.addRow("Cells, from", cut)
         count = QtWidgets.QHBoxLayout()
-        self.across = self._spin(0, 16384, 0, "", "Cells across (0: to the right edge)", "")
-        self.down = self._spin(0, 16384, 0, "", "Cells down (0: to the bottom edge)", "")
+        self.across = spin_box(0, 16384, 0, tip="Cells across (0: to the right edge)")
+        self.down = spin_box(0, 16384, 0, tip="Cells down (0: to the bottom edge)")
         self.across.setSpecialValueText("to the edge")
         self.down.setSpecialValueText("to the edge")
         count.addWidget(self.across)
@@ -182,8 +183,8 @@ class PeanoDialog(QtWidgets.QDialog):
         count.addWidget(self.down)
         form.addRow("Cells", count)
         levels = QtWidgets.QHBoxLayout()
-        self.low = self._spin(0, 15, 1, "", "Level of the dimmest named cells")
-        self.high = self._spin(0, 15, 3, "", "Level of the brightest")
+        self.low = spin_box(0, 15, 1, tip="Level of the dimmest named cells")
+        self.high = spin_box(0, 15, 3, tip="Level of the brightest")
         levels.addWidget(self.low)
         levels.addWidget(QtWidgets.QLabel("to"))
         levels.addWidget(self.high)
@@ -193,7 +194,7 @@ class PeanoDialog(QtWidgets.QDialog):
         self.grain.addItem("Fill the cell", "cell")
         for shape in grains.SHAPES[:-1]:
             self.grain.addItem(f"A {shape} grain", shape)
-        self.grain_size = self._spin(0, 256, 0, " pt", "Grain diameter (0: the cell side)")
+        self.grain_size = spin_box(0, 256, 0, suffix=" pt", tip="Grain diameter (0: the cell side)")
         self.grain_size.setSpecialValueText("cell side")
         grain.addWidget(self.grain, 1)
         grain.addWidget(self.grain_size)
@@ -223,16 +224,6 @@ class PeanoDialog(QtWidgets.QDialog):
             w.valueChanged.connect(self.update_scan)
         self.grain.currentIndexChanged.connect(self.update_scan)
         self.resize(940, 560)
-
-    @staticmethod
-    def _spin(lo, hi, value, suffix, tip, prefix=""):
-        s = QtWidgets.QSpinBox()
-        s.setRange(lo, hi)
-        s.setValue(value)
-        s.setSuffix(suffix)
-        s.setPrefix(prefix)
-        s.setToolTip(tip)
-        return s
 
     def refresh(self) -> None:
         """Follow the document: its texture, palette and top level."""
@@ -319,3 +310,4 @@ class PeanoDialog(QtWidgets.QDialog):
         if self.window.submit(action):
             self.view.set_texture(self.window.document.levels, self.window.document.palette)
             self.view.update()
+

@@ -12,3 +12,17 @@ def scrolled(body: QtWidgets.QWidget) -> QtWidgets.QScrollArea:
     area.setWidgetResizable(True)
     area.setFrameShape(QtWidgets.QFrame.Shape.NoFrame)
     return area
+
+
+def spin_box(lo, hi, value, *, decimals: int = 0, suffix: str = "", prefix: str = "",
+             tip: str = "") -> QtWidgets.QAbstractSpinBox:
+    """An integer spin box, or a decimal one when ``decimals`` > 0, set up in one call."""
+    box = QtWidgets.QDoubleSpinBox() if decimals else QtWidgets.QSpinBox()
+    if decimals:
+        box.setDecimals(decimals)
+    box.setRange(lo, hi)
+    box.setValue(value)
+    box.setSuffix(suffix)
+    box.setPrefix(prefix)
+    box.setToolTip(tip)
+    return box

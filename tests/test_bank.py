@@ -22,7 +22,7 @@ from test_regions import T
 from texeditor import attributes as attrs
 from texeditor import bank as bk
 from texeditor import texturefile as tf
-from texeditor.actions import (REGISTRY, CropCanvas, NewCanvas, ResizeCanvas, SetLevels,
+from texeditor.actions import (registry, CropCanvas, NewCanvas, ResizeCanvas, SetLevels,
                                SetPalette, Synthesize)
 from texeditor import doubling
 from texeditor.bank import Bank, BankError
@@ -138,7 +138,7 @@ def one_of_each() -> list:
 
 def test_the_examples_cover_every_action_type_of_the_engine():
     types = {a.TYPE for _, h in one_of_each() for a in h.applied}
-    assert types >= KNOWN_TYPES and KNOWN_TYPES <= set(REGISTRY)
+    assert types >= KNOWN_TYPES and KNOWN_TYPES <= set(registry())
 
 
 @pytest.mark.parametrize("name, history", one_of_each(), ids=lambda x: x if isinstance(x, str)

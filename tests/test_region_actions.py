@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from test_history_support import PROPERTY, REFS, TINY, TINY_DPJS, draw_action
 from test_regions import T, grid, same
 from texeditor import regions, transforms
-from texeditor.actions import (REGISTRY, NewCanvas, SetLevels, Synthesize, action_from_json,
+from texeditor.actions import (REGISTRY, registry, NewCanvas, SetLevels, Synthesize, action_from_json,
                                param_specs)
 from texeditor.document import dpj_ref
 from texeditor.errors import FormatError, InputError, ReplayError
@@ -47,7 +47,7 @@ def history_of(levels, g: int = 4) -> History:
 
 
 def test_every_region_action_is_registered():
-    assert {cls.TYPE for cls in REGION_ACTIONS} <= set(REGISTRY)
+    assert {cls.TYPE for cls in REGION_ACTIONS} <= set(registry())
     assert {type(a) for a in EXAMPLES} == set(REGION_ACTIONS)
     assert all(REGISTRY[cls.TYPE] is cls and cls.EFFECT == "levels" for cls in REGION_ACTIONS)
 

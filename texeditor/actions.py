@@ -197,15 +197,30 @@ def register(cls: type[Action]) -> type[Action]:
     return cls
 
 
+# The modules that define more Actions; imported on first use of the registry, not at import
+# time (they import this module, so importing them here would make import order matter).
+ACTION_MODULES = ("region_actions", "spot_actions", "paint_actions", "texture_actions")
+
+
+def registry() -> dict[str, type["Action"]]:
+    """Every Action type by name, the operator modules' included."""
+    import importlib
+
+    for name in ACTION_MODULES:
+        importlib.import_module(f"{__package__}.{name}")
+    return REGISTRY
+
+
 def action_from_json(obj) -> Action:
     """Build an Action from its JSON object, checking type, version and every parameter."""
     if not isinstance(obj, dict):
         raise FormatError(f"an action must be a JSON object, got {type(obj).__name__}")
     kind, version = obj.get("type"), obj.get("version")
-    cls = REGISTRY.get(kind) if isinstance(kind, str) else None
+    known = registry()
+    cls = known.get(kind) if isinstance(kind, str) else None
     if cls is None:
         raise FormatError(f"unknown action type {kind!r}: this program knows "
-                          f"{', '.join(sorted(REGISTRY))}")
+                          f"{', '.join(sorted(known))}")
     if isinstance(version, bool) or not isinstance(version, int):
         raise FormatError(f"action {kind!r} has no integer version")
     params = {k: v for k, v in obj.items() if k not in ("type", "version")}
@@ -243,6 +258,16 @@ def param_specs(action: Action | type[Action]) -> list[ParamSpec]:
         lo, hi = (0, MAX_SEED) if m["kind"] == "seed" else (m["lo"], m["hi"])
         specs.append(ParamSpec(f.name, m["kind"], lo, hi, m["optional"], value, m["doc"]))
     return specs
+
+
+def dpj_refs(actions) -> list[str]:
+    """The DPJ references a log uses (parameters of kind "ref"), in order of first use."""
+    seen: dict[str, None] = {}
+    for a in actions:
+        for f in dataclasses.fields(a):
+            if f.metadata.get("kind") == "ref" and getattr(a, f.name) is not None:
+                seen.setdefault(getattr(a, f.name))
+    return list(seen)
 
 
 def replace_params(action: Action, **changes) -> Action:
@@ -521,8 +546,3 @@ class _Memo:
 
 
 _MEMO = _Memo()
-
-from . import region_actions  # noqa: E402,F401  (registers the region operators)
-from . import spot_actions  # noqa: E402,F401  (registers the spot placements)
-from . import paint_actions  # noqa: E402,F401  (registers brushes, grains, zones, Peano levels)
-from . import texture_actions  # noqa: E402,F401  (registers grains & density, composition, doubling)

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from . import attributes as attrs
-from .actions import action_from_json
+from .actions import action_from_json, dpj_refs
 from .document import Document
 from .dpj import DPJ
 from .errors import Cancelled, FormatError, InputError, ReplayError, TexeditorError
@@ -31,7 +31,7 @@ from .history import History, replay
 from .logopt import optimize
 from .resources import ROOT as RESOURCES
 from .texturefile import (MAX_ACTIONS, MAX_ACTIONS_BYTES, MAX_DESCRIPTION_CHARS, TextureFile,
-                          _referenced, read_texture, texture_bytes)
+                          read_texture, texture_bytes)
 
 BANK_ENV, DATA_ENV = "TEXEDITOR_BANK", "TEXEDITOR_DATA"
 FILENAME = "bank.sqlite"
@@ -799,7 +799,7 @@ def _dpj_refs(actions, dpjs: dict) -> list:
     """The DPJs the log uses: its "ref" parameters that name a DPJ (other references, such as
     a spot placement's fingerprint, are not DPJs). A DPJ the log needs but that is missing
     shows up when the entry is replayed."""
-    return [r for r in _referenced(actions) if r in dpjs]
+    return [r for r in dpj_refs(actions) if r in dpjs]
 
 
 def grain_parameters(actions) -> dict:

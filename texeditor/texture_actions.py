@@ -29,7 +29,7 @@ import numpy as np
 
 from . import composition, doubling
 from . import grain_render as gr
-from .actions import Action, param, register
+from .actions import Action, dpj_refs, param, register
 from .document import dpj_ref
 from .errors import FormatError, InputError
 
@@ -101,18 +101,8 @@ def _no_constant(token):
     raise ValueError(f"{token} is not allowed")
 
 
-def recipe_refs(actions) -> list[str]:
-    """The DPJ references a log uses (parameters of kind "ref"), in order of first use."""
-    seen: dict[str, None] = {}
-    for a in actions:
-        for f in dataclasses.fields(a):
-            if f.metadata.get("kind") == "ref" and getattr(a, f.name) is not None:
-                seen.setdefault(getattr(a, f.name))
-    return list(seen)
-
-
 def check_recipe(text: str, ref: str | None, what: str) -> None:
-    refs = recipe_refs(parse_recipe(text))
+    refs = dpj_refs(parse_recipe(text))
     if len(refs) > 1:
         raise InputError(f"{what} is made from {len(refs)} DPJs ({', '.join(refs)}); a "
                          "composition source may use one: compose from a simpler texture")

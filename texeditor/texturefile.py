@@ -17,7 +17,8 @@ from dataclasses import dataclass
 
 
 from . import __version__
-from .actions import (MAX_CANVAS_SIDE, Action, Synthesize, _palette, action_from_json)
+from .actions import (MAX_CANVAS_SIDE, Action, Synthesize, _palette, action_from_json,
+                      dpj_refs)
 from .document import Document, REF_LENGTH
 from .dpj import DPJ, MAX_FILE_BYTES as MAX_DPJ_BYTES, MAX_LEVELS
 from .errors import FormatError, InputError, ReplayError
@@ -95,7 +96,7 @@ def save_texture(path, source: History | Document, *, tags=(), description: str 
 def texture_bytes(doc: Document, actions, *, tags=(), description="") -> tuple[bytes, Manifest]:
     """The file content for a document and the log that made it (the same bytes every time)."""
     actions = tuple(actions)
-    refs = _referenced(actions)
+    refs = dpj_refs(actions)
     missing = sorted(r for r in refs if r not in doc.dpjs)
     if missing:
         raise InputError(f"the log refers to DPJs {missing} that the document does not hold")
@@ -128,16 +129,6 @@ def _recipe(source) -> tuple[Document, tuple]:
     if isinstance(source, Document):
         return source, source.actions
     raise InputError(f"save a History or a Document, not {type(source).__name__}")
-
-
-def _referenced(actions) -> list[str]:
-    """DPJ references used by the log (any parameter of kind "ref"), in order of first use."""
-    seen: dict[str, None] = {}
-    for a in actions:
-        for f in dataclasses.fields(a):
-            if f.metadata.get("kind") == "ref" and getattr(a, f.name) is not None:
-                seen.setdefault(getattr(a, f.name))
-    return list(seen)
 
 
 def _json_bytes(obj) -> bytes:
@@ -178,7 +169,7 @@ def parse_texture(data: bytes, name: str = "texture") -> TextureFile:
     if len(actions) != manifest.actions:
         raise FormatError(f"{name}: the manifest announces {manifest.actions} actions, "
                           f"actions.json holds {len(actions)}")
-    missing = sorted(set(_referenced(actions)) - set(dpjs))
+    missing = sorted(set(dpj_refs(actions)) - set(dpjs))
     if missing:
         raise FormatError(f"{name}: the log uses DPJs {missing} that the file does not hold")
     return TextureFile(manifest, actions, dpjs)

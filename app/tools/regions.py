@@ -14,6 +14,7 @@ from texeditor import region_actions as ra
 from texeditor import regions
 from texeditor.errors import TexeditorError
 
+from ..widgets import spin_box
 from . import Tool
 
 KINDS = [("Region", "region"), ("Region in region", "region_in_region"),
@@ -260,43 +261,32 @@ class SelectionPanel(QtWidgets.QGroupBox):
         self.flip_v = button("Flip ↕", "Mirror top–bottom about its centre",
                              lambda: tool.submit(ra.FlipSelection, axis="vertical"), 1)
         row += 1
-        self.angle = self._spin(-360, 360, 90, 1, "°")
+        self.angle = spin_box(-360, 360, 90, decimals=1, suffix="°")
         grid.addWidget(self.angle, row, 0)
         self.rotate = button("Rotate", "Turn the selection about its centre (counter-clockwise)",
                              lambda: tool.submit(ra.RotateSelection, angle=self.angle.value()), 1)
         row += 1
-        self.factor = self._spin(0.05, 16, 2.0, 2, "×")
+        self.factor = spin_box(0.05, 16, 2.0, decimals=2, suffix="×")
         grid.addWidget(self.factor, row, 0)
         self.scale = button("Scale", "Zoom the selection about its centre",
                             lambda: tool.submit(ra.ScaleSelection, factor=self.factor.value()), 1)
         row += 1
         grid.addWidget(QtWidgets.QLabel("Duplicate"), row, 0, 1, 2)
         row += 1
-        self.dx = self._spin(-4096, 4096, 16, 0, "", "x ")
-        self.dy = self._spin(-4096, 4096, 0, 0, "", "y ")
+        self.dx = spin_box(-4096, 4096, 16, prefix="x ")
+        self.dy = spin_box(-4096, 4096, 0, prefix="y ")
         grid.addWidget(self.dx, row, 0)
         grid.addWidget(self.dy, row, 1)
         row += 1
-        self.nx = self._spin(1, 64, 1, 0, "", "× ")
+        self.nx = spin_box(1, 64, 1, prefix="× ")
         self.nx.setToolTip("Copies along x, side by side (a grid: identity, thesis §3.4.3)")
-        self.ny = self._spin(1, 64, 1, 0, "", "× ")
+        self.ny = spin_box(1, 64, 1, prefix="× ")
         self.ny.setToolTip("Copies along y")
         grid.addWidget(self.nx, row, 0)
         grid.addWidget(self.ny, row, 1)
         row += 1
         self.duplicate = button("Duplicate", "Copy the selection by the offset, on a grid of "
                                 "copies", self.do_duplicate, 0, 2)
-
-    @staticmethod
-    def _spin(lo, hi, value, decimals, suffix, prefix=""):
-        s = QtWidgets.QDoubleSpinBox() if decimals else QtWidgets.QSpinBox()
-        if decimals:
-            s.setDecimals(decimals)
-        s.setRange(lo, hi)
-        s.setValue(value)
-        s.setSuffix(suffix)
-        s.setPrefix(prefix)
-        return s
 
     def do_recolour(self):
         self.tool.submit(ra.ChangeLevel, value=self.tool.window.current_level)
