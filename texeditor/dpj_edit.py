@@ -17,6 +17,8 @@ from .errors import InputError
 
 MAX_RANDOM_CONFIGS = 2**22     # a seeded DPJ draws every configuration: G^(u·v) must stay small
 STATIONARY_TOL = 1e-11         # L1 residual make_stationary aims below (the checks want 1e-9)
+FADED = 1e-8                   # an entry make_stationary shrinks by more is fading to 0: dropped
+MAX_PRUNINGS = 8
 
 # the role of an entry in the horizontal chain (Massaloux, §4.5)
 MAIN, TRANSIENT, MINOR_CLOSED = 0, 1, 2
@@ -106,20 +108,30 @@ def make_stationary(dpj: DPJ, *, tol: float = STATIONARY_TOL, max_steps: int = 1
     per sub-window (L, R the left and right (u-1)-column ones, T, B the top and bottom (v-1)-row
     ones); the factors are found by Newton's method on the convex dual rather than by alternating
     sweeps, which crawl when classes of the chain are weakly linked. No configuration is added,
-    so the texture keeps its character; a configuration no stationary law can keep (a transition
-    that never comes back, in either direction) is dropped. A stationary DPJ comes back unchanged.
+    so the texture keeps its character. A configuration no stationary law can keep is dropped:
+    first every transition that never comes back (in either direction); then, since the two
+    directions constrain each other, any entry the projection shrinks by more than ``1/FADED``
+    (it is fading to 0), after which the rest is balanced again. A stationary DPJ comes back
+    unchanged.
     """
     _check_usable(dpj)
     if _worst_residual(dpj) <= tol:
         return dpj
-    keep = _recurrent_support(dpj)
-    if not keep.any():
-        raise InputError("no stationary DPJ uses only these configurations: each of them leads "
-                         "to a sub-window that never comes back; add configurations that close "
-                         "the cycles")
-    logw = _balance(dpj, keep, tol, max_steps)
-    w = np.exp(logw - logw.max())
-    probs = w / w.sum() * dpj.total
+    keep = dpj.probs > 0
+    for _ in range(MAX_PRUNINGS):
+        keep = _recurrent_support(dpj, keep)
+        if not keep.any():
+            raise InputError("no stationary DPJ uses only these configurations: each of them "
+                             "leads to a sub-window that never comes back; add configurations "
+                             "that close the cycles")
+        logw = _balance(dpj, keep, tol, max_steps)
+        logq = logw - logw.max()
+        logq -= np.log(np.exp(logq).sum())
+        fading = logq - np.log(dpj.probs[keep] / dpj.total) < np.log(FADED)
+        if not fading.any():
+            break
+        keep[np.flatnonzero(keep)[fading]] = False
+    probs = np.exp(logq) * dpj.total
     return _rebuild(dpj, dpj.codes[keep], probs)
 
 
@@ -171,11 +183,11 @@ def _constraints(dpj: DPJ, keep: np.ndarray):
     return a, sizes
 
 
-def _recurrent_support(dpj: DPJ) -> np.ndarray:
+def _recurrent_support(dpj: DPJ, keep: np.ndarray) -> np.ndarray:
     """Entries that can carry mass in a stationary law: drop, until none is left to drop, every
     transition between two strongly connected classes of the horizontal or the vertical graph
     of sub-windows (a flow that conserves mass cannot use an edge that is on no cycle)."""
-    keep = dpj.probs > 0
+    keep = keep.copy()
     pairs = _sub_windows(dpj)
     changed = True
     while changed and keep.any():
