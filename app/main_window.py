@@ -15,7 +15,7 @@ from texeditor.actions import SetPalette, Synthesize
 from texeditor.errors import TexeditorError
 from texeditor.history import History
 
-from . import resources
+from . import dpj_editor, resources
 from .acquire_dialog import AcquireDialog
 from .bank_dock import BankDock
 from .brush_dock import install_paint_ui
@@ -120,6 +120,11 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
                             "Write the texture as an image, optionally enlarged")
         self.act_acquire = a("&Acquire DPJ from image…", self.acquire, "Ctrl+I",
                              "Estimate a DPJ from a photo (thesis §5.2)")
+        self.act_new_dpj = a("New &DPJ…", lambda: dpj_editor.open_editor(self, new=True),
+                             "Ctrl+Shift+N", "Enter a DPJ by hand: window, G, then paint "
+                             "configurations and give them probabilities (thesis §5.2.2)")
+        self.act_edit_dpj = a("Edit D&PJ…", lambda: dpj_editor.open_editor(self), "Ctrl+J",
+                              "Open the current DPJ in the DPJ editor")
         self.act_quit = a("&Quit", self.close, K.Quit)
         self.act_undo = a("&Undo", self.undo, "Ctrl+Z")
         self.act_redo = a("&Redo", self.redo, ["Ctrl+Shift+Z", "Ctrl+Y"])
@@ -147,6 +152,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         menu.addAction(self.bank_dock.act_save)
         menu.addSeparator()
         menu.addAction(self.act_acquire)
+        menu.addActions([self.act_new_dpj, self.act_edit_dpj])
         menu.addSeparator()
         menu.addAction(self.act_quit)
         menu = self.menuBar().addMenu("&Edit")

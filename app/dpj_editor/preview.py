@@ -1,0 +1,160 @@
+"""The live preview of a DPJ being edited: a small synthesis redrawn in the background after every
+change, debounced, the latest change winning.
+
+It sits beside the editor, off the GUI thread: each change restarts a short timer; when it fires
+one synthesis starts (a running one is told to stop, and only the newest waiting DPJ is kept, so
+work never piles up); a result older than the latest change is dropped.
+"""
+
+from __future__ import annotations
+
+import time
+
+from PySide6 import QtCore, QtWidgets
+
+from texeditor.errors import TexeditorError
+from texeditor.synthesis import synthesize
+
+from ..canvas import colourize
+from ..params_form import SeedEdit
+from ..images import pixmap
+from ..synthesis_worker import Job
+
+PREVIEW_SIZE = 128
+DEBOUNCE_MS = 250
+SHOWN = 256             # screen pixels of the preview (each point 2×2)
+
+
+class LivePreview(QtCore.QObject):
+    """``ready(levels, palette, seconds, repairs)`` with the newest result; ``failed(message)``."""
+
+    ready = QtCore.Signal(object, object, float, int)
+    failed = QtCore.Signal(str)
+
+    def __init__(self, parent=None, size: int = PREVIEW_SIZE, delay_ms: int = DEBOUNCE_MS):
+        super().__init__(parent)
+        self.size = size
+        self.pool = QtCore.QThreadPool(self)
+        self.pool.setMaxThreadCount(1)
+        self.timer = QtCore.QTimer(self, singleShot=True, interval=delay_ms)
+        self.timer.timeout.connect(self._start)
+        self.job: Job | None = None
+        self.pending = None           # (generation, dpj, seed): only the newest is kept
+        self.generation = 0           # of the latest request
+        self.shown = 0                # generation of the result on screen
+        self.started = 0              # syntheses actually started (the debounce at work)
+
+    def request(self, dpj, seed: int) -> None:
+        self.generation += 1
+        self.pending = (self.generation, dpj, seed)
+        if self.job is not None:
+            self.job.cancel()         # the latest change wins
+        self.timer.start()
+
+    @property
+    def idle(self) -> bool:
+        return self.job is None and self.pending is None
+
+    def _start(self) -> None:
+        if self.job is not None or self.pending is None:
+            return                    # started again when the running job ends
+        generation, dpj, seed = self.pending
+        self.pending = None
+        size = self.size
+
+        def work(progress, cancel):
+            t0 = time.perf_counter()
+            result = synthesize(dpj, (size, size), seed=seed, progress=progress, cancel=cancel)
+            return result, time.perf_counter() - t0
+
+        job = self.job = Job(work)
+        job.signals.done.connect(lambda out: self._finished(job, generation, dpj, out))
+        job.signals.failed.connect(lambda exc: self._finished(job, generation, dpj, exc))
+        job.signals.cancelled.connect(lambda: self._finished(job, generation, dpj, None))
+        self.started += 1
+        self.pool.start(job)
+
+    def _finished(self, job, generation, dpj, outcome) -> None:
+        if self.job is job:
+            self.job = None
+        if generation == self.generation and outcome is not None:
+            self.shown = generation
+            if isinstance(outcome, tuple):
+                result, seconds = outcome
+                self.ready.emit(result.levels, dpj.palette, seconds, result.repairs)
+            else:
+                text = str(outcome) if isinstance(outcome, TexeditorError) else repr(outcome)
+                self.failed.emit(text)
+        if self.pending is not None and not self.timer.isActive():
+            self._start()
+
+    def wait(self, timeout_ms: int = 30_000) -> bool:
+        """Block until the latest request is shown (tests and scripts only)."""
+        deadline = time.perf_counter() + timeout_ms / 1000
+        while (self.shown != self.generation) and time.perf_counter() < deadline:
+            self.pool.waitForDone(10)
+            QtCore.QCoreApplication.processEvents(QtCore.QEventLoop.ProcessEventsFlag.AllEvents, 10)
+        return self.shown == self.generation
+
+    def stop(self) -> None:
+        self.timer.stop()
+        self.pending = None
+        if self.job is not None:
+            self.job.cancel()
+        self.pool.waitForDone(10_000)
+
+
+class PreviewPanel(QtWidgets.QWidget):
+    """The preview image, its seed, what it cost, and the buttons that leave the editor."""
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.preview = LivePreview(self)
+        self.levels = None
+        self.image = QtWidgets.QLabel()
+        self.image.setFixedSize(SHOWN, SHOWN)
+        self.image.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        self.image.setStyleSheet("background: #2b2b2b; color: #bbbbbb;")
+        self.image.setWordWrap(True)
+        self.seed = SeedEdit(7)
+        self.seed.setToolTip("Seed of the preview: same seed, same picture")
+        self.status = QtWidgets.QLabel()
+        self.status.setWordWrap(True)
+        self.use_button = QtWidgets.QPushButton("Use this DPJ")
+        self.use_button.setToolTip("Make it the main window's current DPJ (Synthesis dock)")
+        self.full_button = QtWidgets.QPushButton("Synthesise full size")
+        self.full_button.setToolTip("Use this DPJ and synthesise at the Synthesis dock's size")
+        self.preview.ready.connect(self._show)
+        self.preview.failed.connect(self._show_failure)
+        layout = QtWidgets.QVBoxLayout(self)
+        centre = QtWidgets.QHBoxLayout()
+        centre.addStretch(1)
+        centre.addWidget(self.image)
+        centre.addStretch(1)
+        layout.addLayout(centre)
+        form = QtWidgets.QFormLayout()
+        form.addRow("Preview seed", self.seed)
+        layout.addLayout(form)
+        layout.addWidget(self.status)
+        buttons = QtWidgets.QHBoxLayout()
+        buttons.addWidget(self.use_button)
+        buttons.addWidget(self.full_button)
+        layout.addLayout(buttons)
+        layout.addStretch(1)
+
+    def request(self, dpj) -> None:
+        self.status.setText("Synthesising a preview…")
+        self.preview.request(dpj, self.seed.value())
+
+    def _show(self, levels, palette, seconds: float, repairs: int) -> None:
+        self.levels = levels
+        self.image.setPixmap(pixmap(colourize(levels, palette), SHOWN))
+        n = self.preview.size
+        self.status.setText(f"{n}×{n} in {seconds * 1000:.0f} ms"
+                            + (f", {repairs:,} repairs (dead ends)" if repairs else ""))
+
+    def _show_failure(self, message: str) -> None:
+        self.levels = None
+        self.image.clear()
+        self.image.setText("no preview")
+        self.status.setText(message)
