@@ -16,6 +16,7 @@ from texeditor import dpj_edit
 from .table import config_text
 
 MAX_BARS = 300           # above this many entries the sorted law is drawn as a filled curve
+CURVE_POINTS = 2000      # ranks drawn on that curve
 HEAT_STATES = 48         # most probable states shown in the transition matrix
 LABELLED_STATES = 16     # up to this many, the heat map's axes name the states
 
@@ -87,8 +88,10 @@ class ChartsPanel(QtWidgets.QTabWidget):
         if len(p) <= MAX_BARS:
             plot.addItem(pg.BarGraphItem(x=rank, height=logp - floor, y0=floor, width=0.8,
                                          brush=brush, pen=pg.mkPen(40, 70, 120)))
-        else:
-            plot.plot(rank, logp, pen=pg.mkPen(40, 70, 120), fillLevel=floor, brush=brush)
+        else:                      # monotone: a few thousand ranks draw the same curve
+            keep = np.unique(np.linspace(0, len(p) - 1, CURVE_POINTS).astype(int))
+            plot.plot(rank[keep], logp[keep], pen=pg.mkPen(40, 70, 120), fillLevel=floor,
+                      brush=brush)
         plot.setXRange(0.5, len(p) + 0.5, padding=0.02)
         plot.setYRange(floor, max(0.0, logp.max()) + 0.1, padding=0)
 

@@ -71,6 +71,14 @@ class ChecksPanel(QtWidgets.QWidget):
         self.stationarity.button.clicked.connect(self.stationaryRequested)
         self.chain.button.clicked.connect(self.restrictRequested)
 
+    def show_pending(self) -> None:
+        """A large DPJ is being checked in the background."""
+        for row in (self.range, self.sum, self.stationarity, self.chain):
+            row.mark.setText("…")
+            if row.button is not None:
+                row.button.setEnabled(False)
+        self.verdict.setText("Checking…")
+
     def show_report(self, report, unreachable: int) -> None:
         """Show the DPJ's report; ``unreachable`` is the number of marked entries."""
         r = report

@@ -25,76 +25,66 @@ DEBOUNCE_MS = 250
 SHOWN = 256             # screen pixels of the preview (each point 2×2)
 
 
-class LivePreview(QtCore.QObject):
-    """``ready(levels, palette, seconds, repairs)`` with the newest result; ``failed(message)``."""
+class LatestWins(QtCore.QObject):
+    """Background work where only the latest request matters: ``request(work)`` restarts a short
+    timer, a running job is told to stop, only the newest waiting request is kept (no queue),
+    and a result older than the latest request is dropped. ``done(result)`` / ``failed(exc)``
+    carry the newest outcome; ``work(progress, cancel)`` runs in a one-thread pool."""
 
-    ready = QtCore.Signal(object, object, float, int)
-    failed = QtCore.Signal(str)
+    done = QtCore.Signal(object)
+    failed = QtCore.Signal(object)
 
-    def __init__(self, parent=None, size: int = PREVIEW_SIZE, delay_ms: int = DEBOUNCE_MS):
+    def __init__(self, parent=None, delay_ms: int = DEBOUNCE_MS):
         super().__init__(parent)
-        self.size = size
         self.pool = QtCore.QThreadPool(self)
         self.pool.setMaxThreadCount(1)
         self.timer = QtCore.QTimer(self, singleShot=True, interval=delay_ms)
         self.timer.timeout.connect(self._start)
         self.job: Job | None = None
-        self.pending = None           # (generation, dpj, seed): only the newest is kept
+        self.pending = None           # (generation, work): only the newest is kept
         self.generation = 0           # of the latest request
-        self.shown = 0                # generation of the result on screen
-        self.started = 0              # syntheses actually started (the debounce at work)
+        self.shown = 0                # generation of the last outcome delivered
+        self.started = 0              # jobs actually started (the debounce at work)
 
-    def request(self, dpj, seed: int) -> None:
+    def request(self, work) -> None:
         self.generation += 1
-        self.pending = (self.generation, dpj, seed)
+        self.pending = (self.generation, work)
         if self.job is not None:
             self.job.cancel()         # the latest change wins
         self.timer.start()
 
-    @property
-    def idle(self) -> bool:
-        return self.job is None and self.pending is None
-
     def _start(self) -> None:
         if self.job is not None or self.pending is None:
             return                    # started again when the running job ends
-        generation, dpj, seed = self.pending
+        generation, work = self.pending
         self.pending = None
-        size = self.size
-
-        def work(progress, cancel):
-            t0 = time.perf_counter()
-            result = synthesize(dpj, (size, size), seed=seed, progress=progress, cancel=cancel)
-            return result, time.perf_counter() - t0
-
         job = self.job = Job(work)
-        job.signals.done.connect(lambda out: self._finished(job, generation, dpj, out))
-        job.signals.failed.connect(lambda exc: self._finished(job, generation, dpj, exc))
-        job.signals.cancelled.connect(lambda: self._finished(job, generation, dpj, None))
+        job.signals.done.connect(lambda out: self._finished(job, generation, out, False))
+        job.signals.failed.connect(lambda exc: self._finished(job, generation, exc, True))
+        job.signals.cancelled.connect(lambda: self._finished(job, generation, None, False))
         self.started += 1
         self.pool.start(job)
 
-    def _finished(self, job, generation, dpj, outcome) -> None:
+    def _finished(self, job, generation, outcome, failed: bool) -> None:
         if self.job is job:
             self.job = None
-        if generation == self.generation and outcome is not None:
+        if generation == self.generation and (outcome is not None or failed):
             self.shown = generation
-            if isinstance(outcome, tuple):
-                result, seconds = outcome
-                self.ready.emit(result.levels, dpj.palette, seconds, result.repairs)
-            else:
-                text = str(outcome) if isinstance(outcome, TexeditorError) else repr(outcome)
-                self.failed.emit(text)
+            (self.failed if failed else self.done).emit(outcome)
         if self.pending is not None and not self.timer.isActive():
             self._start()
 
+    @property
+    def current(self) -> bool:
+        return self.shown == self.generation
+
     def wait(self, timeout_ms: int = 30_000) -> bool:
-        """Block until the latest request is shown (tests and scripts only)."""
+        """Block until the latest request is delivered (tests and scripts only)."""
         deadline = time.perf_counter() + timeout_ms / 1000
-        while (self.shown != self.generation) and time.perf_counter() < deadline:
+        while not self.current and time.perf_counter() < deadline:
             self.pool.waitForDone(10)
             QtCore.QCoreApplication.processEvents(QtCore.QEventLoop.ProcessEventsFlag.AllEvents, 10)
-        return self.shown == self.generation
+        return self.current
 
     def stop(self) -> None:
         self.timer.stop()
@@ -102,6 +92,30 @@ class LivePreview(QtCore.QObject):
         if self.job is not None:
             self.job.cancel()
         self.pool.waitForDone(10_000)
+
+
+class LivePreview(LatestWins):
+    """A small synthesis of the latest DPJ: ``ready(levels, palette, seconds, repairs)`` or
+    ``unusable(message)``."""
+
+    ready = QtCore.Signal(object, object, float, int)
+    unusable = QtCore.Signal(str)
+
+    def __init__(self, parent=None, size: int = PREVIEW_SIZE, delay_ms: int = DEBOUNCE_MS):
+        super().__init__(parent, delay_ms)
+        self.size = size
+        self.done.connect(lambda out: self.ready.emit(*out))
+        self.failed.connect(lambda exc: self.unusable.emit(
+            str(exc) if isinstance(exc, TexeditorError) else repr(exc)))
+
+    def request_dpj(self, dpj, seed: int) -> None:
+        size = self.size
+
+        def work(progress, cancel):
+            t0 = time.perf_counter()
+            result = synthesize(dpj, (size, size), seed=seed, progress=progress, cancel=cancel)
+            return result.levels, dpj.palette, time.perf_counter() - t0, result.repairs
+        self.request(work)
 
 
 class PreviewPanel(QtWidgets.QWidget):
@@ -125,7 +139,7 @@ class PreviewPanel(QtWidgets.QWidget):
         self.full_button = QtWidgets.QPushButton("Synthesise full size")
         self.full_button.setToolTip("Use this DPJ and synthesise at the Synthesis dock's size")
         self.preview.ready.connect(self._show)
-        self.preview.failed.connect(self._show_failure)
+        self.preview.unusable.connect(self._show_failure)
         layout = QtWidgets.QVBoxLayout(self)
         centre = QtWidgets.QHBoxLayout()
         centre.addStretch(1)
@@ -144,7 +158,7 @@ class PreviewPanel(QtWidgets.QWidget):
 
     def request(self, dpj) -> None:
         self.status.setText("Synthesising a preview…")
-        self.preview.request(dpj, self.seed.value())
+        self.preview.request_dpj(dpj, self.seed.value())
 
     def _show(self, levels, palette, seconds: float, repairs: int) -> None:
         self.levels = levels

@@ -97,6 +97,14 @@ class ConfigTableModel(QtCore.QAbstractTableModel):
         self.rows = self._ordered_rows()
         self.endResetModel()
 
+    def set_roles(self, roles: np.ndarray) -> None:
+        """The chain roles arrive later for a large DPJ (checked in the background)."""
+        self.roles = roles
+        if self.sort_key[0] == CHAIN:
+            self.sort_by(*self.sort_key)
+        elif len(self.rows):
+            self.dataChanged.emit(self.index(0, 0), self.index(len(self.rows) - 1, CHAIN))
+
     def sort_by(self, column: int, order: Order) -> None:
         self.beginResetModel()
         self.sort_key = (column, order)
@@ -277,6 +285,35 @@ class ProbabilityDelegate(QtWidgets.QStyledItemDelegate):
             model.setData(index, float(editor.text()), QtCore.Qt.ItemDataRole.EditRole)
 
 
+class PlainHeader(QtWidgets.QHeaderView):
+    """A horizontal header that draws its sections without asking whether a whole column is
+    selected: Qt's own asks the model for the flags of every row of the column, which with
+    200k selected rows (Ctrl+A) blocks for seconds. A table of rows never needs that highlight."""
+
+    def __init__(self, parent=None):
+        super().__init__(QtCore.Qt.Orientation.Horizontal, parent)
+        self.setHighlightSections(False)
+        self.setSectionsClickable(True)
+
+    def paintSection(self, painter, rect, logical) -> None:
+        if not rect.isValid():
+            return
+        opt = QtWidgets.QStyleOptionHeader()
+        self.initStyleOption(opt)
+        opt.rect, opt.section = rect, logical
+        opt.text = str(self.model().headerData(logical, self.orientation()) or "")
+        opt.textAlignment = self.defaultAlignment()
+        if self.isSortIndicatorShown() and self.sortIndicatorSection() == logical:
+            opt.sortIndicator = (QtWidgets.QStyleOptionHeader.SortIndicator.SortDown
+                                 if self.sortIndicatorOrder() == Order.AscendingOrder
+                                 else QtWidgets.QStyleOptionHeader.SortIndicator.SortUp)
+        visual, last = self.visualIndex(logical), self.count() - 1
+        P = QtWidgets.QStyleOptionHeader.SectionPosition
+        opt.position = (P.OnlyOneSection if last == 0 else P.Beginning if visual == 0
+                        else P.End if visual == last else P.Middle)
+        self.style().drawControl(QtWidgets.QStyle.ControlElement.CE_Header, opt, painter, self)
+
+
 class ConfigTable(QtWidgets.QWidget):
     """The filter bar, the table view and its buttons.
 
@@ -323,6 +360,7 @@ class ConfigTable(QtWidgets.QWidget):
 
     def _make_view(self) -> QtWidgets.QTableView:
         view = QtWidgets.QTableView()
+        view.setHorizontalHeader(PlainHeader(view))
         view.setModel(self.proxy)
         view.setItemDelegateForColumn(PROB, ProbabilityDelegate(view))
         view.setSelectionBehavior(QtWidgets.QAbstractItemView.SelectionBehavior.SelectRows)
@@ -444,13 +482,13 @@ class ConfigTable(QtWidgets.QWidget):
 
     def selected_rows(self) -> np.ndarray:
         """Rows of the selection, read from its ranges (a 200k-row selection is one range)."""
-        spans = [np.arange(r.top(), r.bottom() + 1)
-                 for r in self.view.selectionModel().selection()]
-        return np.unique(np.concatenate(spans)) if spans else np.zeros(0, np.int64)
+        mask = np.zeros(len(self.model.rows), bool)
+        for r in self.view.selectionModel().selection():
+            mask[r.top():r.bottom() + 1] = True
+        return np.flatnonzero(mask)
 
     def selected_codes(self) -> np.ndarray:
         rows = self.selected_rows()
-        rows = rows[rows < len(self.model.rows)]
         return self.model.dpj.codes[self.model.entries_of_rows(rows)]
 
     def select_codes(self, codes) -> None:

@@ -23,11 +23,17 @@ from .charts import ChartsPanel
 from .checks import ChecksPanel
 from .generators import GeneratorsPanel
 from .painter import PainterPanel
-from .preview import PreviewPanel
+from .preview import LatestWins, PreviewPanel
 from .table import ConfigTable, config_text
 
 DPJ_FILTER = "DPJ files (*.dpj);;All files (*)"
 HAND_META = {"name": "hand-made", "source": "hand"}
+BACKGROUND_CHECKS = 50_000      # entries above which the checks are computed off the GUI thread
+
+
+def analyse(dpj: DPJ):
+    """The numbers behind the checks: the DPJ's report and each entry's role in the chain."""
+    return dpj.report(), dpj_edit.chain_roles(dpj)
 
 
 def hand_made(window=(2, 2), levels: int = 3) -> DPJ:
@@ -149,6 +155,11 @@ class DPJEditor(QtWidgets.QMainWindow):
         self._build_status()
         self._connect()
         self._docks_sized = False
+        self.report, self.unreachable = None, 0
+        self.analysis = LatestWins(self, delay_ms=0)
+        self.analysis.done.connect(lambda out: self._checked(*out))
+        self.analysis.failed.connect(lambda exc: self.show_error("Cannot check this DPJ", exc,
+                                                                 modal=False))
         self._show(self.dpj)
         self.undo_stack.setClean()
 
@@ -227,7 +238,7 @@ class DPJEditor(QtWidgets.QMainWindow):
             self.checks.stationarity.button.setEnabled(False)
             self.checks.chain.button.setEnabled(False)
         else:
-            self._show_checks(self.dpj)
+            self._show_checks()
 
     def _connect(self) -> None:
         p = self.painter
@@ -333,24 +344,49 @@ class DPJEditor(QtWidgets.QMainWindow):
 
     # -- showing a DPJ --------------------------------------------------------------------------------
     def _show(self, dpj: DPJ) -> None:
-        """Every panel follows the DPJ (called by the undo commands)."""
+        """Every panel follows the DPJ (called by the undo commands). The checks of a large DPJ
+        are computed in the background, so an edit never waits for them."""
         self.dpj = dpj
-        roles = dpj_edit.chain_roles(dpj)
-        self.table.set_dpj(dpj, roles)
+        background = len(dpj) > BACKGROUND_CHECKS
+        checked = None if background else analyse(dpj)
+        self.table.set_dpj(dpj, np.zeros(len(dpj), np.int8) if background else checked[1])
         self.painter.set_dpj(dpj)
         self.generators.set_dpj(dpj)
-        self._show_checks(dpj, roles)
         self.charts.set_dpj(dpj)
         self.preview.request(dpj)
+        if background:
+            self.report = None
+            self.checks.show_pending()
+            self._enable_use(False)
+            self.analysis.request(lambda progress, cancel: (dpj, *analyse(dpj)))
+        else:
+            self._checked(dpj, *checked)
         self._update_title()
 
-    def _show_checks(self, dpj: DPJ, roles: np.ndarray | None = None) -> None:
-        roles = dpj_edit.chain_roles(dpj) if roles is None else roles
-        self.report = dpj.report()
-        self.checks.show_report(self.report, int(np.count_nonzero(roles != dpj_edit.MAIN)))
-        self.act_use.setEnabled(self.report.is_valid)
-        self.preview.use_button.setEnabled(self.report.is_valid)
-        self.preview.full_button.setEnabled(self.report.is_valid)
+    def _checked(self, dpj: DPJ, report, roles: np.ndarray) -> None:
+        """Show the checks of ``dpj`` (dropped if the DPJ changed meanwhile)."""
+        if dpj is not self.dpj:
+            return
+        if self.report is None:
+            self.table.model.set_roles(roles)
+        self.report, self.unreachable = report, int(np.count_nonzero(roles != dpj_edit.MAIN))
+        self._show_checks()
+
+    def _show_checks(self) -> None:
+        if self.report is None:
+            return
+        self.checks.show_report(self.report, self.unreachable)
+        self._enable_use(self.report.is_valid)
+
+    def _enable_use(self, valid: bool) -> None:
+        for w in (self.act_use, self.preview.use_button, self.preview.full_button):
+            w.setEnabled(valid)
+
+    def checked_report(self):
+        """The report of the current DPJ, computed now if the background has not finished."""
+        if self.report is None:
+            self._checked(self.dpj, *analyse(self.dpj))
+        return self.report
 
     def _update_title(self) -> None:
         if not shiboken6.isValid(self.undo_stack):
@@ -423,7 +459,7 @@ class DPJEditor(QtWidgets.QMainWindow):
 
     def use(self) -> bool:
         """Hand the DPJ to the main window (it becomes the current DPJ) when it is valid."""
-        if not self.report.is_valid:
+        if not self.checked_report().is_valid:
             self.show_error("This DPJ cannot be used yet", "Probabilities in [0, 1] summing to 1 "
                             "are needed: see the checks (Normalise).")
             return False
@@ -450,6 +486,12 @@ class DPJEditor(QtWidgets.QMainWindow):
     def closeEvent(self, ev) -> None:
         self.preview.preview.timer.stop()    # the window is only hidden: it keeps its DPJ
         super().closeEvent(ev)
+
+    def stop(self) -> None:
+        """Stop the background work (before the window is destroyed)."""
+        self.runner.cancel()
+        self.analysis.stop()
+        self.preview.preview.stop()
 
 
 def open_editor(window, *, new: bool = False) -> DPJEditor:

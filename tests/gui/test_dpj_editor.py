@@ -32,9 +32,7 @@ def editor(qtbot, monkeypatch):
     ed.show()
     qtbot.waitExposed(ed)
     yield ed
-    ed.runner.cancel()
-    ed.runner.wait(10_000)
-    ed.preview.preview.stop()
+    ed.stop()
 
 
 def new_dpj(qtbot, editor, u, v, g):
@@ -295,7 +293,7 @@ def test_hand_made_vertical_stripes_synthesise_stripes(qtbot, window):
     assert levels.shape == (48, 64)
     assert np.all(levels == levels[0])                              # every column is constant
     assert np.all(levels[0, 1:] != levels[0, :-1])                  # and the columns alternate
-    editor.preview.preview.stop()
+    editor.stop()
 
 
 def test_edit_dpj_opens_the_current_one(qtbot, window):
@@ -303,4 +301,23 @@ def test_edit_dpj_opens_the_current_one(qtbot, window):
     editor = window.dpj_editor
     assert editor.isVisible() and editor.dpj is window.history.document.dpj
     assert editor.table.model.rowCount() == len(editor.dpj)
-    editor.preview.preview.stop()
+    editor.stop()
+
+
+def test_large_dpjs_are_checked_in_the_background(qtbot, editor, monkeypatch):
+    import app.dpj_editor.window as window_module
+    monkeypatch.setattr(window_module, "BACKGROUND_CHECKS", 10)
+    main = [[[a, b]] for a in (1, 2, 3) for b in (1, 2, 3)]           # a closed class {1, 2, 3}
+    configs = np.array(main + [[[0, 1]], [[5, 5]]], np.uint8)        # + transient 0, class {5}
+    big = DPJ(configs, np.full(11, 1 / 11), 6)
+    editor.start(DPJ(configs[:3], [.5, .25, .25], 6), "small")      # 3 entries: checked at once
+    assert editor.report is not None and editor.report.entries == 3
+    editor.start(big, "larger")
+    assert editor.report is None and editor.checks.verdict.text() == "Checking…"
+    assert not editor.act_use.isEnabled()
+    assert editor.analysis.wait()
+    assert editor.report.entries == 11 and editor.unreachable == 2
+    assert editor.act_use.isEnabled()
+    model = editor.table.model
+    marks = sorted(model.data(model.index(r, CHAIN)) for r in range(model.rowCount()))
+    assert marks[-2:] == ["small closed class", "transient"] and marks[:-2] == [""] * 9
