@@ -469,5 +469,55 @@ def shot_grains(app, window, out: Path) -> None:
 MORE_SHOTS.append(shot_grains)
 
 
+def shot_dpj_editor(app, window, out: Path) -> None:
+    """The DPJ editor (issue 8): a 2×2, G = 3 DPJ drawn from a seed, its empty configuration
+    set to 0.3 and made stationary, one entry loaded into the painter; then the two
+    vertical-stripe configurations entered by hand, and the charts."""
+    import numpy as np
+
+    from app.dpj_editor import open_editor
+
+    editor = open_editor(window, new=True)
+    editor.headless = True
+    editor.resize(1400, 900)
+    dialog = editor.new_dialog
+    dialog.u.setValue(2)
+    dialog.v.setValue(2)
+    dialog.levels.setValue(3)
+    dialog.accept()
+    gen = editor.generators
+    gen.seed.set_value(3)
+    gen.sparsity.setValue(55)
+    gen.evenness.setValue(0.4)
+    gen.generate()
+    editor.runner.wait()
+    gen.set_extremes(0.3, editor.dpj.prob(np.full((2, 2), 2)))
+    editor.checks.stationaryRequested.emit()
+    editor.runner.wait()
+    view = editor.table.view
+    view.selectRow(2)
+    settle(app, 300)
+    editor.preview.preview.wait()
+    settle(app, 300)
+    save(editor, out / "dpj-editor.png")
+
+    editor.act_new.trigger()
+    editor.new_dialog.levels.setValue(2)
+    editor.new_dialog.accept()
+    for config in ([[0, 1], [0, 1]], [[1, 0], [1, 0]]):
+        editor.painter.load(np.array(config, np.uint8), 0.5)
+        editor.painter.request_set()
+    editor.preview.preview.wait()
+    editor.charts.setCurrentIndex(2)
+    settle(app, 300)
+    save(editor.docks["Configuration painter"], out / "dpj-painter.png")
+    save(editor.docks["Charts"], out / "dpj-transitions.png")
+    editor.stop()
+    editor.close()
+
+
+MORE_SHOTS.append(shot_dpj_editor)
+
+
 if __name__ == "__main__":
     sys.exit(main())
