@@ -19,7 +19,7 @@ def chain(pairs: dict, levels: int) -> DPJ:
     return DPJ(configs, list(pairs.values()), levels)
 
 
-# -- entries ------------------------------------------------------------------------------------------
+# -- entries ---------------------------------------------------------------------------------------
 
 def test_set_add_replace_remove_and_normalise():
     d = DPJ.empty((2, 2), 2)
@@ -50,7 +50,7 @@ def test_normalising_nothing_is_an_error():
         E.normalize(DPJ.empty((2, 2), 2))
 
 
-# -- stationarity -------------------------------------------------------------------------------------
+# -- stationarity ----------------------------------------------------------------------------------
 
 def test_residuals_of_hand_made_dpjs():
     # left point {0: .8, 1: .2}, right point {0: .6, 1: .4}: L1 distance .4; v = 1: no vertical
@@ -123,7 +123,7 @@ def test_make_stationary_always_reaches_the_tolerance(seed, window, sparsity):
     assert max(E.residuals(s)) < 1e-9 and np.isclose(s.total, d.total)
 
 
-# -- the chain's classes (Massaloux) ------------------------------------------------------------------
+# -- the chain's classes (Massaloux) ---------------------------------------------------------------
 
 def planted_chain() -> DPJ:
     """Main closed class {1, 2}, a transient state 0 (0 -> 1), a small closed class {3}."""
@@ -158,7 +158,7 @@ def test_restrict_in_a_two_row_window():
     assert len(kept) == 2 and kept.prob(c[2]) == 0
 
 
-# -- generators ---------------------------------------------------------------------------------------
+# -- generators ------------------------------------------------------------------------------------
 
 def test_seed_generation_is_deterministic_and_reaches_every_configuration():
     a = E.random_dpj((2, 2), 3, seed=42)
@@ -238,7 +238,7 @@ def test_remapping_levels_is_a_permutation_and_colours_follow():
         E.merge_levels(d, [0, 1, 1])
 
 
-# -- views for the charts -----------------------------------------------------------------------------
+# -- views for the charts --------------------------------------------------------------------------
 
 def test_level_marginal_and_transition_matrix():
     d = chain({(0, 0): .5, (0, 1): .25, (1, 0): .25}, 2)
@@ -260,3 +260,9 @@ def test_make_stationary_leaves_no_fading_entries():
     s = E.make_stationary(d)
     assert len(d) == 30 and len(s) == 12
     assert s.probs.min() > 1e-3 and max(E.residuals(s)) < 1e-9
+
+
+def test_make_stationary_can_be_cancelled():
+    from texeditor.errors import Cancelled
+    with pytest.raises(Cancelled):
+        E.make_stationary(E.random_dpj((2, 2), 3, seed=5), cancel=lambda: True)

@@ -13,7 +13,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import LinearOperator, cg
 
 from .dpj import DPJ, check_palette, check_window, decode, encode, grey_ramp
-from .errors import InputError
+from .errors import Cancelled, InputError
 
 MAX_RANDOM_CONFIGS = 2**22     # a seeded DPJ draws every configuration: G^(u·v) must stay small
 STATIONARY_TOL = 1e-11         # L1 residual make_stationary aims below (the checks want 1e-9)
@@ -78,7 +78,7 @@ def _check_probabilities(probs: np.ndarray) -> None:
         raise InputError("a probability is a number between 0 and 1")
 
 
-# -- stationarity (§5.2.2: the connectivity rules, Fig. 4.4) ----------------------------------------
+# -- stationarity (§5.2.2: the connectivity rules, Fig. 4.4) ---------------------------------------
 
 def residuals(dpj: DPJ) -> tuple[float, float]:
     """(horizontal, vertical) stationarity residuals: the L1 distance between the laws of the
@@ -99,7 +99,8 @@ def residuals(dpj: DPJ) -> tuple[float, float]:
     return out[0], out[1]
 
 
-def make_stationary(dpj: DPJ, *, tol: float = STATIONARY_TOL, max_steps: int = 100) -> DPJ:
+def make_stationary(dpj: DPJ, *, tol: float = STATIONARY_TOL, max_steps: int = 100,
+                    cancel=None) -> DPJ:
     """The stationary DPJ closest to this one: residuals below ``tol``, same total mass.
 
     What is chosen: the *I-projection*, the law p' that minimises the divergence KL(p' ‖ p) among
@@ -112,7 +113,7 @@ def make_stationary(dpj: DPJ, *, tol: float = STATIONARY_TOL, max_steps: int = 1
     first every transition that never comes back (in either direction); then, since the two
     directions constrain each other, any entry the projection shrinks by more than ``1/FADED``
     (it is fading to 0), after which the rest is balanced again. A stationary DPJ comes back
-    unchanged.
+    unchanged. ``cancel()`` returning True stops the work with :class:`Cancelled`.
     """
     _check_usable(dpj)
     if _worst_residual(dpj) <= tol:
@@ -124,7 +125,7 @@ def make_stationary(dpj: DPJ, *, tol: float = STATIONARY_TOL, max_steps: int = 1
             raise InputError("no stationary DPJ uses only these configurations: each of them "
                              "leads to a sub-window that never comes back; add configurations "
                              "that close the cycles")
-        logw = _balance(dpj, keep, tol, max_steps)
+        logw = _balance(dpj, keep, tol, max_steps, cancel)
         logq = logw - logw.max()
         logq -= np.log(np.exp(logq).sum())
         fading = logq - np.log(dpj.probs[keep] / dpj.total) < np.log(FADED)
@@ -210,7 +211,7 @@ def _crossing_edges(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return label[ids[:k]] != label[ids[k:]]
 
 
-def _balance(dpj: DPJ, keep: np.ndarray, tol: float, max_steps: int) -> np.ndarray:
+def _balance(dpj: DPJ, keep: np.ndarray, tol: float, max_steps: int, cancel=None) -> np.ndarray:
     """log p'(c) up to a constant: minimise f(θ) = log Σ p·exp(Aθ) by damped Newton steps.
 
     ∇f = Aᵀp'/Σp' is the vector of marginal differences, so its L1 norm is the residual.
@@ -224,6 +225,8 @@ def _balance(dpj: DPJ, keep: np.ndarray, tol: float, max_steps: int) -> np.ndarr
     for _ in range(max_steps):
         if np.abs(g).sum() <= tol:
             break
+        if cancel is not None and cancel():
+            raise Cancelled("make stationary cancelled")
         step = _newton_step(a, w, g)
         slope = float(g @ step)
         if not np.all(np.isfinite(step)) or slope >= 0:
@@ -262,7 +265,7 @@ def _objective(a, logp, theta):
     return float(top + np.log(s)), w, a.T @ w
 
 
-# -- the chain's classes (§4.5, Massaloux) -----------------------------------------------------------
+# -- the chain's classes (§4.5, Massaloux) ---------------------------------------------------------
 
 def chain_roles(dpj: DPJ) -> np.ndarray:
     """Each entry's role in the horizontal chain: MAIN (its left sub-window is in the closed class
@@ -298,7 +301,7 @@ def restrict(dpj: DPJ) -> DPJ:
     return _rebuild(dpj, dpj.codes[keep], dpj.probs[keep]).normalized()
 
 
-# -- generators (§5.2.2) ------------------------------------------------------------------------------
+# -- generators (§5.2.2) ---------------------------------------------------------------------------
 
 def random_dpj(window: tuple[int, int], levels: int, seed: int, *, sparsity: float = 0.0,
                evenness: float = 1.0, palette=None, meta: dict | None = None) -> DPJ:

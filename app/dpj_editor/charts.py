@@ -74,7 +74,7 @@ class ChartsPanel(QtWidgets.QTabWidget):
         (self._draw_sorted, self._draw_levels, self._draw_heat)[k](self.dpj)
         self._drawn.add(k)
 
-    # -- the three charts ----------------------------------------------------------------------------
+    # -- the three charts --------------------------------------------------------------------------
     def _draw_sorted(self, dpj) -> None:
         plot = self.sorted_plot.getPlotItem()
         plot.clear()

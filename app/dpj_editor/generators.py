@@ -16,11 +16,14 @@ from ..palette_dock import grey_scale
 from ..params_form import SeedEdit
 
 WEIGHT_STEPS = 1000
+ONE_STEP = -1          # an edit of its own (not part of a slider drag)
+IN_BACKGROUND = -2     # an edit whose work may take seconds on a large DPJ: run it in the worker
 
 
 class GeneratorsPanel(QtWidgets.QWidget):
     """``edited(function, text, gesture)``: apply ``function(dpj) -> dpj`` as one edit; edits
-    sharing a non-negative ``gesture`` (one slider drag) merge into one undo step."""
+    sharing a non-negative ``gesture`` (one slider drag) merge into one undo step; ONE_STEP and
+    IN_BACKGROUND are single steps, the second computed off the GUI thread."""
 
     edited = QtCore.Signal(object, str, int)
 
@@ -35,7 +38,7 @@ class GeneratorsPanel(QtWidgets.QWidget):
         layout.addWidget(self._merge_group())
         layout.addStretch(1)
 
-    # -- from a seed ----------------------------------------------------------------------------------
+    # -- from a seed -------------------------------------------------------------------------------
     def _seed_group(self) -> QtWidgets.QGroupBox:
         group = QtWidgets.QGroupBox("From a seed")
         form = QtWidgets.QFormLayout(group)
@@ -67,9 +70,9 @@ class GeneratorsPanel(QtWidgets.QWidget):
             return dpj_edit.random_dpj(dpj.window, dpj.levels, seed, sparsity=sparsity,
                                        evenness=evenness, palette=dpj.palette,
                                        meta={"name": dpj.meta.get("name", "hand-made")})
-        self.edited.emit(draw, f"Generate from seed {seed}", -1)
+        self.edited.emit(draw, f"Generate from seed {seed}", IN_BACKGROUND)
 
-    # -- the empty and all-maximum configurations ---------------------------------------------------
+    # -- the empty and all-maximum configurations --------------------------------------------------
     def _extremes_group(self) -> QtWidgets.QGroupBox:
         group = QtWidgets.QGroupBox("Extreme configurations")
         form = QtWidgets.QFormLayout(group)
@@ -95,7 +98,8 @@ class GeneratorsPanel(QtWidgets.QWidget):
         row = QtWidgets.QHBoxLayout(box)
         row.setContentsMargins(0, 0, 0, 0)
         label.setMinimumWidth(self.fontMetrics().horizontalAdvance("0.0000") + 4)
-        label.setAlignment(QtCore.Qt.AlignmentFlag.AlignRight | QtCore.Qt.AlignmentFlag.AlignVCenter)
+        A = QtCore.Qt.AlignmentFlag
+        label.setAlignment(A.AlignRight | A.AlignVCenter)
         row.addWidget(widget, 1)
         row.addWidget(label)
         return box
@@ -110,14 +114,14 @@ class GeneratorsPanel(QtWidgets.QWidget):
         dragging = self.empty.isSliderDown() or self.full.isSliderDown()
         self.edited.emit(lambda dpj: dpj_edit.set_extremes(dpj, empty=empty, full=full),
                          f"Empty {empty:.3f}, all-maximum {full:.3f}",
-                         1_000_000 + self._gesture if dragging else -1)
+                         1_000_000 + self._gesture if dragging else ONE_STEP)
 
     def set_extremes(self, empty: float, full: float) -> None:
         """Set the sliders (tests, scripts) as a user would: one edit each."""
         self.empty.setValue(round(empty * WEIGHT_STEPS))
         self.full.setValue(round(full * WEIGHT_STEPS))
 
-    # -- the grey scale (the DPJ's palette) -----------------------------------------------------------
+    # -- the grey scale (the DPJ's palette) --------------------------------------------------------
     def _grey_group(self) -> QtWidgets.QGroupBox:
         group = QtWidgets.QGroupBox("Grey scale of the levels")
         form = QtWidgets.QFormLayout(group)
@@ -142,10 +146,11 @@ class GeneratorsPanel(QtWidgets.QWidget):
     def _grey_moved(self, _value) -> None:
         dark, light, contrast = self.darkest.value(), self.lightest.value(), self.contrast.value()
         dragging = any(s.isSliderDown() for s in (self.darkest, self.lightest, self.contrast))
-        self.edited.emit(lambda dpj: dpj.with_palette(grey_scale(dpj.levels, dark, light, contrast)),
-                         "Grey scale", 2_000_000 + self._gesture if dragging else -1)
+        self.edited.emit(lambda dpj: dpj.with_palette(grey_scale(dpj.levels, dark, light,
+                                                                 contrast)),
+                         "Grey scale", 2_000_000 + self._gesture if dragging else ONE_STEP)
 
-    # -- merging levels (R = QᵀPQ) --------------------------------------------------------------------
+    # -- merging levels (R = QᵀPQ) -----------------------------------------------------------------
     def _merge_group(self) -> QtWidgets.QGroupBox:
         group = QtWidgets.QGroupBox("Merge or remap levels")
         layout = QtWidgets.QVBoxLayout(group)
@@ -192,9 +197,9 @@ class GeneratorsPanel(QtWidgets.QWidget):
     def merge(self) -> None:
         mapping = self.mapping()
         self.edited.emit(lambda dpj: dpj_edit.merge_levels(dpj, mapping),
-                         f"Merge levels {' '.join(map(str, mapping))}", -1)
+                         f"Merge levels {' '.join(map(str, mapping))}", IN_BACKGROUND)
 
-    # -- following the DPJ -----------------------------------------------------------------------------
+    # -- following the DPJ -------------------------------------------------------------------------
     def set_dpj(self, dpj) -> None:
         """Show the DPJ's own values on the sliders, without emitting edits."""
         old, self.dpj = self.dpj, dpj

@@ -167,7 +167,8 @@ class PainterPanel(QtWidgets.QWidget):
         self.fill_button.clicked.connect(self.fill)
         self.clear_button = QtWidgets.QPushButton("Clear")
         self.clear_button.setToolTip("Every cell level 0 (the empty configuration)")
-        self.clear_button.clicked.connect(lambda: self.grid.set_config(np.zeros_like(self.grid.config)))
+        self.clear_button.clicked.connect(
+            lambda: self.grid.set_config(np.zeros_like(self.grid.config)))
         self.entry_label = QtWidgets.QLabel()
         self.entry_label.setWordWrap(True)
         self.probability = ProbabilityField()
@@ -207,7 +208,7 @@ class PainterPanel(QtWidgets.QWidget):
         layout.addLayout(buttons)
         layout.addStretch(1)
 
-    # -- state ---------------------------------------------------------------------------------------
+    # -- state -------------------------------------------------------------------------------------
     def set_dpj(self, dpj) -> None:
         """Follow the DPJ being edited: its window, its palette, the painted entry's probability."""
         self.dpj = dpj
@@ -244,7 +245,8 @@ class PainterPanel(QtWidgets.QWidget):
         p = self.dpj.prob(self.grid.config)
         if p:
             total = self.dpj.total
-            self.entry_label.setText(f"In the DPJ: p = {p:.6g} ({100 * p / total:.3g} % of the sum)")
+            self.entry_label.setText(f"In the DPJ: p = {p:.6g} "
+                                     f"({100 * p / total:.3g} % of the sum)")
         else:
             self.entry_label.setText("Not in the DPJ yet")
         self.remove_button.setEnabled(bool(p))

@@ -88,7 +88,7 @@ class ConfigTableModel(QtCore.QAbstractTableModel):
         self._presence = None
         self._thumbs: dict[int, QtGui.QPixmap] = {}
 
-    # -- contents -----------------------------------------------------------------------------------
+    # -- contents ----------------------------------------------------------------------------------
     def set_dpj(self, dpj: DPJ, roles: np.ndarray) -> None:
         if not np.array_equal(dpj.palette, self.dpj.palette) or dpj.window != self.dpj.window:
             self._thumbs.clear()
@@ -141,7 +141,7 @@ class ConfigTableModel(QtCore.QAbstractTableModel):
             return np.lexsort(keys)
         return np.argsort(-probs if descending else probs, kind="stable")
 
-    # -- Qt model ------------------------------------------------------------------------------------
+    # -- Qt model ----------------------------------------------------------------------------------
     def rowCount(self, parent=QtCore.QModelIndex()) -> int:
         return 0 if parent.isValid() else len(self.rows)
 
@@ -216,7 +216,7 @@ class ConfigTableModel(QtCore.QAbstractTableModel):
                                                      thumb_cell(self.dpj.window))
         return pix
 
-    # -- rows ↔ entries ------------------------------------------------------------------------------
+    # -- rows ↔ entries ----------------------------------------------------------------------------
     def entries_of_rows(self, rows: np.ndarray) -> np.ndarray:
         return self.rows[rows]
 
@@ -414,7 +414,7 @@ class ConfigTable(QtWidgets.QWidget):
         layout.addWidget(self.view, 1)
         layout.addLayout(bottom)
 
-    # -- the DPJ --------------------------------------------------------------------------------------
+    # -- the DPJ -----------------------------------------------------------------------------------
     def set_dpj(self, dpj: DPJ, roles: np.ndarray) -> None:
         """Show a new DPJ, keeping the selected and current configurations where they still are."""
         self._sync_level_buttons(dpj)
@@ -445,7 +445,7 @@ class ConfigTable(QtWidgets.QWidget):
             self.levels_row.addWidget(b)
             self._level_buttons.append(b)
 
-    # -- filter ---------------------------------------------------------------------------------------
+    # -- filter ------------------------------------------------------------------------------------
     def current_filter(self) -> LevelFilter:
         levels = [k for k, b in enumerate(self._level_buttons) if b.isChecked()]
         return LevelFilter(levels, self.mode.currentData(), _bound_value(self.pmin),
@@ -471,7 +471,7 @@ class ConfigTable(QtWidgets.QWidget):
         text = f"{n:,} configurations" if shown == n else f"{shown:,} of {n:,} configurations shown"
         self.count_label.setText(text)
 
-    # -- selection ------------------------------------------------------------------------------------
+    # -- selection ---------------------------------------------------------------------------------
     def _save_place(self) -> None:
         """Before any reset (new DPJ, sort, filter): what was selected and current."""
         self._saved = (self.selected_codes(), self._current_code())

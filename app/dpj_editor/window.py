@@ -21,7 +21,7 @@ from ..synthesis_worker import TaskRunner
 from ..widgets import scrolled
 from .charts import ChartsPanel
 from .checks import ChecksPanel
-from .generators import GeneratorsPanel
+from .generators import IN_BACKGROUND, GeneratorsPanel
 from .painter import PainterPanel
 from .preview import LatestWins, PreviewPanel
 from .table import ConfigTable, config_text
@@ -81,8 +81,9 @@ class NewDPJDialog(QtWidgets.QDialog):
         form.addRow("Window rows v", self.v)
         form.addRow("Levels G", self.levels)
         form.addRow(self.info)
-        self.buttons = QtWidgets.QDialogButtonBox(QtWidgets.QDialogButtonBox.StandardButton.Ok
-                                                  | QtWidgets.QDialogButtonBox.StandardButton.Cancel)
+        ok_cancel = (QtWidgets.QDialogButtonBox.StandardButton.Ok
+                     | QtWidgets.QDialogButtonBox.StandardButton.Cancel)
+        self.buttons = QtWidgets.QDialogButtonBox(ok_cancel)
         self.buttons.accepted.connect(self.accept)
         self.buttons.rejected.connect(self.reject)
         form.addRow(self.buttons)
@@ -163,7 +164,7 @@ class DPJEditor(QtWidgets.QMainWindow):
         self._show(self.dpj)
         self.undo_stack.setClean()
 
-    # -- construction ---------------------------------------------------------------------------------
+    # -- construction ------------------------------------------------------------------------------
     def _action(self, text, slot, shortcut=None, tip=None) -> QtGui.QAction:
         action = QtGui.QAction(text, self)
         if shortcut is not None:
@@ -185,7 +186,8 @@ class DPJEditor(QtWidgets.QMainWindow):
         self.act_save_as = a("Save &As…", self.save_as, K.SaveAs)
         self.act_undo = a("&Undo", self.undo_stack.undo, "Ctrl+Z")
         self.act_redo = a("&Redo", self.undo_stack.redo, "Ctrl+Shift+Z")
-        self.act_redo.setShortcuts([QtGui.QKeySequence("Ctrl+Shift+Z"), QtGui.QKeySequence("Ctrl+Y")])
+        self.act_redo.setShortcuts([QtGui.QKeySequence("Ctrl+Shift+Z"),
+                                    QtGui.QKeySequence("Ctrl+Y")])
         for act, can, text in ((self.act_undo, self.undo_stack.canUndoChanged,
                                 self.undo_stack.undoTextChanged),
                                (self.act_redo, self.undo_stack.canRedoChanged,
@@ -251,8 +253,8 @@ class DPJEditor(QtWidgets.QMainWindow):
         t.probabilityEdited.connect(self._set_code)
         c = self.checks
         c.normaliseRequested.connect(lambda: self.apply(dpj_edit.normalize, "Normalise"))
-        c.stationaryRequested.connect(lambda: self.run_long(dpj_edit.make_stationary,
-                                                            "Make stationary"))
+        c.stationaryRequested.connect(lambda: self.run_long(
+            dpj_edit.make_stationary, "Make stationary", cancellable=True))
         c.restrictRequested.connect(lambda: self.run_long(dpj_edit.restrict, "Restrict"))
         g = self.generators
         g.edited.connect(self._generated)
@@ -277,7 +279,7 @@ class DPJEditor(QtWidgets.QMainWindow):
             rest = max(200, sum(d.height() for d in docks) - sum(natural))
             self.resizeDocks(docks, natural + [rest], QtCore.Qt.Orientation.Vertical)
 
-    # -- edits ----------------------------------------------------------------------------------------
+    # -- edits -------------------------------------------------------------------------------------
     def edit(self, new: DPJ, text: str, merge_id: int = -1) -> None:
         """Make ``new`` the edited DPJ as one undoable step (merged with the previous one when
         they share a non-negative ``merge_id``: one slider drag, one step)."""
@@ -295,8 +297,9 @@ class DPJEditor(QtWidgets.QMainWindow):
         self.edit(new, text, merge_id)
         return True
 
-    def run_long(self, function, text: str) -> None:
-        """Apply ``function(dpj)`` in the background (large DPJs), with Cancel; the result is
+    def run_long(self, function, text: str, cancellable: bool = False) -> None:
+        """Apply ``function(dpj)`` in the background (large DPJs), with Cancel (passed on as
+        ``cancel=`` when ``cancellable``; otherwise the result is dropped); the result is also
         dropped if the DPJ changed meanwhile."""
         if self.runner.busy:
             self.statusBar().showMessage("Busy: wait for the current work or cancel it.", 5000)
@@ -310,7 +313,10 @@ class DPJEditor(QtWidgets.QMainWindow):
                 return
             self.edit(new, text)
 
-        self.runner.run(f"{text}…", lambda progress, cancel: function(start), done,
+        def work(progress, cancel):
+            return function(start, cancel=cancel) if cancellable else function(start)
+
+        self.runner.run(f"{text}…", work, done,
                         on_cancel=lambda: self.statusBar().showMessage(f"{text} cancelled.", 5000),
                         on_error=lambda exc: self.show_error(f"{text}: not possible", exc))
 
@@ -337,12 +343,12 @@ class DPJEditor(QtWidgets.QMainWindow):
                    f"Delete {n:,} configuration{'s' if n != 1 else ''}")
 
     def _generated(self, function, text: str, gesture: int) -> None:
-        if gesture < 0 and text.startswith(("Generate", "Merge")):
+        if gesture == IN_BACKGROUND:
             self.run_long(function, text)
         else:
             self.apply(function, text, gesture)
 
-    # -- showing a DPJ --------------------------------------------------------------------------------
+    # -- showing a DPJ -----------------------------------------------------------------------------
     def _show(self, dpj: DPJ) -> None:
         """Every panel follows the DPJ (called by the undo commands). The checks of a large DPJ
         are computed in the background, so an edit never waits for them."""
@@ -397,7 +403,7 @@ class DPJEditor(QtWidgets.QMainWindow):
         self.setWindowTitle(f"{name}{star} ({u}×{v}, G = {self.dpj.levels}, {len(self.dpj):,} "
                             "configurations) — DPJ editor")
 
-    # -- files and the main window --------------------------------------------------------------------
+    # -- files and the main window -----------------------------------------------------------------
     def new_dpj(self) -> NewDPJDialog:
         """Ask for the window and G (window-modal, no nested event loop), then start afresh."""
         dialog = NewDPJDialog(self.dpj.window, self.dpj.levels, self)
