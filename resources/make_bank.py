@@ -25,7 +25,7 @@ from texeditor.logopt import optimize  # noqa: E402
 from texeditor.region_actions import Copy, Fill, Identity, Isometry, Similarity  # noqa: E402
 from texeditor.texturefile import save_texture  # noqa: E402
 
-SIZE = 128
+SIZE = 256
 WARM = [(52, 36, 24), (128, 86, 52), (186, 140, 92), (232, 206, 160)]
 MOSS = [(24, 36, 20), (58, 86, 40), (104, 140, 64), (170, 196, 110), (226, 234, 190)]
 
@@ -61,7 +61,7 @@ def entries() -> dict:
     gravel, grass, brick = bundled("gravel-3x3-g4"), bundled("grass-2x2-g8"), bundled("brick-2x3-g4")
     out["gravel"] = (synthesised(gravel, 1), ["gravel", "photo", "granular"],
                      "Acquired from scikit-image's gravel photo: 3×3 window, G = 4, Lloyd–Max "
-                     "levels; synthesised 128×128, seed 1.")
+                     "levels; synthesised 256×256, seed 1.")
     out["grass"] = (synthesised(grass, 2), ["grass", "photo", "fine"],
                     "Acquired from scikit-image's grass photo: 2×2 window, G = 8; synthesised.")
     out["brick"] = (synthesised(brick, 3), ["brick", "photo", "oriented"],
@@ -75,8 +75,9 @@ def entries() -> dict:
         "A 2×2 DPJ drawn from seed 8, G = 3, no empty configuration: a dense grain.")
 
     h = synthesised(gravel, 4)
-    h.apply(Fill(64, 64, 3, scope="region", connectivity=8))
-    h.apply(Copy(64, 64, 24, 100, kind="region", scope="region", connectivity=8))
+    h.apply(Fill(SIZE // 2, SIZE // 2, 3, scope="region", connectivity=8))
+    h.apply(Copy(SIZE // 2, SIZE // 2, SIZE // 5, SIZE * 4 // 5, kind="region", scope="region",
+                 connectivity=8))
     h.apply(SetPalette(WARM))
     out["gravel-filled-and-copied"] = (
         h, ["gravel", "edited", "regions", "colour"],
@@ -101,10 +102,11 @@ def entries() -> dict:
     h.apply(SetLevels(2, 2, 10, 12, 2))
     h.apply(SetLevels(6, 6, 2, 4, 1))
     h.apply(SetLevels(12, 4, 3, 10, 1))
-    h.apply(Identity(0, 0, repeat_rows=8, repeat_cols=8, step_rows=16, step_cols=16))
+    h.apply(Identity(0, 0, repeat_rows=SIZE // 16, repeat_cols=SIZE // 16, step_rows=16,
+                     step_cols=16))
     out["tiled-motif"] = (
         h, ["hand-made", "regular", "periodic", "tiled"],
-        "A motif drawn by hand in a 16×16 cell and duplicated on an 8×8 grid (identity): a "
+        "A motif drawn by hand in a 16×16 cell and duplicated on a 16×16 grid (identity): a "
         "perfectly regular texture.")
     return out
 

@@ -14,6 +14,7 @@ import zipfile
 from pathlib import Path
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 from skimage import data
 
@@ -27,6 +28,8 @@ EXAMPLES = int(os.environ.get("TEXEDITOR_FUZZ_EXAMPLES", "300"))
 CORPUS = Path(__file__).parent / "corpus"
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=not os.environ.get("CI_FUZZ_RANDOM"),
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+# Mutated archives repeat member names on purpose (a loader must refuse them): zipfile warns.
+pytestmark = pytest.mark.filterwarnings("ignore:Duplicate name:UserWarning")
 
 
 # -- valid seeds ------------------------------------------------------------------------------------
