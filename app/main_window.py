@@ -182,20 +182,19 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         bar.addActions([self.act_fit, self.act_tiled])
 
     def _build_tools(self) -> None:
-        """The Tools bar on the left: one checkable button per tool, with its shortcut."""
-        bar = QtWidgets.QToolBar("Tools")
-        bar.setObjectName("ToolsToolBar")
-        bar.setToolButtonStyle(QtCore.Qt.ToolButtonStyle.ToolButtonTextOnly)
-        self.addToolBar(QtCore.Qt.ToolBarArea.LeftToolBarArea, bar)
+        """One checkable action per tool, with its shortcut: in the Tools menu and as a grid of
+        buttons above the tool options (as GIMP does: a column of text buttons beside the docks
+        took a tenth of a 1280-pixel window from the canvas)."""
         group = QtGui.QActionGroup(self)
         menu = self.menuBar().addMenu("&Tools")
         for tool in self.tools:
             tip = f"{tool.TIP} ({tool.SHORTCUT})" if tool.SHORTCUT else tool.TIP
             tool.qaction = self._action(tool.NAME, lambda _=False, t=tool: self.set_tool(t),
                                         tool.SHORTCUT or None, tip, checkable=True)
+            tool.qaction.setIconText(tool.NAME.split()[0])      # the button's short label
             group.addAction(tool.qaction)
-            bar.addAction(tool.qaction)
             menu.addAction(tool.qaction)
+        self.tool_dock.set_tools(self.tools)
         self.set_tool(self.tools[0])
 
     def set_tool(self, tool) -> None:

@@ -243,8 +243,7 @@ def test_save_find_by_tag_open_edit_and_save_a_new_version(dock, window, qtbot):
     assert np.array_equal(window.document.levels, original.levels)
 
     fill = next(t for t in window.tools if t.NAME == "Fill")      # edit: the fill tool
-    tools = window.findChild(QtWidgets.QToolBar, "ToolsToolBar")
-    button = tools.widgetForAction(fill.qaction)
+    button = window.tool_dock.buttons[id(fill)]
     click(button, button.rect().center())
     assert window.tool is fill
     canvas = window.canvas
