@@ -2,9 +2,10 @@
 or mix the two, T3 = not[(a op1 T1) op2 (b op3 T2)] op4 c — with a preview, one Action per Apply.
 
 T1 is the current texture; T2 (and a mask texture) is picked as a synthesis of a DPJ of the
-document, an opened `.texture` file, or this texture at an earlier step: each becomes a *recipe*
-(the log that rebuilds it, see `texture_actions`). Sources are rendered in the worker; the
-composition itself is instant and previewed on a copy of the document, never on the document.
+document, an opened `.texture` file, a bank entry (`bank_picker`), or this texture at an earlier
+step: each becomes a *recipe* (the log that rebuilds it, see `texture_actions`). Sources are
+rendered in the worker; the composition itself is instant and previewed on a copy of the
+document, never on the document.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from texeditor.errors import TexeditorError
 from texeditor.actions import dpj_refs
 from texeditor.texture_actions import Incrust, Mix, recipe_of, synthesis_recipe
 
+from .bank_picker import choose_bank_entry, load_bank_source
 from .images import qimage_from_rgb
 from .params_form import SeedEdit, dpj_summary
 
@@ -43,8 +45,8 @@ MASKS = [("Levels of another texture", "texture"), ("Levels of this texture", "l
 
 
 class SourcePicker(QtWidgets.QWidget):
-    """Which texture: a synthesis of a DPJ of the document, a .texture file, or this one at a
-    step. ``recipe()`` gives (recipe text, DPJ reference or None)."""
+    """Which texture: a synthesis of a DPJ of the document, a .texture file, a bank entry, or
+    this one at a step. ``recipe()`` gives (recipe text, DPJ reference or None)."""
 
     changed = QtCore.Signal()
 
@@ -53,11 +55,13 @@ class SourcePicker(QtWidgets.QWidget):
         self.window = window
         self.file_recipe: tuple[str, str | None] | None = None
         self.file_name = ""
+        self.bank_source = None          # the chosen entry as a TextureSource
         form = QtWidgets.QFormLayout(self)
         form.setContentsMargins(0, 0, 0, 0)
         self.kind = QtWidgets.QComboBox()
         self.kind.addItem("Synthesis of a DPJ", "synth")
         self.kind.addItem("Texture file…", "file")
+        self.kind.addItem("Bank entry…", "bank")
         self.kind.addItem("This texture at a step", "step")
         self.dpj = QtWidgets.QComboBox()
         self.dpj.setSizeAdjustPolicy(
@@ -66,18 +70,22 @@ class SourcePicker(QtWidgets.QWidget):
         self.seed = SeedEdit(seed)
         self.open_button = QtWidgets.QPushButton("Open a texture…")
         self.file_label = QtWidgets.QLabel("no file")
+        self.bank_button = QtWidgets.QPushButton("Choose an entry…")
+        self.bank_label = QtWidgets.QLabel("no entry")
         self.step = QtWidgets.QSpinBox()
         self.step.setToolTip("The texture after this many steps of the history")
         form.addRow("Source", self.kind)
         self.rows = {"synth": [self._row(form, "DPJ", self.dpj),
                                self._row(form, "Seed", self.seed)],
                      "file": [self._row(form, self.open_button, self.file_label)],
+                     "bank": [self._row(form, self.bank_button, self.bank_label)],
                      "step": [self._row(form, "After step", self.step)]}
         self.kind.currentIndexChanged.connect(self._kind_changed)
         self.dpj.currentIndexChanged.connect(self.changed)
         self.seed.changed.connect(self.changed)
         self.step.valueChanged.connect(self.changed)
         self.open_button.clicked.connect(self.open_file)
+        self.bank_button.clicked.connect(self.choose_entry)
         self.reload()
         self._kind_changed()
 
@@ -135,6 +143,20 @@ class SourcePicker(QtWidgets.QWidget):
         self.file_label.setText(self.file_name)
         self.changed.emit()
 
+    def choose_entry(self) -> QtWidgets.QDialog:
+        """Pick a bank entry; the worker then replays it (checking the bank's hash) into a
+        recipe. Returns the picker."""
+        history = self.window.history
+
+        def loaded(source):
+            if history is self.window.history:
+                self.bank_source = source
+                self.bank_label.setText(source.name)
+                self.changed.emit()
+
+        return choose_bank_entry(self.window, lambda bank, entry_id: load_bank_source(
+            self.window, bank, entry_id, loaded), parent=self)
+
     def recipe(self) -> tuple[str, str | None]:
         kind = self.kind.currentData()
         history = self.window.history
@@ -148,6 +170,11 @@ class SourcePicker(QtWidgets.QWidget):
             if self.file_recipe is None:
                 raise TexeditorError("open a .texture file first")
             return self.file_recipe
+        if kind == "bank":
+            if self.bank_source is None:
+                raise TexeditorError("choose a bank entry first")
+            self.bank_source.store(history.document)
+            return self.bank_source.recipe, self.bank_source.ref
         actions = history.applied[:self.step.value()]
         refs = dpj_refs(actions)
         if len(refs) > 1:
@@ -161,6 +188,8 @@ class SourcePicker(QtWidgets.QWidget):
             return f"a synthesis (seed {self.seed.value()})"
         if kind == "file":
             return self.file_name or "a file"
+        if kind == "bank":
+            return f"bank entry “{self.bank_source.name}”" if self.bank_source else "a bank entry"
         return f"this texture at step {self.step.value()}"
 
 

@@ -3,8 +3,12 @@ mélanger ou en supprimer"): place one spot, scatter many, delete one — each a
 
 The spot tool and the CLI build these; `spots` makes the points. A placement carries its envelope
 (as compact JSON), its perturbation, fill, blend rule and seed, so replaying the log draws the
-same spots bit for bit. A deletion names the placement by its log index and restores what the
-log gives without it (see DeleteSpot).
+same spots bit for bit. A "texture" fill carries the recipe of another texture (a bank entry,
+see `texture_actions`) and reads it where the spot lands, repeated, its levels mapped onto the
+document's G on the grey scale; placements of the other fills write their JSON without that
+parameter, exactly as before it existed, so their fingerprints (`spot_ref`) do not change. A
+deletion names the placement by its log index and restores what the log gives without it (see
+DeleteSpot).
 """
 
 from __future__ import annotations
@@ -20,13 +24,15 @@ from typing import ClassVar
 import numpy as np
 
 from .actions import MAX_CANVAS_SIDE, Action, Synthesize, param, register
+from .composition import convert_levels
 from .document import Document, bytes_ref
 from .dpj import MAX_LEVELS
 from .errors import Cancelled, InputError
 from .spots import (BLENDS, INTERIORS, Envelope, Perturbation, Placement, Stamp, blend, pieces,
                     placed_outline, real_spot, spot_levels)
+from .texture_actions import MAX_RECIPE_CHARS, check_recipe, source_levels
 
-FILLS = ("level", "document", "dpj")
+FILLS = ("level", "document", "dpj", "texture")
 MAX_ENVELOPE_CHARS = 400_000
 MAX_SCATTER = 10_000
 MAX_SCALE = 64.0
@@ -47,11 +53,18 @@ def _level(doc: str, default=dataclasses.MISSING, optional=False):
 
 def _fill():
     return param("str", hi=16, default="level", doc="level: one level; document: the texture "
-                 "already there, read elsewhere; dpj: a lower-level texture synthesised from a DPJ")
+                 "already there, read elsewhere; dpj: a lower-level texture synthesised from a "
+                 "DPJ; texture: another texture, from its recipe")
 
 
 def _dpj():
-    return param("ref", default=None, optional=True, doc="the DPJ of a dpj fill")
+    return param("ref", default=None, optional=True, doc="the DPJ of a dpj fill, or the one a "
+                                                         "texture fill's recipe synthesises from")
+
+
+def _texture():
+    return param("str", hi=MAX_RECIPE_CHARS, default=None, optional=True,
+                 doc="texture fill: the recipe of the texture (the log that rebuilds it, JSON)")
 
 
 def _contour():
@@ -119,6 +132,20 @@ class SpotAction(Action):
                 raise InputError(f"{name} must be one of {', '.join(allowed)}, got {value!r}")
         if self.fill == "dpj" and self.dpj is None:
             raise InputError("a dpj fill needs the reference of a DPJ of the document")
+        if self.fill == "texture":
+            if self.texture is None:
+                raise InputError("a texture fill needs the recipe of its texture")
+            check_recipe(self.texture, self.dpj, "the spots' texture")
+        elif self.texture is not None:
+            raise InputError(f"a texture recipe goes with a texture fill, not a {self.fill} fill")
+
+    def to_json(self) -> dict:
+        """Without ``texture`` when there is none: old placements keep their JSON and hence
+        their fingerprints, and old logs (which never name it) load as they were."""
+        obj = super().to_json()
+        if obj["texture"] is None:
+            del obj["texture"]
+        return obj
 
     def envelope_model(self) -> Envelope:
         return _parse_envelope(self.envelope)
@@ -168,6 +195,8 @@ class SpotAction(Action):
         self.rasterise(doc.shape, progress, cancel)
         if self.fill == "dpj" and self.dpj in doc.dpjs:
             self._lower_texture(doc)
+        elif self.fill == "texture" and (self.dpj is None or self.dpj in doc.dpjs):
+            source_levels(doc, self.texture, self.dpj, progress, cancel)
 
     def rasterise(self, shape, progress=None, cancel=None) -> None:
         """Rasterise every spot ahead of apply(), which then only writes: the slow part of a big
@@ -218,6 +247,9 @@ class SpotAction(Action):
             if not doc.levels.size:
                 raise InputError("a document fill needs a texture in the document")
             return doc.levels
+        if self.fill == "texture":
+            levels, g = source_levels(doc, self.texture, self.dpj)
+            return convert_levels(levels, g, doc.num_levels)
         dpj = doc.dpjs.get(self.dpj)
         if dpj is None:
             raise InputError(f"DPJ {self.dpj} is not part of this document: add it first")
@@ -264,6 +296,7 @@ class PlaceSpot(SpotAction):
     level: int = _level("the level of a level fill", default=1)
     fill: str = _fill()
     dpj: str | None = _dpj()
+    texture: str | None = _texture()
     source_row: float | None = param("float", -MAX_CANVAS_SIDE, MAX_CANVAS_SIDE, default=None,
                                      optional=True, doc="document fill: where the texture is "
                                                         "read (row of the spot's centre)")
@@ -290,7 +323,8 @@ class PlaceSpot(SpotAction):
                      self.level, offset)]
 
     def label(self) -> str:
-        fill = {"level": f"level {self.level}", "document": "texture", "dpj": "DPJ texture"}
+        fill = {"level": f"level {self.level}", "document": "texture", "dpj": "DPJ texture",
+                "texture": "another texture"}
         return f"Spot at ({self.row:g}, {self.col:g}), {fill[self.fill]}"
 
 
@@ -322,6 +356,7 @@ class ScatterSpots(SpotAction):
     level_max: int | None = _level("highest level of a level fill", default=None, optional=True)
     fill: str = _fill()
     dpj: str | None = _dpj()
+    texture: str | None = _texture()
     contour: float = _contour()
     frequency: int = _frequency()
     fractal: float = _fractal()

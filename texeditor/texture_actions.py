@@ -4,15 +4,26 @@ Tools build these from the Grain & density dock, the composition panel and the d
 `grain_render`, `composition` and `doubling` do the work. Each is a replayable record: editing a
 RenderGrains step later replays the edits made after it on the newly sized canvas.
 
-How a log refers to another texture. A composition source is a *recipe*: the action log that
-rebuilds it, as the JSON text of a `.texture`'s actions.json (``{"actions": [...]}``), plus the
-one DPJ it synthesises from, which the document keeps in its DPJ store (so a saved file carries
-it, like any DPJ it refers to). A synthesis of a stored DPJ is the one-step recipe
-``[Synthesize(ref, w, h, seed)]``; an opened `.texture` or a bank entry is its own log; "this
-document at step k" is its log cut at k. Replaying a recipe gives the same levels on every machine,
-so the composition replays bit for bit, and the result is kept in a small memo so a preview and
-the apply that follows it synthesise once. A doubling table is a DPJ (`doubling.learn`) in the
-same store, referred to by its reference.
+How a log refers to another texture. A composition source, or the texture a spot is filled
+with (`spot_actions`), is a *recipe*: the action log that rebuilds it, as the JSON text of a
+`.texture`'s actions.json (``{"actions": [...]}``), plus the one DPJ it synthesises from, which
+the document keeps in its DPJ store (so a saved file carries it, like any DPJ it refers to). A
+synthesis of a stored DPJ is the one-step recipe ``[Synthesize(ref, w, h, seed)]``; an opened
+`.texture` is its own log; "this document at step k" is its log cut at k; a bank entry is its
+optimised log, replayed once when it is chosen and checked against the SHA-256 the bank recorded
+(`bank_source`). The step carries the whole recipe, so it replays bit for bit after save and load
+even if the bank entry is later changed or deleted. Replaying a recipe gives the same levels on
+every machine, and the result is kept in a small memo so a preview and the apply that follows it
+synthesise once. A doubling table is a DPJ (`doubling.learn`) in the same store, referred to by
+its reference.
+
+One DPJ per recipe, by decision. What a saved file and a bank entry carry is the set of DPJs a
+log names through its "ref" parameters (`actions.dpj_refs`), one reference per parameter; a
+recipe's DPJ is named by the step's own ``source_dpj``, ``mask_dpj`` or (a spot) ``dpj``. A
+source made from two or more DPJs (a bank entry that is itself a composition of two syntheses,
+say) is refused with a message that says so: naming its other DPJs would need a
+list-of-references parameter kind known to `dpj_refs`, and a version bump of the steps that use
+it. No built-in entry uses more than one.
 """
 
 from __future__ import annotations
@@ -31,6 +42,7 @@ from . import composition, doubling
 from . import grain_render as gr
 from .actions import Action, dpj_refs, param, register
 from .document import dpj_ref
+from .dpj import DPJ
 from .errors import FormatError, InputError
 
 MAX_RECIPE_CHARS = 2**24
@@ -102,10 +114,11 @@ def _no_constant(token):
 
 
 def check_recipe(text: str, ref: str | None, what: str) -> None:
+    """A valid recipe made from at most one DPJ, ``ref`` (see the module's docstring)."""
     refs = dpj_refs(parse_recipe(text))
     if len(refs) > 1:
-        raise InputError(f"{what} is made from {len(refs)} DPJs ({', '.join(refs)}); a "
-                         "composition source may use one: compose from a simpler texture")
+        raise InputError(f"{what} is made from {len(refs)} DPJs ({', '.join(refs)}); a texture "
+                         "used as a source may use one: choose a simpler texture")
     if refs and refs[0] != ref:
         raise InputError(f"{what} synthesises from DPJ {refs[0]}: give it as its DPJ "
                          f"(got {ref})")
@@ -115,17 +128,24 @@ def render_recipe(text: str, dpjs: dict, progress=None, cancel=None) -> tuple[np
     """(levels, G) of a recipe replayed on an empty document with ``dpjs`` (reference → DPJ, a
     reference naming its DPJ's content); memoised."""
     from .history import replay
-    key = (hashlib.sha256(text.encode("utf-8")).hexdigest(), tuple(sorted(dpjs)))
-    hit = _RECIPES.get(key)
+    hit = _RECIPES.get(_recipe_key(text, dpjs))
     if hit is not None:
         return hit
     doc = replay(parse_recipe(text), dpjs, progress=progress, cancel=cancel)
     if not doc.levels.size:
         raise InputError("the texture recipe gives an empty canvas")
+    return _remember(text, dpjs, doc)
+
+
+def _recipe_key(text: str, dpjs: dict) -> tuple:
+    return (hashlib.sha256(text.encode("utf-8")).hexdigest(), tuple(sorted(dpjs)))
+
+
+def _remember(text: str, dpjs: dict, doc) -> tuple[np.ndarray, int]:
     levels = doc.levels.copy()
     levels.flags.writeable = False
     result = (levels, doc.num_levels)
-    _RECIPES.put(key, result)
+    _RECIPES.put(_recipe_key(text, dpjs), result)
     return result
 
 
@@ -146,13 +166,49 @@ def _ref_field(doc: str):
     return param("ref", default=None, optional=True, doc=doc)
 
 
-def _source_levels(doc, text: str, ref: str | None, progress=None, cancel=None):
+def source_levels(doc, text: str, ref: str | None, progress=None, cancel=None):
+    """(levels, G) of a recipe whose DPJ ``ref`` is in the document's store."""
     dpjs = {}
     if ref is not None:
         if ref not in doc.dpjs:
-            raise InputError(f"DPJ {ref} of a composition source is not part of this document")
+            raise InputError(f"DPJ {ref} of a texture recipe is not part of this document")
         dpjs[ref] = doc.dpjs[ref]
     return render_recipe(text, dpjs, progress, cancel)
+
+
+@dataclass(frozen=True)
+class TextureSource:
+    """A texture ready to be named by a step: its recipe, the DPJ it synthesises from (its
+    reference, and the DPJ itself for the document's store), its number of levels G, a name."""
+
+    recipe: str
+    ref: str | None
+    dpj: DPJ | None
+    levels: int
+    name: str
+
+    def store(self, doc) -> None:
+        """Keep the recipe's DPJ in ``doc`` (before a step that names it is made)."""
+        if self.dpj is not None:
+            store_dpj(doc, self.dpj)
+
+
+def bank_source(bank, entry_id: int, progress=None, cancel=None) -> TextureSource:
+    """A bank entry (of a `bank.Bank`) as a recipe: its log and its one DPJ.
+
+    The entry is replayed here and must give the texture the bank recorded (its SHA-256), so a
+    damaged entry is refused before a step names it; the levels stay in the memo for the preview
+    or the apply that follows. Slow: call it in a worker."""
+    entry, recipe = bank.get(entry_id), bank.recipe(entry_id)
+    what = f"bank entry {entry.id} “{entry.name}”"
+    refs = dpj_refs(recipe.actions)
+    ref = refs[0] if refs else None
+    text = recipe_of(recipe.actions)
+    check_recipe(text, ref, what)
+    doc = bank.render(entry_id, progress=progress, cancel=cancel)     # hash checked
+    dpjs = {r: recipe.dpjs[r] for r in refs}
+    _remember(text, dpjs, doc)
+    return TextureSource(text, ref, dpjs.get(ref), doc.num_levels, entry.name)
 
 
 # -- grains and density (§5.3) ---------------------------------------------------------------------
@@ -253,10 +309,10 @@ class Mix(Action):
         check_recipe(self.source, self.source_dpj, "T2")
 
     def prepare(self, doc, progress=None, cancel=None) -> None:
-        _source_levels(doc, self.source, self.source_dpj, progress, cancel)
+        source_levels(doc, self.source, self.source_dpj, progress, cancel)
 
     def apply(self, doc) -> None:
-        t2, g2 = _source_levels(doc, self.source, self.source_dpj)
+        t2, g2 = source_levels(doc, self.source, self.source_dpj)
         new = composition.mix(doc.levels, composition.fit(t2, doc.shape), levels=doc.num_levels,
                               levels2=g2, **self.ops())
         _commit(doc, new)
@@ -306,9 +362,9 @@ class Incrust(Action):
             check_recipe(self.mask_source, self.mask_dpj, "the mask texture")
 
     def prepare(self, doc, progress=None, cancel=None) -> None:
-        _source_levels(doc, self.source, self.source_dpj, progress, cancel)
+        source_levels(doc, self.source, self.source_dpj, progress, cancel)
         if self.mask == "texture":
-            _source_levels(doc, self.mask_source, self.mask_dpj, progress, cancel)
+            source_levels(doc, self.mask_source, self.mask_dpj, progress, cancel)
 
     def membership(self, doc) -> np.ndarray:
         """Where T2 shows, on the document's canvas."""
@@ -317,11 +373,11 @@ class Incrust(Action):
         chosen = composition.parse_level_set(self.levels)
         if self.mask == "levels":
             return composition.membership_from_levels(doc.levels, chosen)
-        m, _ = _source_levels(doc, self.mask_source, self.mask_dpj)
+        m, _ = source_levels(doc, self.mask_source, self.mask_dpj)
         return composition.membership_from_levels(composition.fit(m, doc.shape), chosen)
 
     def apply(self, doc) -> None:
-        t2, g2 = _source_levels(doc, self.source, self.source_dpj)
+        t2, g2 = source_levels(doc, self.source, self.source_dpj)
         t2 = composition.convert_levels(composition.fit(t2, doc.shape), g2, doc.num_levels)
         _commit(doc, composition.incrust(self.membership(doc), [doc.levels, t2]))
 

@@ -3,7 +3,8 @@ editor (a drag turns and sizes it), scatter many in a rectangle, delete one.
 
 Every gesture becomes one Action of `texeditor.spot_actions`. The ghost of the spot under the
 pointer (or of the spot about to be deleted) is a vector outline drawn over the canvas; the
-document only changes when an Action is submitted.
+document only changes when an Action is submitted. A "Bank texture…" fill opens the bank
+picker; the chosen entry becomes a recipe (`texture_actions.bank_source`) the placements carry.
 """
 
 from __future__ import annotations
@@ -17,12 +18,16 @@ from texeditor.errors import TexeditorError
 from texeditor.spot_actions import DeleteSpot, PlaceSpot, ScatterSpots, spot_at, spot_ref
 from texeditor.spots import Placement, placed_outline
 
+from ..bank_picker import choose_bank_entry, load_bank_source
 from ..spot_editor import SpotEditorDock
 from . import Tool
 
 MODES = [("Place", "place"), ("Scatter", "scatter"), ("Delete", "delete")]
 FILLS = [("Current level", "level"), ("Texture (Ctrl+click: source)", "document"),
-         ("DPJ texture", "dpj")]
+         ("DPJ texture", "dpj"), ("Bank texture…", "texture")]
+BANK_NOTE = ("Spots are filled with the entry's texture, read where each spot lands and repeated. "
+             "An entry of another number of levels G has its levels mapped onto the document's "
+             "on the grey scale.")
 BLENDS = [("Over", "over"), ("Under (background only)", "under"), ("Max of levels", "max"),
           ("Min of levels", "min")]
 HINTS = {"place": "Click to place the spot; drag from its centre to turn and size it.",
@@ -49,7 +54,18 @@ class SpotOptions(QtWidgets.QWidget):
         self.angle.setWrapping(True)
         self.angle.setToolTip("Turn, counter-clockwise")
         self.fill = _combo(FILLS, "What fills the spot: the current level, the document's own "
-                                  "texture read elsewhere, or a texture synthesised from the DPJ")
+                                  "texture read elsewhere, a texture synthesised from the DPJ, "
+                                  "or the texture of a bank entry")
+        self.texture_label = QtWidgets.QLabel("no entry")
+        self.texture_button = QtWidgets.QToolButton()
+        self.texture_button.setText("Choose…")
+        self.texture_button.setToolTip("Choose the bank entry whose texture fills the spots")
+        self.texture_button.clicked.connect(tool.choose_texture)
+        self.texture_row = QtWidgets.QWidget()
+        row = QtWidgets.QHBoxLayout(self.texture_row)
+        row.setContentsMargins(0, 0, 0, 0)
+        row.addWidget(self.texture_label, 1)
+        row.addWidget(self.texture_button)
         self.blend = _combo(BLENDS, "How a spot meets what is already there")
         self.wrap = QtWidgets.QCheckBox("Wrap around the edges")
         self.wrap.setToolTip("A spot crossing an edge comes back on the other side")
@@ -57,6 +73,7 @@ class SpotOptions(QtWidgets.QWidget):
         form.addRow("Size", self.scale)
         form.addRow("Turn", self.angle)
         form.addRow("Fill", self.fill)
+        form.addRow("Texture", self.texture_row)
         form.addRow("Blend", self.blend)
         form.addRow(self.wrap)
 
@@ -92,7 +109,14 @@ class SpotOptions(QtWidgets.QWidget):
         self.hint.setWordWrap(True)
         form.addRow(self.hint)
         self.mode.currentIndexChanged.connect(self.mode_changed)
+        self.fill.currentIndexChanged.connect(tool.fill_changed)
         self.mode_changed()
+        self._form = form
+        self.show_texture_row(False)
+
+    def show_texture_row(self, shown: bool) -> None:
+        self.texture_row.setVisible(shown)
+        self._form.labelForField(self.texture_row).setVisible(shown)
 
     def mode_changed(self) -> None:
         mode = self.mode.currentData()
@@ -119,6 +143,16 @@ def _double(lo, hi, value, step, suffix, tip) -> QtWidgets.QDoubleSpinBox:
     return box
 
 
+def levels_note(source, levels: int) -> str:
+    """What becomes of a texture source's levels in a document of G = ``levels``."""
+    if source.levels == levels:
+        return (f"Spots show “{source.name}” as it is: it has G = {levels} levels, like the "
+                "document.")
+    return (f"“{source.name}” has G = {source.levels} levels, the document {levels}: its levels "
+            "are mapped onto the document's on the grey scale (the background stays 0, the top "
+            "level the top).")
+
+
 def _path(outline: np.ndarray) -> QtGui.QPainterPath:
     """A closed path in view coordinates from an outline in (row, col) point coordinates (the
     point (r, c) is the centre of cell (c, r), at (c + 0.5, r + 0.5))."""
@@ -141,6 +175,8 @@ class SpotTool(Tool):
         self._shown_by_tool = False
         self._unsubscribe = None
         self._colours = None          # (palette, level) the editor's preview was drawn with
+        self.texture = None           # the bank entry of a texture fill, as a TextureSource
+        self.picker = None            # the bank picker while it is open
 
     @property
     def editor(self):
@@ -273,6 +309,34 @@ class SpotTool(Tool):
         scale = min(max(math.hypot(dy, dx) / (env.length / 2), 0.05), 16.0)
         return round(angle, 1), round(scale, 3)
 
+    # -- the texture of a texture fill ------------------------------------------------------------
+    def fill_changed(self) -> None:
+        """Show the texture row for a texture fill; the first time, choose its entry."""
+        texture = self.opts.fill.currentData() == "texture"
+        self.opts.show_texture_row(texture)
+        if texture and self.texture is None:
+            self.choose_texture()
+
+    def choose_texture(self) -> None:
+        """Open the bank picker; the chosen entry is read in the worker. Cancelled with no
+        texture yet, the fill goes back to the current level."""
+        self.picker = choose_bank_entry(self.window, lambda bank, entry_id: load_bank_source(
+            self.window, bank, entry_id, self._texture_loaded), note=BANK_NOTE)
+        self.picker.rejected.connect(self._texture_refused)
+        self.picker.finished.connect(lambda _r: setattr(self, "picker", None))
+
+    def _texture_refused(self) -> None:
+        if self.texture is None:
+            self.opts.fill.setCurrentIndex(self.opts.fill.findData("level"))
+
+    def _texture_loaded(self, source) -> None:
+        self.texture = source
+        self.opts.texture_label.setText(source.name)
+        note = levels_note(source, self.document.num_levels)
+        self.opts.texture_label.setToolTip(note)
+        self.opts.hint.setText(note)
+        self.window.statusBar().showMessage(note, 8000)
+
     # -- actions ----------------------------------------------------------------------------------
     def _spot_params(self) -> dict | None:
         """The parameters shared by a placement and a scatter, or None (and a message)."""
@@ -293,6 +357,13 @@ class SpotTool(Tool):
                     "This document has no DPJ to synthesise a texture from: acquire one first."))
                 return None
             params["dpj"] = self.document.dpj_ref
+        elif params["fill"] == "texture":
+            if self.texture is None:
+                self.window.show_error("No texture", ValueError(
+                    "Choose the bank entry that fills the spots first (Fill: Bank texture…)."))
+                return None
+            self.texture.store(self.document)
+            params.update(texture=self.texture.recipe, dpj=self.texture.ref)
         return params
 
     def place(self, row: int, col: int, angle: float | None = None,
