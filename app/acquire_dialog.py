@@ -1,26 +1,84 @@
 """File ▸ Acquire DPJ from image…: quantise a photo into G levels and count its u×v windows.
 
 This is the automatic acquisition of thesis §5.2: the dialog shows the photo, its quantised levels
-and the size of the estimated DPJ while the user tunes window, G, quantiser and wrap.
+and the size of the estimated DPJ while the user tunes window, G, quantiser and wrap. Reading,
+quantising and counting take seconds on a large photo, so they run in a worker, the latest
+setting winning: the dialog never freezes, and Acquire is enabled only for the current result.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
-from PySide6 import QtCore, QtWidgets
+import numpy as np
+from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor.dpj import MAX_SIDE
-from texeditor.errors import TexeditorError
+from texeditor.dpj import DPJ, MAX_SIDE
+from texeditor.errors import Cancelled, TexeditorError
 from texeditor.estimation import estimate_dpj
 from texeditor.levels import load_image, quantize
 
 from .canvas import colourize
-from .images import photo_rgb, pixmap
+from .dpj_editor.preview import LatestWins
+from .images import photo_rgb, qimage_from_rgb
 
 PREVIEW = 240
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.gif *.webp);;All files (*)"
 QUANTISERS = (("Band (thesis: 90 % central band)", "band"), ("Lloyd–Max (least squares)", "lloyd"))
+DEBOUNCE_MS = 150
+
+
+@dataclass
+class Acquired:
+    """What the worker made of one request; ``error`` says why ``dpj`` (or ``image``) is None."""
+
+    path: Path
+    image: np.ndarray | None = None       # None: the file could not be read
+    photo: QtGui.QImage | None = None     # the photo's preview, when it was read for this request
+    quantization: object = None
+    dpj: DPJ | None = None
+    report: object = None
+    levels: QtGui.QImage | None = None    # the quantised levels' preview
+    error: str = ""
+
+
+def preview_image(rgb: np.ndarray) -> QtGui.QImage:
+    """A PREVIEW-square QImage of an RGB array (a QImage, unlike a QPixmap, may be made in the
+    worker); small images are enlarged without smoothing."""
+    mode = (QtCore.Qt.TransformationMode.FastTransformation if max(rgb.shape[:2]) < PREVIEW
+            else QtCore.Qt.TransformationMode.SmoothTransformation)
+    return qimage_from_rgb(rgb).scaled(PREVIEW, PREVIEW,
+                                       QtCore.Qt.AspectRatioMode.KeepAspectRatio, mode)
+
+
+def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, cancel) -> Acquired:
+    """Read the photo (unless ``image`` is given), quantise it and count its windows: all the
+    slow part of the dialog, for the worker. Stops between stages when ``cancel()``."""
+    out = Acquired(path, image)
+    try:
+        if image is None:
+            out.image = load_image(path)
+            out.photo = preview_image(photo_rgb(out.image))
+    except TexeditorError as exc:
+        out.error = str(exc)
+        return out
+    if cancel():
+        raise Cancelled("a newer setting was asked for")
+    meta = {"name": path.stem, "image": path.name, "quantiser": method}
+    try:
+        out.quantization = q = quantize(out.image, levels, method)
+        if cancel():
+            raise Cancelled("a newer setting was asked for")
+        out.dpj = estimate_dpj(q.levels, window, levels, wrap=wrap, palette=q.palette, meta=meta)
+        out.report = out.dpj.report()
+    except Cancelled:
+        raise
+    except TexeditorError as exc:
+        out.dpj, out.error = None, str(exc)
+        return out
+    out.levels = preview_image(colourize(q.levels, q.palette))
+    return out
 
 
 class AcquireDialog(QtWidgets.QDialog):
@@ -29,10 +87,14 @@ class AcquireDialog(QtWidgets.QDialog):
     def __init__(self, samples: list[Path] = (), parent=None):
         super().__init__(parent)
         self.setWindowTitle("Acquire a DPJ from an image")
-        self.image = None
+        self.image = None                 # the photo at ``path``, once read
         self.path: Path | None = None
-        self.dpj = None
+        self.dpj = None                   # the result of the current settings, once ready
         self.quantization = None
+        self.worker = LatestWins(self, delay_ms=DEBOUNCE_MS)
+        self.worker.done.connect(self._computed)
+        self.worker.failed.connect(lambda exc: self._show_error(f"Cannot estimate: {exc!r}"))
+        self.finished.connect(lambda _result: self.worker.stop())
 
         self.source = QtWidgets.QComboBox()
         self.source.setMinimumContentsLength(24)
@@ -59,6 +121,11 @@ class AcquireDialog(QtWidgets.QDialog):
         self.info = QtWidgets.QLabel()
         self.info.setWordWrap(True)
         self.info.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.busy = QtWidgets.QProgressBar()        # indeterminate while the worker computes
+        self.busy.setRange(0, 0)
+        self.busy.setTextVisible(False)
+        self.busy.setMaximumHeight(8)
+        self.busy.hide()
 
         self.buttons = QtWidgets.QDialogButtonBox(
             QtWidgets.QDialogButtonBox.StandardButton.Ok
@@ -69,8 +136,6 @@ class AcquireDialog(QtWidgets.QDialog):
         self.buttons.rejected.connect(self.reject)
         self._layout()
 
-        self._timer = QtCore.QTimer(self, singleShot=True, interval=150)
-        self._timer.timeout.connect(self.recompute)
         if samples:
             self.set_image_path(samples[0])
         else:
@@ -121,6 +186,7 @@ class AcquireDialog(QtWidgets.QDialog):
         layout.addLayout(form)
         layout.addLayout(previews)
         layout.addWidget(self.info)
+        layout.addWidget(self.busy)
         layout.addWidget(self.synthesise_now)
         layout.addWidget(self.buttons)
 
@@ -131,50 +197,61 @@ class AcquireDialog(QtWidgets.QDialog):
             self.set_image_path(path)
 
     def set_image_path(self, path) -> None:
-        """Read a photo (errors are shown in the dialog, which stays open) and estimate."""
-        path = Path(path)
-        try:
-            image = load_image(path)
-        except TexeditorError as exc:
-            self.image, self.dpj = None, None
-            self.photo_view.clear()
-            self.levels_view.clear()
-            self.photo_view.setText("cannot read this file")
-            self._show_error(str(exc))
-            return
-        self.image, self.path = image, path
-        if self.source.findData(str(path)) < 0:
-            self.source.addItem(path.name, str(path))
-        self.source.setCurrentIndex(self.source.findData(str(path)))
-        self.photo_view.setPixmap(pixmap(photo_rgb(image), PREVIEW))
+        """Read a photo and estimate, in the worker (errors are shown in the dialog, which stays
+        open)."""
+        self.path, self.image = Path(path), None
         self.recompute()
 
     def _schedule(self, *_args) -> None:
-        self._timer.start()
+        self.recompute()
 
     # -- the estimate ---------------------------------------------------------------------------------
     def recompute(self) -> None:
-        """Quantise and estimate now (fast: a 512² photo takes a few tens of milliseconds)."""
-        self._timer.stop()
-        if self.image is None:
+        """Ask the worker for the current settings (after a short pause, so that typing a value
+        asks once); until it answers, the previous result cannot be acquired."""
+        if self.path is None:
             return
+        path, image = self.path, self.image
         window, levels = (self.u.value(), self.v.value()), self.levels.value()
         method, wrap = self.method.currentData(), self.wrap.isChecked()
-        try:
-            q = quantize(self.image, levels, method)
-            meta = {"name": self.path.stem, "image": self.path.name, "quantiser": method}
-            dpj = estimate_dpj(q.levels, window, levels, wrap=wrap, palette=q.palette, meta=meta)
-        except TexeditorError as exc:
-            self.dpj = None
-            self._show_error(str(exc))
-            return
-        self.quantization, self.dpj = q, dpj
-        self.levels_view.setPixmap(pixmap(colourize(q.levels, q.palette), PREVIEW))
-        self._show_report()
+        self.dpj = None
+        self.ok_button.setEnabled(False)
+        self.busy.show()
+        self.worker.request(lambda _progress, cancel: acquire(path, image, window, levels,
+                                                              method, wrap, cancel))
 
-    def _show_report(self) -> None:
+    def wait(self, timeout_ms: int = 30_000) -> bool:
+        """Block until the current settings' result is shown (tests and scripts only)."""
+        return self.worker.wait(timeout_ms)
+
+    def _computed(self, out: Acquired) -> None:
+        """Show the result of the latest request (older ones never arrive here)."""
+        self.busy.hide()
+        if out.image is None:
+            self._unreadable(out.error)
+            return
+        if out.photo is not None:
+            self.image = out.image
+            self.photo_view.setPixmap(QtGui.QPixmap.fromImage(out.photo))
+            if self.source.findData(str(out.path)) < 0:
+                self.source.addItem(out.path.name, str(out.path))
+            self.source.setCurrentIndex(self.source.findData(str(out.path)))
+        if out.dpj is None:
+            self._show_error(out.error)
+            return
+        self.quantization, self.dpj = out.quantization, out.dpj
+        self.levels_view.setPixmap(QtGui.QPixmap.fromImage(out.levels))
+        self._show_report(out.report)
+
+    def _unreadable(self, message: str) -> None:
+        self.path, self.image, self.dpj = None, None, None
+        self.photo_view.clear()
+        self.levels_view.clear()
+        self.photo_view.setText("cannot read this file")
+        self._show_error(message)
+
+    def _show_report(self, report) -> None:
         dpj, (u, v), g = self.dpj, self.dpj.window, self.dpj.levels
-        report = self.dpj.report()
         h, w = self.quantization.levels.shape
         self.info.setStyleSheet("")
         self.info.setText(
@@ -184,11 +261,12 @@ class AcquireDialog(QtWidgets.QDialog):
         self.ok_button.setEnabled(True)
 
     def _show_error(self, message: str) -> None:
+        self.busy.hide()
         self.info.setStyleSheet("color: #d04040;")
         self.info.setText(message)
         self.ok_button.setEnabled(False)
 
     def accept(self) -> None:
-        self.recompute()     # a change still waiting on the timer must not be lost
+        """Only the current settings' result may be acquired (Acquire is disabled until then)."""
         if self.dpj is not None:
             super().accept()

@@ -1,7 +1,8 @@
 """The history dock: the action log as a list (the texture's recipe), and an editor for a past step.
 
 Clicking a step goes there (undo/redo many at once); "Apply & replay" replaces the selected step
-with edited parameters and replays the later ones — non-destructive history (DESIGN.md).
+with edited parameters and replays the later ones — non-destructive history (DESIGN.md); the main
+window runs that replay in the worker.
 """
 
 from __future__ import annotations
@@ -120,6 +121,12 @@ class HistoryDock(QtWidgets.QDockWidget):
             self.view.setCurrentIndex(self.model.index(current))
             self.view.scrollTo(self.model.index(current))
         self._show_selected()
+
+    def set_replaying(self, replaying: bool) -> None:
+        """While an edit is replayed in the worker the log is about to change: its steps can be
+        neither clicked nor edited (the status bar shows the progress and Cancel)."""
+        self.view.setEnabled(not replaying)
+        self.group.setEnabled(not replaying)
 
     def row_rect(self, step: int) -> QtCore.QRect:
         """Where step (0-based) is drawn in the list's viewport (for clicks in tests)."""

@@ -43,6 +43,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self._unsubscribe = None
         self._journal = None       # this window's crash journal (None: not yet; False: failed)
         self.runner = TaskRunner(self)
+        self._replaying = None     # the PendingEdit of a past step replayed in the worker
         self.headless = False      # --screenshot: errors go to stderr, never a modal dialog
 
         self.canvas = CanvasView()
@@ -230,7 +231,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.canvas.hovered.connect(self._show_hover)
         self.canvas.zoomChanged.connect(lambda z: self.zoom_label.setText(f"zoom {z * 100:.0f} %"))
         self.synthesis_dock.requested.connect(self.synthesise)
-        self.palette_dock.committed.connect(lambda pal: self.submit(SetPalette(pal)))
+        self.palette_dock.committed.connect(self._palette_committed)
         self.palette_dock.preview.connect(self.canvas.set_palette)
         self.history_dock.stepClicked.connect(self.goto_step)
         self.history_dock.editRequested.connect(self.edit_step)
@@ -243,6 +244,14 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         if not self._docks_sized:
             self._docks_sized = True
             QtCore.QTimer.singleShot(0, self._size_docks)   # once the layout has settled
+
+    def closeEvent(self, ev) -> None:
+        """The DPJ editors' unsaved changes are asked about first (Cancel keeps the window
+        open), then the texture's (FileOps)."""
+        if not dpj_editor.confirm_close(self):
+            ev.ignore()
+            return
+        super().closeEvent(ev)
 
     def _size_docks(self) -> None:
         """Synthesis and palette at their natural height; the history takes the rest."""
@@ -312,6 +321,8 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
 
     def submit(self, action) -> bool:
         """Apply an Action; a refused one is explained in a dialog and changes nothing."""
+        if self.edits_locked():
+            return False
         try:
             self.history.apply(action)
         except TexeditorError as exc:
@@ -319,15 +330,25 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             return False
         return True
 
+    def _palette_committed(self, palette) -> None:
+        """A palette the document refused (while a replay runs, say) is not left on show."""
+        if not self.submit(SetPalette(palette)):
+            self.palette_dock.set_palette(self.history.document.palette)
+            self.canvas.set_palette(self.history.document.palette)
+
     def undo(self) -> None:
-        if self.history.index > 1:     # the first step is the base texture, as in GIMP
+        if self._replaying is not None:
+            self.runner.cancel()       # undo the edit being replayed: as Krita cancels a stroke
+        elif self.history.index > 1:   # the first step is the base texture, as in GIMP
             self._guarded(self.history.undo)
 
     def redo(self) -> None:
-        self._guarded(self.history.redo)
+        if not self.edits_locked():
+            self._guarded(self.history.redo)
 
     def goto_step(self, steps: int) -> None:
-        self._guarded(lambda: self.history.goto(max(1, steps)))
+        if not self.edits_locked():
+            self._guarded(lambda: self.history.goto(max(1, steps)))
 
     def _guarded(self, fn) -> None:
         try:
@@ -385,39 +406,73 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             f"— {repairs:,} repairs", 10000)
 
     def edit_step(self, i: int, action) -> None:
-        """Replace step i and replay the rest; syntheses are drawn in the worker first."""
+        """Replace step i and replay every later step in the worker, on a scratch copy: the
+        window stays live, the new document is swapped in only at the end, and Cancel (Esc,
+        Ctrl+Z) leaves the document and its history exactly as they were."""
         if self.runner.busy:
+            self.statusBar().showMessage("Busy: wait for the current work or cancel it (Esc).",
+                                         5000)
             return
         history = self.history
-        later = [action] + list(history.actions[i + 1:])
-        heavy = [a for a in later if isinstance(a, Synthesize)][:4]
-        dpjs = dict(history.document.dpjs)
+        try:
+            pending = history.pending_replace(i, action, to_end=True)
+        except TexeditorError as exc:
+            self.show_error("Cannot apply this edit", exc)
+            return
+        self._set_replaying(pending)
 
-        def work(progress, cancel):
-            for k, synth in enumerate(heavy):
-                if synth.dpj in dpjs:
-                    synth.render(dpjs[synth.dpj], lambda f, k=k: progress((k + f) / len(heavy)),
-                                 cancel)
-            return None
+        def failed(exc):
+            self._replay_ended()
+            self.show_error("Cannot apply this edit", exc)
 
-        def done(_result):
-            if history is not self.history:
-                return
+        self.runner.run(f"Replaying from step {i + 1}…", pending.run,
+                        lambda _pending: self._replayed(history, pending),
+                        on_cancel=lambda: self._replay_ended("Edit cancelled: the history is "
+                                                             "unchanged."),
+                        on_error=failed)
 
-            def replay():            # the later steps are replayed on top: go to the end
-                history.replace(i, action)
-                history.goto(len(history.actions))
-            self._guarded(replay)
-            self.statusBar().showMessage(f"Step {i + 1} edited and the {len(later) - 1} later "
-                                         "step(s) replayed.", 8000)
+    def _replayed(self, history, pending) -> None:
+        """Swap the replayed document in (unless another document was opened meanwhile)."""
+        self._set_replaying(None)
+        if history is not self.history:
+            return
+        try:
+            history.commit(pending)
+        except TexeditorError as exc:
+            self.show_error("Cannot apply this edit", exc)
+            return
+        later = pending.new_index - pending.i - 1
+        self.statusBar().showMessage(f"Step {pending.i + 1} edited and the {later} later "
+                                     "step(s) replayed.", 8000)
 
-        self.runner.run(f"Replaying from step {i + 1}…", work, done,
-                        on_cancel=lambda: self.statusBar().showMessage(
-                            "Edit cancelled: the history is unchanged.", 8000),
-                        on_error=lambda exc: self.show_error("Cannot apply this edit", exc))
+    def _set_replaying(self, pending) -> None:
+        """While a replay runs the history dock is locked and Ctrl+Z cancels it."""
+        self._replaying = pending
+        self.history_dock.set_replaying(pending is not None)
+        self.act_undo.setEnabled(pending is not None or self.history.index > 1)
 
-    def acquire(self) -> AcquireDialog:
+    def _replay_ended(self, message: str = "") -> None:
+        """Nothing was swapped in; the history dock keeps the edited values (to try again)."""
+        self._set_replaying(None)
+        if message:
+            self.statusBar().showMessage(message, 8000)
+
+    def edits_locked(self) -> bool:
+        """True (with a word in the status bar) while a past step's edit is replayed: the
+        document is about to be replaced, so a change made now would be lost. Like Krita while
+        its image is busy, the change is refused rather than queued on a picture that is
+        going away; Esc or Ctrl+Z cancels the replay."""
+        if self._replaying is None:
+            return False
+        self.statusBar().showMessage("The history is being replayed: wait for it to finish, "
+                                     "or press Esc to cancel it.", 5000)
+        QtWidgets.QApplication.beep()
+        return True
+
+    def acquire(self) -> AcquireDialog | None:
         """Open the acquisition dialog (window-modal, without a nested event loop)."""
+        if self.edits_locked():       # its DPJ would be added to a document about to be replaced
+            return None
         dialog = AcquireDialog(resources.sample_images(), self)
         dialog.accepted.connect(lambda: self.use_acquired(dialog))
         dialog.finished.connect(dialog.deleteLater)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import time
 from bisect import bisect_right
+from collections import ChainMap
 from typing import Callable, Iterable
 
 from .actions import Action
@@ -70,6 +71,7 @@ class History:
         self._snap_bytes = 0
         self._costs: dict[int, float] = {}
         self._subscribers: list[Callable[[], None]] = []
+        self._changes = 0                      # notifications so far: a PendingEdit's staleness
         if self._index:
             self._add_snapshot(self._index, self._doc._state())
 
@@ -165,10 +167,47 @@ class History:
         finally:
             self._notify()
 
-    def replace(self, i: int, action: Action) -> None:
-        """Edit step i (new parameters) and replay the steps after it: non-destructive history."""
+    def replace(self, i: int, action: Action, *, to_end: bool = False) -> None:
+        """Edit step i (new parameters) and replay the steps after it: non-destructive history.
+        ``to_end`` also replays the redo tail and stands at the end of the log."""
+        self.commit(self.pending_replace(i, action, to_end=to_end).run())
+
+    def pending_replace(self, i: int, action: Action, *, to_end: bool = False) -> "PendingEdit":
+        """replace() in two halves, so that a long replay can run in a worker thread while the
+        history stays as it is (a Cancel then changes nothing): ``run()`` it, then commit()."""
         self._check_step(i)
-        self._edit(i, [action] + self._actions[i + 1:], self._index)
+        end = len(self._actions) if to_end else self._index
+        return self._pending(i, [action] + self._actions[i + 1:], end)
+
+    def commit(self, edit: "PendingEdit") -> None:
+        """Make a replayed PendingEdit the current state, in one short step; refused when the
+        history changed since the edit was made (its replay would then undo that change)."""
+        if edit.history is not self or edit.changes != self._changes:
+            raise InputError("the history changed while this edit was replayed: apply it again")
+        if not edit.finished:
+            raise InputError("this edit has not been replayed yet")
+        self._actions = edit.actions
+        if edit.i >= edit.new_index:         # only the redo tail changed: nothing was replayed
+            self._truncate_records(edit.i)
+        else:
+            self._take_replay(edit)
+        self._notify()
+
+    def _take_replay(self, edit: "PendingEdit") -> None:
+        """Forget what was learnt from the edited steps on; keep the replay's state and records."""
+        self._truncate_records(edit.start)
+        for key in [s for s in self._snap_keys if s > edit.i]:
+            self._drop_snapshot(key)
+        self._costs = {k: c for k, c in self._costs.items() if k < edit.i}
+        self._costs.update(edit.costs)
+        self._doc._restore(edit.state, copy=False)
+        self._doc._log[:] = edit.actions[:edit.new_index]
+        self._index = edit.new_index
+        for step, atoms in edit.records.items():
+            self._keep_record(step, atoms)
+        for key, state in edit.snaps.items():
+            self._add_snapshot(key, state)
+        self._trim_records()
 
     def remove(self, i: int) -> None:
         """Delete step i and replay the later ones."""
@@ -207,7 +246,7 @@ class History:
         self._trim_records()
 
     @staticmethod
-    def _step(doc, action, k, records, costs, replaying=None) -> None:
+    def _step(doc, action, k, records, costs, replaying=None, progress=None, cancel=None) -> None:
         atoms: list = []
         doc._recorder = atoms
         start = time.perf_counter()
@@ -216,7 +255,7 @@ class History:
                 n, progress, cancel = replaying
                 _run(doc, action, k, n, progress, cancel)
             else:
-                action.prepare(doc)
+                action.prepare(doc, progress, cancel)
                 action.apply(doc)
         except BaseException:
             for atom in reversed(atoms):     # a failed action leaves the document as it was
@@ -269,47 +308,13 @@ class History:
     def _edit(self, i: int, tail: list, new_index: int) -> None:
         """Make ``actions[i:] = tail`` and stand at ``new_index``, replaying on a scratch copy
         first so that a step made invalid by the edit leaves the history untouched."""
+        self.commit(self._pending(i, tail, new_index).run())
+
+    def _pending(self, i: int, tail: list, new_index: int) -> "PendingEdit":
         for action in tail:
             if not isinstance(action, Action):
                 raise InputError(f"only an Action can be in a log, got {type(action).__name__}")
-        actions = self._actions[:i] + list(tail)
-        if i >= new_index:                   # only the redo tail changes: nothing to replay
-            self._actions = actions
-            self._truncate_records(i)
-            self._notify()
-            return
-        start = self._snap_keys[bisect_right(self._snap_keys, min(i, new_index)) - 1]
-        scratch = Document()
-        scratch.dpjs = self._doc.dpjs
-        scratch._restore(self._snaps[start])
-        scratch._log = actions[:start]      # actions may read the log before them (DeleteSpot)
-        records, costs, snaps = {}, {}, {}
-        keys = [s for s in self._snap_keys if s <= i]
-        for k in range(start, new_index):
-            try:
-                self._step(scratch, actions[k], k, records, costs)
-            except InputError as exc:
-                raise InputError(f"after this edit, step {k + 1} ({actions[k].label()}) "
-                                 f"fails: {exc}") from None
-            scratch._log.append(actions[k])
-            if k + 1 > i and self._wants_snapshot(k + 1, keys, costs):
-                snaps[k + 1] = scratch._state()
-                keys.append(k + 1)
-        self._actions = actions
-        self._truncate_records(start)
-        for key in [s for s in self._snap_keys if s > i]:
-            self._drop_snapshot(key)
-        self._costs = {k: c for k, c in self._costs.items() if k < i}
-        self._costs.update(costs)
-        self._doc._restore(State(scratch._levels, scratch._palette, scratch._dpj_ref), copy=False)
-        self._doc._log[:] = actions[:new_index]
-        self._index = new_index
-        for step, atoms in records.items():
-            self._keep_record(step, atoms)
-        for key, state in snaps.items():
-            self._add_snapshot(key, state)
-        self._trim_records()
-        self._notify()
+        return PendingEdit(self, i, self._actions[:i] + list(tail), new_index)
 
     def _truncate(self, index: int) -> None:
         del self._actions[index:]
@@ -346,8 +351,7 @@ class History:
             return False
         if k - last >= self.snapshot_every:
             return True
-        return sum(costs.get(j, self._costs.get(j, 0.0)) for j in range(last, k)) \
-            >= self.snapshot_cost
+        return sum(costs.get(j, 0.0) for j in range(last, k)) >= self.snapshot_cost
 
     def _maybe_snapshot(self, k: int, doc: Document) -> None:
         if self._wants_snapshot(k, self._snap_keys, self._costs):
@@ -363,11 +367,7 @@ class History:
             self._drop_snapshot(self._thinnest())
 
     def _thinnest(self) -> int:
-        """The snapshot whose removal leaves the smallest gap (keeps the rest evenly spread)."""
-        keys, end = self._snap_keys, max(len(self._actions), self._snap_keys[-1]) + 1
-        gaps = [(keys[j + 1] if j + 1 < len(keys) else end) - keys[j - 1]
-                for j in range(1, len(keys))]
-        return keys[1 + gaps.index(min(gaps))]
+        return _thinnest(self._snap_keys, max(len(self._actions), self._snap_keys[-1]) + 1)
 
     def _drop_snapshot(self, k: int) -> None:
         if k == 0:
@@ -376,9 +376,90 @@ class History:
         self._snap_keys.remove(k)
 
     def _notify(self) -> None:
+        self._changes += 1
         for callback in list(self._subscribers):
             callback()
 
 
 def _atoms_bytes(atoms: list) -> int:
     return sum(a.nbytes for a in atoms)
+
+
+def _thinnest(keys: list, end: int) -> int:
+    """The snapshot whose removal leaves the smallest gap (keeps the rest evenly spread); never
+    ``keys[0]``."""
+    gaps = [(keys[j + 1] if j + 1 < len(keys) else end) - keys[j - 1] for j in range(1, len(keys))]
+    return keys[1 + gaps.index(min(gaps))]
+
+
+class PendingEdit:
+    """An edit of past steps, replayed on a scratch copy away from its History.
+
+    Made on the thread that owns the history, it copies what the replay needs (the nearest
+    snapshot, the DPJs, the step costs), so ``run()`` reads nothing the history may change and
+    can run in a worker thread; History.commit() then swaps the result in. Until then the history
+    is exactly as it was. The replay keeps its undo records and snapshots within the history's
+    memory budgets as it goes (a thousand steps at 4096² would not fit otherwise).
+    """
+
+    def __init__(self, history: History, i: int, actions: list, new_index: int):
+        self.history, self.i, self.actions, self.new_index = history, i, actions, new_index
+        self.changes = history._changes
+        self.start = history._snap_keys[bisect_right(history._snap_keys, min(i, new_index)) - 1]
+        self._base = history._snaps[self.start]
+        self._dpjs = dict(history._doc.dpjs)
+        self._keys = [s for s in history._snap_keys if s <= i]
+        self._snap_budget = history.snapshot_memory - sum(history._snaps[s].nbytes
+                                                          for s in self._keys)
+        self._old_costs = dict(history._costs)
+        self.records: dict[int, list] = {}
+        self.costs: dict[int, float] = {}
+        self.snaps: dict[int, State] = {}
+        self._record_bytes = self._snap_bytes = 0
+        self.state: State | None = None
+        self.finished = i >= new_index       # only the redo tail changes: nothing to replay
+
+    def run(self, progress: Progress = None, cancel: Cancel = None) -> "PendingEdit":
+        """Replay steps start..new_index-1 (progress 0..1; Cancelled when ``cancel()``); a step
+        the edit made invalid is an InputError naming it."""
+        if self.finished:
+            return self
+        scratch = Document()
+        scratch.dpjs = self._dpjs
+        scratch._restore(self._base)
+        scratch._log = self.actions[:self.start]   # actions may read the log before them
+        costs = ChainMap(self.costs, self._old_costs)
+        n = self.new_index - self.start
+        for k in range(self.start, self.new_index):
+            if cancel is not None and cancel():
+                raise Cancelled("replay cancelled")
+            sub = None if progress is None else (lambda f, j=k - self.start: progress((j + f) / n))
+            self._replay_step(scratch, k, sub, cancel)
+            if k + 1 > self.i and self.history._wants_snapshot(k + 1, self._keys, costs):
+                self._keep_snapshot(k + 1, scratch._state())
+            if progress is not None:
+                progress((k + 1 - self.start) / n)
+        self.state = State(scratch._levels, scratch._palette, scratch._dpj_ref)
+        self.finished = True
+        return self
+
+    def _replay_step(self, scratch: Document, k: int, progress: Progress, cancel: Cancel) -> None:
+        action = self.actions[k]
+        try:
+            History._step(scratch, action, k, self.records, self.costs, None, progress, cancel)
+        except InputError as exc:
+            raise InputError(f"after this edit, step {k + 1} ({action.label()}) "
+                             f"fails: {exc}") from None
+        scratch._log.append(action)
+        self._record_bytes += _atoms_bytes(self.records[k])
+        while self._record_bytes > self.history.undo_memory:   # drop the farthest from the end
+            self._record_bytes -= _atoms_bytes(self.records.pop(min(self.records)))
+
+    def _keep_snapshot(self, k: int, state: State) -> None:
+        self.snaps[k] = state
+        self._keys.append(k)
+        self._snap_bytes += state.nbytes
+        while self.snaps and self._snap_bytes > self._snap_budget:
+            drop = _thinnest([self.start] + sorted(self.snaps), self.new_index + 1)
+            self._snap_bytes -= self.snaps.pop(drop).nbytes
+            self._keys.remove(drop)

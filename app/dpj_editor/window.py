@@ -489,6 +489,23 @@ class DPJEditor(QtWidgets.QMainWindow):
         if modal and not self.headless:
             QtWidgets.QMessageBox.critical(self, title, str(exc))
 
+    def maybe_save(self) -> bool:
+        """True when the edited DPJ may be dropped (saved, discarded, or unchanged): asked as the
+        main window asks for its texture, with this editor in view. Headless never asks."""
+        if self.undo_stack.isClean() or self.headless:
+            return True
+        self.show()
+        self.raise_()
+        name = self.path.name if self.path is not None else self.dpj.meta.get("name", "DPJ")
+        buttons = QtWidgets.QMessageBox.StandardButton
+        answer = QtWidgets.QMessageBox.question(
+            self, "Unsaved DPJ", f"The DPJ “{name}” in the DPJ editor has changes that are not "
+            "saved. Save them first?", buttons.Save | buttons.Discard | buttons.Cancel,
+            buttons.Save)
+        if answer == buttons.Save:
+            return self.save()
+        return answer == buttons.Discard
+
     def closeEvent(self, ev) -> None:
         self.preview.preview.timer.stop()    # the window is only hidden: it keeps its DPJ
         super().closeEvent(ev)
@@ -506,7 +523,7 @@ def open_editor(window, *, new: bool = False) -> DPJEditor:
     if editor is None:
         editor = DPJEditor(window)
         editor.headless = window.headless
-        editor.used.connect(lambda dpj: use_in_main_window(window, dpj))
+        editor.used.connect(lambda dpj: use_in_main_window(window, dpj, editor))
         editor.synthesiseRequested.connect(lambda _dpj: window.synthesise_from_dock())
         window.dpj_editor = editor
     editor.show()
@@ -520,7 +537,18 @@ def open_editor(window, *, new: bool = False) -> DPJEditor:
     return editor
 
 
-def use_in_main_window(window, dpj: DPJ) -> None:
+def confirm_close(window) -> bool:
+    """Before the main window closes: every DPJ editor of it with unsaved changes asks Save /
+    Discard / Cancel (open or only hidden, its DPJ would be lost); False keeps everything open."""
+    return all(editor.maybe_save() for editor in window.findChildren(DPJEditor))
+
+
+def use_in_main_window(window, dpj: DPJ, editor: DPJEditor | None = None) -> None:
+    if window.edits_locked():               # the editor keeps its DPJ: "Use" again later
+        if editor is not None:
+            editor.statusBar().showMessage("The main window is replaying its history: use this "
+                                           "DPJ again when it has finished.", 8000)
+        return
     window.history.add_dpj(dpj)
     u, v = dpj.window
     window.statusBar().showMessage(f"The hand-made {u}×{v} DPJ with G = {dpj.levels} is now the "

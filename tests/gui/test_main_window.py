@@ -175,6 +175,7 @@ def test_acquire_from_a_photo(qtbot, window, photo_path):
     qtbot.keyClick(window, QtCore.Qt.Key.Key_I, CTRL)
     dialog = window.acquire_dialog
     qtbot.waitExposed(dialog)
+    assert dialog.wait()                    # read, quantised and counted in the worker
     assert dialog.path == photo_path and dialog.dpj is not None
     type_into(qtbot, dialog.u, "2")
     type_into(qtbot, dialog.v, "2")
@@ -182,7 +183,7 @@ def test_acquire_from_a_photo(qtbot, window, photo_path):
     dialog.method.setFocus()
     qtbot.keyClick(dialog.method, QtCore.Qt.Key.Key_Down)   # Lloyd–Max
     qtbot.mouseClick(dialog.wrap, LEFT)
-    dialog.recompute()
+    assert dialog.wait()
     assert dialog.dpj.window == (2, 2) and dialog.dpj.levels == 5
     assert dialog.dpj.meta["quantiser"] == "lloyd" and dialog.dpj.meta["wrap"] is True
     assert "non-zero configurations" in dialog.info.text()
@@ -204,6 +205,7 @@ def test_acquire_refuses_an_unreadable_file_in_place(qtbot, window, tmp_path, mo
     dialog = window.acquire()
     monkeypatch.setattr(QtWidgets.QFileDialog, "getOpenFileName", lambda *a, **k: (str(bad), ""))
     qtbot.mouseClick(dialog.browse, LEFT)
+    assert dialog.wait()
     assert dialog.dpj is None and not dialog.ok_button.isEnabled()
     assert "not-a-photo" in dialog.info.text()
     dialog.reject()
