@@ -126,24 +126,59 @@ def main(argv=None) -> int:
 
 
 def shot_extract(app, window, out: Path) -> None:
-    """The Extract tool: the neighbours of a region selected on a synthesised texture."""
-    import numpy as np
+    """The Extract tool: a region selected and turned by its rotation knob, the drag still under
+    way so that the ghost shows the result; Esc then cancels it, the document unchanged."""
+    import math
+
+    from PySide6 import QtGui
+    from skimage.measure import label, regionprops
 
     from app.tools.regions import ExtractTool
 
     tool = next(t for t in window.tools if isinstance(t, ExtractTool))
     window.set_tool(tool)
-    tool.opts.kind.setCurrentIndex(tool.opts.kind.findData("neighbours"))
+    tool.opts.kind.setCurrentIndex(tool.opts.kind.findData("region"))
     levels = window.document.levels
-    points = np.argwhere(levels == levels.max())
-    y, x = points[len(points) // 2]
+    h, w = levels.shape
+    inner = [r for r in regionprops(label(levels == 0, connectivity=1))
+             if r.bbox[0] > 0 and r.bbox[1] > 0 and r.bbox[2] < h and r.bbox[3] < w]
+    y, x = max(inner, key=lambda r: r.area).coords[0]
     tool.click((int(x), int(y)), QtCore.Qt.KeyboardModifier.NoModifier)
     settle(app)
+    canvas, frame = window.canvas, tool.frame
+    centre, knob = frame.box.center(), frame.knob()[1]
+    viewport, Type = canvas.viewport(), QtCore.QEvent.Type
+    for k in range(7):           # press on the knob, then turn 24° counter-clockwise
+        t = math.radians(4 * k)
+        d = knob - centre
+        p = centre + QtCore.QPointF(d.x() * math.cos(t) + d.y() * math.sin(t),
+                                    -d.x() * math.sin(t) + d.y() * math.cos(t))
+        pos = canvas.mapFromScene(canvas.view.mapViewToScene(p))
+        _send(viewport, _mouse_event(viewport, Type.MouseMove if k else Type.MouseButtonPress,
+                                     pos))
+        settle(app, 40)
     save(window, out / "extract-tool.png")
+    _send(canvas, QtGui.QKeyEvent(Type.KeyPress, QtCore.Qt.Key.Key_Escape,
+                                  QtCore.Qt.KeyboardModifier.NoModifier))
+    _send(viewport, _mouse_event(viewport, Type.MouseButtonRelease, pos))
     window.set_tool(window.tools[0])
 
 
 MORE_SHOTS = [shot_extract]
+
+
+def _mouse_event(widget, kind, pos):
+    """A left-button press, move (the button held) or release at ``pos``."""
+    from PySide6 import QtGui
+    left, none = QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.MouseButton.NoButton
+    button = none if kind == QtCore.QEvent.Type.MouseMove else left
+    buttons = none if kind == QtCore.QEvent.Type.MouseButtonRelease else left
+    return QtGui.QMouseEvent(kind, QtCore.QPointF(pos), QtCore.QPointF(widget.mapToGlobal(pos)),
+                             button, buttons, QtCore.Qt.KeyboardModifier.NoModifier)
+
+
+def _send(widget, event) -> None:
+    QtWidgets.QApplication.sendEvent(widget, event)
 
 
 def _move_event(widget, pos):

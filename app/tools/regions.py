@@ -8,14 +8,16 @@ ghost of a moved region and the current selection, never the document itself.
 from __future__ import annotations
 
 import numpy as np
-from PySide6 import QtWidgets
+from PySide6 import QtCore, QtWidgets
 
 from texeditor import region_actions as ra
-from texeditor import regions
+from texeditor import regions, transforms
 from texeditor.errors import TexeditorError
 
+from ..canvas import colourize
 from ..widgets import spin_box
 from . import Tool
+from .handles import Change, TransformFrame
 
 KINDS = [("Region", "region"), ("Region in region", "region_in_region"),
          ("Regions in region", "regions_in_region"), ("Neighbours", "neighbours"),
@@ -38,6 +40,20 @@ def mask_overlay(mask: np.ndarray, colour, alpha: int = 110):
     rgba[inner, 3] = alpha
     rgba[edge, 3] = 255
     return rgba, (int(c0), int(r0))
+
+
+def ghost_overlay(carried: np.ndarray, palette):
+    """A transformed selection — ``carried`` holds each moved point's level + 1, 0 elsewhere —
+    in the colours it will have, a quarter tinted so that it shows over its own colour, its
+    frontier in the selection's tint: what a handle drag would make, before it is made."""
+    rgba, origin = mask_overlay(carried > 0, SELECTION_TINT, alpha=220)
+    if rgba is None:
+        return None, None
+    (x, y), (h, w) = origin, rgba.shape[:2]
+    inner = rgba[..., 3] == 220
+    colours = colourize(carried[y:y + h, x:x + w] - 1, palette)[inner]
+    rgba[inner, :3] = (0.75 * colours + 0.25 * np.array(SELECTION_TINT)).astype(np.uint8)
+    return rgba, origin
 
 
 class RegionOptions(QtWidgets.QWidget):
@@ -152,11 +168,14 @@ class ExtractTool(Tool):
 
     NAME = "Extract"
     SHORTCUT = "E"
-    TIP = "Click to select what the chosen extraction finds; then change, move or transform it"
+    TIP = ("Click to select what the chosen extraction finds; then drag its handles (move, "
+           "scale, rotate) or use the panel")
 
     def __init__(self, window):
         super().__init__(window)
         self.selection: dict | None = None     # the recipe: row, col, kind, scope, connectivity
+        self._mask: np.ndarray | None = None   # the selection's points, as last drawn
+        self.frame: TransformFrame | None = None
         self._unsubscribe = None
 
     def build_options(self):
@@ -175,6 +194,8 @@ class ExtractTool(Tool):
 
     def activate(self):
         self.options()
+        if self.frame is None:
+            self.frame = self._build_frame()
         self._unsubscribe = self.window.history.subscribe(self.refresh)
         self.refresh()
 
@@ -182,7 +203,19 @@ class ExtractTool(Tool):
         if self._unsubscribe is not None:
             self._unsubscribe()
             self._unsubscribe = None
+        if self.frame is not None:
+            self.frame.set_box(None)
         super().deactivate()
+
+    def _build_frame(self) -> TransformFrame:
+        """The transform handles, in the canvas for good; shown while a selection is."""
+        factor = self.panel.factor
+        frame = TransformFrame((factor.minimum(), factor.maximum()))
+        frame.changing.connect(self.preview)
+        frame.finished.connect(self.transform)
+        frame.cancelled.connect(self.refresh)
+        self.window.canvas.view.addItem(frame, ignoreBounds=True)
+        return frame
 
     def click(self, cell, modifiers):
         self.options()
@@ -212,9 +245,12 @@ class ExtractTool(Tool):
         """Redraw the selection over the current document (after any change, undo included)."""
         if self.window.tool is not self:
             return
-        mask = self.mask()
+        mask = self._mask = self.mask()
         rgba, origin = (None, None) if mask is None else mask_overlay(mask, SELECTION_TINT)
         self.window.canvas.set_overlay(rgba, origin or (0, 0))
+        box = None if mask is None else transforms.bbox(mask)
+        self.frame.set_box(None if box is None else
+                           QtCore.QRectF(box[1], box[0], box[3] - box[1], box[2] - box[0]))
         count = 0 if mask is None else int(mask.sum())
         self.panel.setEnabled(count > 0)
         if self.selection is None:
@@ -224,15 +260,81 @@ class ExtractTool(Tool):
             self.status.setText(f"{count} points selected ({ra._KIND_NAMES[s['kind']]} at "
                                 f"x {s['col']}, y {s['row']}).")
 
-    def submit(self, action_type, **params) -> None:
-        """Apply a selection Action built from the recipe (and the wrap option)."""
-        if self.selection is None:
-            return
+    def build(self, action_type, **params):
+        """A selection Action from the recipe (and the wrap option)."""
         fields = {f for f in action_type.__dataclass_fields__}
         recipe = {k: v for k, v in self.selection.items() if k in fields}
         if "wrap" in fields:
             params.setdefault("wrap", self.opts.wrap.isChecked())
-        self.window.submit(action_type(**recipe, **params))
+        return action_type(**recipe, **params)
+
+    def submit(self, action_type, **params) -> None:
+        """Apply a selection Action built from the recipe (and the wrap option)."""
+        if self.selection is not None:
+            self.window.submit(self.build(action_type, **params))
+
+    # -- the transform handles --------------------------------------------------------------------
+    def preview(self, change: Change) -> None:
+        """Show where a handle drag takes the selection, over the untouched document (one
+        engine call carries the points and their levels: level + 1, 0 for the rest)."""
+        carried = np.where(self._mask, self.document.levels + 1, 0).astype(np.uint8)
+        rgba, origin = ghost_overlay(self._carry(change, carried), self.document.palette)
+        self.window.canvas.set_overlay(rgba, origin or (0, 0))
+
+    def transform(self, change: Change) -> None:
+        """Commit a handle drag as one Action; the selection follows the points it moved and
+        the panel shows the factor or angle used."""
+        if change.is_identity or self.selection is None:
+            self.refresh()                     # the selection as it was, no ghost
+            return
+        action, before = self._action(change), self.selection
+        self.selection = self._followed(change)    # before the history redraws it
+        if not self.window.submit(action):
+            self.selection = before
+            self.refresh()
+            return
+        field = {"scale": self.panel.factor, "rotate": self.panel.angle}.get(change.mode)
+        if field is not None:
+            field.setValue(change.value)
+
+    def _action(self, change: Change):
+        """The Action a handle drag makes: the panel's own for a factor or an angle."""
+        if change.mode == "move":
+            dx, dy = change.value
+            return self.build(ra.Translate, to_row=self.selection["row"] + dy,
+                              to_col=self.selection["col"] + dx)
+        if change.mode == "scale":
+            return self.build(ra.ScaleSelection, factor=change.value)
+        return self.build(ra.RotateSelection, angle=change.value)
+
+    def _carry(self, change: Change, array: np.ndarray) -> np.ndarray:
+        """``array`` after ``change`` of the selection, by the engine function its Action calls;
+        on the mask itself it gives where the selected points land."""
+        mask, wrap = self._mask, self.opts.wrap.isChecked()
+        if change.mode == "move":
+            dx, dy = change.value
+            return regions.move(array, mask, (dy, dx), wrap=wrap)
+        if change.mode == "scale":
+            return regions.scale(array, mask, change.value, wrap=wrap)
+        return regions.rotate(array, mask, change.value, wrap=wrap)
+
+    def _followed(self, change: Change) -> dict | None:
+        """The recipe of the transformed selection: its point, when it is one of the selected
+        points, goes to the landed point nearest to where the map takes it (an anchor outside
+        the selection, as for a region in a region, stays); None when nothing landed."""
+        s = self.selection
+        if not self._mask[s["row"], s["col"]]:
+            return s
+        landed = np.argwhere(self._carry(change, self._mask.view(np.uint8)))
+        if not len(landed):
+            return None
+        p = change.qtransform(self.frame.box.center()).map(
+            QtCore.QPointF(s["col"] + 0.5, s["row"] + 0.5))
+        target = np.array([p.y() - 0.5, p.x() - 0.5])
+        if self.opts.wrap.isChecked():
+            target %= self._mask.shape
+        row, col = landed[np.argmin(((landed - target) ** 2).sum(axis=1))]
+        return {**s, "row": int(row), "col": int(col)}
 
 
 class SelectionPanel(QtWidgets.QGroupBox):
