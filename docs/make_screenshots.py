@@ -81,6 +81,7 @@ def main(argv=None) -> int:
     dialog = window.acquire()
     dialog.levels.setValue(5)
     dialog.recompute()
+    dialog.wait()                       # the photo is quantised and counted in the background
     settle(app, 300)
     save(dialog, out / "acquire-dialog.png")
     dialog.ok_button.click()
