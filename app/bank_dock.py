@@ -227,13 +227,8 @@ class BankDock(QtWidgets.QDockWidget):
 
     def _take_height(self) -> None:
         """The tool options above keep their natural height; the browser takes the rest."""
-        above = self.main.tool_dock
-        if above.isFloating() or self.isFloating() or not above.isVisible():
-            return
-        natural = above.widget().sizeHint().height() + 30
-        total = above.height() + self.height()
-        self.main.resizeDocks([above, self], [natural, max(200, total - natural)],
-                              QtCore.Qt.Orientation.Vertical)
+        if not self.isFloating():
+            self.main.tool_dock.fit_height()
 
     # -- the bank -----------------------------------------------------------------------------------
     def load(self, path=None, *, prepare: bool = True) -> bool:

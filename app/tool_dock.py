@@ -7,6 +7,7 @@ from PySide6 import QtCore, QtWidgets
 
 
 TOOL_COLUMNS = 4
+MIN_BELOW = 220          # pixels the dock under the tool options keeps (a row of thumbnails)
 
 
 class ToolOptionsDock(QtWidgets.QDockWidget):
@@ -29,7 +30,13 @@ class ToolOptionsDock(QtWidgets.QDockWidget):
         layout.addWidget(self.title)
         layout.addWidget(self.stack)
         layout.addStretch(1)
-        self.setWidget(body)
+        self.body = body
+        area = QtWidgets.QScrollArea()    # a tall tool's options scroll: the window keeps its size
+        area.setWidget(body)
+        area.setWidgetResizable(True)
+        area.setFrameShape(QtWidgets.QFrame.Shape.NoFrame)
+        area.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.setWidget(area)
         self._pages: dict[int, int] = {}
 
     def set_tools(self, tools) -> None:
@@ -54,6 +61,23 @@ class ToolOptionsDock(QtWidgets.QDockWidget):
         self.stack.setFixedHeight(self.stack.currentWidget().sizeHint().height())
         self.stack.currentWidget().setToolTip(tool.TIP)
         self.title.setToolTip(tool.TIP)
-        self.setMinimumHeight(0)
         self.stack.updateGeometry()
-        QtCore.QTimer.singleShot(0, self.stack.updateGeometry)
+        QtCore.QTimer.singleShot(0, self.fit_height)
+
+    def fit_height(self) -> None:
+        """Take the current tool's natural height from the dock below (the bank, brushes…),
+        leaving it at least MIN_BELOW pixels; beyond that the options scroll."""
+        main = self.parent()
+        if not isinstance(main, QtWidgets.QMainWindow) or self.isFloating() or not self.isVisible():
+            return
+        area = main.dockWidgetArea(self)
+        below = [d for d in main.findChildren(QtWidgets.QDockWidget) if d is not self
+                 and d.isVisible() and not d.visibleRegion().isEmpty()    # not a hidden tab
+                 and not d.isFloating() and main.dockWidgetArea(d) == area]
+        if not below:
+            return
+        natural = self.body.sizeHint().height() + self.height() - self.widget().height() + 2
+        total = self.height() + below[0].height()
+        mine = max(120, min(natural, total - MIN_BELOW))
+        main.resizeDocks([self, below[0]], [mine, total - mine],
+                         QtCore.Qt.Orientation.Vertical)
