@@ -13,6 +13,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 from texeditor.actions import param_specs
 
 INT32 = 2**31 - 1
+LONG_TEXT = 80             # a text parameter longer than this is structured data, shown as its size
 LABELS = {"dpj": "DPJ", "levels": "Levels G"}
 NEW_SEED_MAX = 2**31 - 1   # fresh seeds stay readable; any seed up to 2**63-1 can be typed
 
@@ -108,6 +109,9 @@ class ParamsForm(QtWidgets.QWidget):
             w.setChecked(bool(value))
             w.toggled.connect(self.changed)
             self.editors[spec.name] = (kind, w)
+        elif kind == "str" and self._is_document(spec):
+            w = QtWidgets.QLabel(f"{len(value):,} characters (set by its tool)")
+            w.setEnabled(False)
         elif kind == "str":
             w = QtWidgets.QLineEdit(value or "")
             w.textChanged.connect(self.changed)
@@ -126,6 +130,11 @@ class ParamsForm(QtWidgets.QWidget):
             w = QtWidgets.QLabel(self._describe(kind, value))
             w.setEnabled(False)
         return w
+
+    @staticmethod
+    def _is_document(spec) -> bool:
+        """A long structured text (an envelope, a recipe): not something to edit as one line."""
+        return (spec.maximum or 0) > LONG_TEXT and len(spec.value) > LONG_TEXT
 
     @staticmethod
     def _describe(kind, value) -> str:

@@ -269,6 +269,12 @@ def test_a_past_placement_is_edited_in_the_history_dock(window, qtbot):
     step = window.history.index - 2                     # the first placement (0-based)
     dock = window.history_dock
     dock.view.clicked.emit(dock.model.index(step))
+    assert "envelope" not in dock.form.editors          # JSON is not edited as one line...
+    shown = [dock.form.form.itemAt(r, QtWidgets.QFormLayout.ItemRole.FieldRole).widget().text()
+             for r in range(dock.form.form.rowCount())
+             if isinstance(dock.form.form.itemAt(r, QtWidgets.QFormLayout.ItemRole.FieldRole)
+                           .widget(), QtWidgets.QLabel)]
+    assert any(t.endswith("characters (set by its tool)") for t in shown)   # ...but its size
     dock.form.editor("scale").setValue(0.4)
     dock.apply_button.click()
     assert window.runner.wait(30_000)
