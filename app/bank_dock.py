@@ -432,10 +432,10 @@ class BankDock(QtWidgets.QDockWidget):
                        on_error=lambda exc: win.show_error(f"Cannot open “{name}”", exc))
 
     def _show_opened(self, entry_id: int, history) -> None:
-        self.main.set_history(history)
+        entry = self.bank.get(entry_id)
+        self.main.set_history(history, name=f"“{entry.name}” from the bank")
         self.opened = (entry_id, history)
         self.select(entry_id)
-        entry = self.bank.get(entry_id)
         n = len(history.actions)
         self.main.statusBar().showMessage(
             f"Opened “{entry.name}” from the bank: {n} step{'s' if n != 1 else ''} replayed, "

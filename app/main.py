@@ -23,10 +23,17 @@ def parse_args(argv):
 
 def run(argv=None) -> int:
     """Start the GUI. ``argv`` excludes the program name (None: ``sys.argv[1:]``); returns the exit
-    code (0; 2 when --open or --screenshot fails in screenshot mode)."""
+    code (0; 2 when no window can open here, or --open or --screenshot fails in screenshot
+    mode)."""
     args = parse_args(sys.argv[1:] if argv is None else list(argv))
     if args.screenshot is not None:
         os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+    else:
+        from .display_check import problem
+        reason = problem()
+        if reason is not None:
+            print(f"texeditor: {reason}", file=sys.stderr)
+            return 2
 
     from PySide6 import QtWidgets
 

@@ -39,6 +39,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.resize(1280, 800)
         self.history: History | None = None
         self.path = None
+        self._name: str | None = None      # the title of a document without a file
         self._clean_log: tuple = ()
         self._unsubscribe = None
         self._journal = None       # this window's crash journal (None: not yet; False: failed)
@@ -268,11 +269,12 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
     def document(self):
         return self.history.document
 
-    def set_history(self, history: History, path=None) -> None:
-        """Show another document (new, opened, or the start-up one); it starts unmodified."""
+    def set_history(self, history: History, path=None, name: str | None = None) -> None:
+        """Show another document (new, opened, or the start-up one); it starts unmodified.
+        ``name`` titles a document without a file (a bank entry's name)."""
         if self._unsubscribe is not None:
             self._unsubscribe()
-        self.history, self.path = history, path
+        self.history, self.path, self._name = history, path, name
         self._unsubscribe = history.subscribe(self._history_changed)
         self.history_dock.set_history(history)
         self.mark_clean()
@@ -529,7 +531,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.synthesis_dock.set_busy(False)
 
     def _update_title(self) -> None:
-        name = self.path.name if self.path is not None else "Untitled"
+        name = self.path.name if self.path is not None else (self._name or "Untitled")
         h, w = self.history.document.shape
         size = f" ({w}×{h}, G = {self.history.document.num_levels})" if h else ""
         self.setWindowTitle(f"{name}{'*' if self.is_modified() else ''}{size} — {APP_NAME}")

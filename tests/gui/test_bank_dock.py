@@ -241,6 +241,7 @@ def test_save_find_by_tag_open_edit_and_save_a_new_version(dock, window, qtbot):
     double_click(dock.view.viewport(), item_pos(dock, "My gravel"))
     assert window.runner.wait(30_000)
     assert np.array_equal(window.document.levels, original.levels)
+    assert window.windowTitle().startswith("“My gravel” from the bank (")
 
     fill = next(t for t in window.tools if t.NAME == "Fill")      # edit: the fill tool
     button = window.tool_dock.buttons[id(fill)]
