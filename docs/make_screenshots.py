@@ -116,6 +116,8 @@ def main(argv=None) -> int:
     save(window, out / "synthesising.png")
     window.runner.cancel()
     window.runner.wait()
+    window.synthesis_dock.width_box.setValue(256)      # later shots show the usual size
+    window.synthesis_dock.height_box.setValue(256)
 
     for shoot in MORE_SHOTS:      # each capability adds its own screenshots below
         shoot(app, window, out)
