@@ -128,22 +128,34 @@ def choose_bank_entry(window, on_chosen: Callable[[Bank, int], None], *, note: s
 
 
 def load_bank_source(window, bank: Bank, entry_id: int,
-                     on_loaded: Callable[[TextureSource], None]) -> None:
+                     on_loaded: Callable[[TextureSource], None],
+                     on_failed: Callable[[], None] | None = None) -> None:
     """Turn an entry into a texture source in the worker (replayed, its hash checked), then
-    ``on_loaded(source)`` on the GUI thread; waits its turn while other work runs."""
+    ``on_loaded(source)`` on the GUI thread; waits its turn while other work runs. When the
+    entry cannot be used (gone, damaged, too deep a recipe) or its reading is cancelled,
+    ``on_failed()`` runs instead (before the message is shown), so the caller can undo its
+    choice."""
     runner = window.runner
     if runner.busy:
         QtCore.QTimer.singleShot(RETRY_MS, lambda: load_bank_source(window, bank, entry_id,
-                                                                    on_loaded))
+                                                                    on_loaded, on_failed))
         return
+    failed = on_failed or (lambda: None)
     try:
         name = bank.get(entry_id).name
     except TexeditorError as exc:             # deleted, or the bank went away, meanwhile
+        failed()
         window.show_error("Cannot use this bank entry", exc)
         return
+
+    def cancelled():
+        failed()
+        window.statusBar().showMessage(f"Reading “{name}” cancelled.", 5000)
+
+    def error(exc):
+        failed()
+        window.show_error(f"Cannot use “{name}”", exc)
+
     runner.run(f"Reading “{name}” from the bank…",
                lambda progress, cancel: bank_source(bank, entry_id, progress, cancel),
-               on_loaded,
-               on_cancel=lambda: window.statusBar().showMessage(
-                   f"Reading “{name}” cancelled.", 5000),
-               on_error=lambda exc: window.show_error(f"Cannot use “{name}”", exc))
+               on_loaded, on_cancel=cancelled, on_error=error)

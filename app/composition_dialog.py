@@ -18,7 +18,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 from texeditor import composition
 from texeditor.errors import TexeditorError
 from texeditor.actions import dpj_refs
-from texeditor.texture_actions import Incrust, Mix, recipe_of, synthesis_recipe
+from texeditor.texture_actions import Incrust, Mix, check_recipe, recipe_of, synthesis_recipe
 
 from .bank_picker import choose_bank_entry, load_bank_source
 from .images import qimage_from_rgb
@@ -46,14 +46,14 @@ MASKS = [("Levels of another texture", "texture"), ("Levels of this texture", "l
 
 class SourcePicker(QtWidgets.QWidget):
     """Which texture: a synthesis of a DPJ of the document, a .texture file, a bank entry, or
-    this one at a step. ``recipe()`` gives (recipe text, DPJ reference or None)."""
+    this one at a step. ``recipe()`` gives (recipe text, the references of every DPJ it needs)."""
 
     changed = QtCore.Signal()
 
     def __init__(self, window, seed: int):
         super().__init__()
         self.window = window
-        self.file_recipe: tuple[str, str | None] | None = None
+        self.file_recipe: tuple[str, tuple] | None = None
         self.file_name = ""
         self.bank_source = None          # the chosen entry as a TextureSource
         form = QtWidgets.QFormLayout(self)
@@ -129,16 +129,14 @@ class SourcePicker(QtWidgets.QWidget):
                 return
         try:
             tex = read_texture(path)
-            refs = dpj_refs(tex.actions)
-            if len(refs) > 1:
-                raise TexeditorError(f"{Path(path).name} is made from {len(refs)} DPJs; a "
-                                     "composition source may use one")
+            refs, text = tuple(dpj_refs(tex.actions)), recipe_of(tex.actions)
+            check_recipe(text, refs, Path(path).name)     # its depth and number of DPJs
         except TexeditorError as exc:
             self.window.show_error("Cannot use this texture", exc)
             return
         for ref in refs:        # kept under the file's own reference, as a file's DPJ is
             self.window.document.dpjs.setdefault(ref, tex.dpjs[ref])
-        self.file_recipe = (recipe_of(tex.actions), refs[0] if refs else None)
+        self.file_recipe = (text, refs)
         self.file_name = Path(path).name
         self.file_label.setText(self.file_name)
         self.changed.emit()
@@ -157,7 +155,7 @@ class SourcePicker(QtWidgets.QWidget):
         return choose_bank_entry(self.window, lambda bank, entry_id: load_bank_source(
             self.window, bank, entry_id, loaded), parent=self)
 
-    def recipe(self) -> tuple[str, str | None]:
+    def recipe(self) -> tuple[str, tuple]:
         kind = self.kind.currentData()
         history = self.window.history
         if kind == "synth":
@@ -165,7 +163,7 @@ class SourcePicker(QtWidgets.QWidget):
             if ref is None:
                 raise TexeditorError("the document holds no DPJ: acquire one, or pick a file")
             h, w = history.document.shape
-            return synthesis_recipe(ref, w, h, self.seed.value()), ref
+            return synthesis_recipe(ref, w, h, self.seed.value()), (ref,)
         if kind == "file":
             if self.file_recipe is None:
                 raise TexeditorError("open a .texture file first")
@@ -174,13 +172,9 @@ class SourcePicker(QtWidgets.QWidget):
             if self.bank_source is None:
                 raise TexeditorError("choose a bank entry first")
             self.bank_source.store(history.document)
-            return self.bank_source.recipe, self.bank_source.ref
+            return self.bank_source.recipe, self.bank_source.refs
         actions = history.applied[:self.step.value()]
-        refs = dpj_refs(actions)
-        if len(refs) > 1:
-            raise TexeditorError(f"at step {self.step.value()} the texture is made from "
-                                 f"{len(refs)} DPJs; a composition source may use one")
-        return recipe_of(actions), (refs[0] if refs else None)
+        return recipe_of(actions), tuple(dpj_refs(actions))
 
     def describe(self) -> str:
         kind = self.kind.currentData()
@@ -428,25 +422,25 @@ class CompositionDialog(QtWidgets.QDialog):
     # -- the action --------------------------------------------------------------------------------
     def action(self):
         """The Incrust or Mix of the current settings (TexeditorError says what is missing)."""
-        source, ref = self.source.recipe()
+        source, refs = self.source.recipe()
         if self.tabs.currentIndex() == 1:
             values = {k: w.value() for k, w in self.weights.items()}
             values.update({k: w.currentData() for k, w in self.ops.items()})
-            return Mix(source, ref, negate=self.negate.isChecked(), **values)
+            return Mix(source, refs, negate=self.negate.isChecked(), **values)
         kind = self.mask_kind.currentData()
         if kind == "texture":
-            mask_source, mask_ref = self.mask_source.recipe()
-            return Incrust(source, ref, mask="texture", levels=self.mask_levels.text(),
-                           mask_source=mask_source, mask_dpj=mask_ref)
+            mask_source, mask_refs = self.mask_source.recipe()
+            return Incrust(source, refs, mask="texture", levels=self.mask_levels.text(),
+                           mask_source=mask_source, mask_dpjs=mask_refs)
         if kind == "levels":
-            return Incrust(source, ref, mask="levels", levels=self.mask_levels.text())
+            return Incrust(source, refs, mask="levels", levels=self.mask_levels.text())
         mask = self._selection() if kind == "selection" else self.preview.mask
         if mask is None or not mask.any():
             raise TexeditorError("the mask is empty: " + (
                 "select with the Extract tool (E) first" if kind == "selection"
                 else "paint on the preview"))
         points = tuple(map(tuple, np.argwhere(mask).tolist()))
-        return Incrust(source, ref, mask="points", points=points)
+        return Incrust(source, refs, mask="points", points=points)
 
     def _selection(self):
         from .tools.regions import ExtractTool

@@ -116,6 +116,10 @@ class ParamsForm(QtWidgets.QWidget):
             w = QtWidgets.QLineEdit(value or "")
             w.textChanged.connect(self.changed)
             self.editors[spec.name] = (kind, w)
+        elif kind == "refs":
+            w = QtWidgets.QLabel(self._describe_refs(value, dpjs))
+            w.setWordWrap(True)
+            w.setEnabled(False)
         elif kind == "ref" and dpjs:
             w = QtWidgets.QComboBox()
             w.setSizeAdjustPolicy(
@@ -135,6 +139,14 @@ class ParamsForm(QtWidgets.QWidget):
     def _is_document(spec) -> bool:
         """A long structured text (an envelope, a recipe): not something to edit as one line."""
         return (spec.maximum or 0) > LONG_TEXT and len(spec.value) > LONG_TEXT
+
+    @staticmethod
+    def _describe_refs(refs, dpjs) -> str:
+        """Read-only: the DPJs a recipe needs follow from the recipe, set with it by its tool."""
+        if not refs:
+            return "none"
+        names = [dpj_summary(dpjs[r]) if r in dpjs else r for r in refs]
+        return f"{len(refs)} DPJ{'s' if len(refs) > 1 else ''}: " + "; ".join(names)
 
     @staticmethod
     def _describe(kind, value) -> str:

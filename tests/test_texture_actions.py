@@ -27,11 +27,11 @@ EXAMPLES = [
     RenderGrains(), RenderGrains("hexagon", 6, explosion_x=2, compression=0.2, overlap="max"),
     RenderGrains("bitmap", 5, bitmap="010/111/010", angle=90, lattice="honeycomb"),
     RenderGrains("polygon", 9, sides=5, aspect=0.5, explosion_y=3),
-    Mix(SYNTH, REFS[0]), Mix(SYNTH3, REFS[1], a=0.5, op1="and", op2="xor", b=0.25, op3="add",
+    Mix(SYNTH, (REFS[0],)), Mix(SYNTH3, (REFS[1],), a=0.5, op1="and", op2="xor", b=0.25, op3="add",
                              negate=True, op4="min", c=1.0),
-    Incrust(SYNTH, REFS[0], mask="levels", levels="0"),
-    Incrust(SYNTH, REFS[0], mask="points", points=((0, 0), (2, 3))),
-    Incrust(SYNTH, REFS[0], mask="texture", levels="1", mask_source=SYNTH3, mask_dpj=REFS[1]),
+    Incrust(SYNTH, (REFS[0],), mask="levels", levels="0"),
+    Incrust(SYNTH, (REFS[0],), mask="points", points=((0, 0), (2, 3))),
+    Incrust(SYNTH, (REFS[0],), mask="texture", levels="1", mask_source=SYNTH3, mask_dpjs=(REFS[1],)),
     DoubleLevels("0123456789abcdef", 4),
 ]
 
@@ -137,7 +137,7 @@ def synth_levels(recipe):
 
 def test_mix_with_a_synthesis_of_a_stored_dpj():
     base = np.array([[1, 0, 1, 1, 0, 0]] * 5, np.uint8)
-    action = Mix(SYNTH, REFS[0], op2="xor")
+    action = Mix(SYNTH, (REFS[0],), op2="xor")
     history = history_of(base, 2, extra=[action])
     t2 = synth_levels(SYNTH)
     assert np.array_equal(history.document.levels, base ^ t2)
@@ -150,28 +150,28 @@ def test_mix_with_a_synthesis_of_a_stored_dpj():
 def test_mix_a_source_of_other_g_and_other_size():
     """A 4×4 G = 3 source mixed into a 5×6 G = 3 canvas: repeated to cover it."""
     base = np.zeros((5, 6), np.uint8)
-    history = history_of(base, 3, extra=[Mix(SYNTH3, REFS[1], op2="max")])
+    history = history_of(base, 3, extra=[Mix(SYNTH3, (REFS[1],), op2="max")])
     t2 = synth_levels(SYNTH3)
     assert np.array_equal(history.document.levels, composition.fit(t2, (5, 6)))
 
 
 def test_incrust_where_the_documents_own_level_is_background():
-    history = history_of(T, 3, extra=[Incrust(SYNTH3, REFS[1], mask="levels", levels="0")])
+    history = history_of(T, 3, extra=[Incrust(SYNTH3, (REFS[1],), mask="levels", levels="0")])
     t2 = synth_levels(SYNTH3)[:2, :3]
     assert np.array_equal(history.document.levels, np.where(T == 0, t2, T))
 
 
 def test_incrust_painted_points_and_a_mask_texture():
     base = np.full((4, 4), 1, np.uint8)
-    painted = Incrust(SYNTH3, REFS[1], mask="points", points=((0, 0), (3, 2), (9, 9)))
+    painted = Incrust(SYNTH3, (REFS[1],), mask="points", points=((0, 0), (3, 2), (9, 9)))
     history = history_of(base, 3, extra=[painted])
     t2 = synth_levels(SYNTH3)
     expect = base.copy()
     expect[0, 0], expect[3, 2] = t2[0, 0], t2[3, 2]
     assert np.array_equal(history.document.levels, expect)
 
-    mask_texture = Incrust(SYNTH3, REFS[1], mask="texture", levels="1",
-                           mask_source=SYNTH, mask_dpj=REFS[0])
+    mask_texture = Incrust(SYNTH3, (REFS[1],), mask="texture", levels="1",
+                           mask_source=SYNTH, mask_dpjs=(REFS[0],))
     history = history_of(base, 3, extra=[mask_texture])
     m = synth_levels(SYNTH)[:4, :4]
     assert np.array_equal(history.document.levels, np.where(m == 1, t2, base))
@@ -182,7 +182,7 @@ def test_a_composition_is_saved_with_its_sources_dpj_and_replays(tmp_path):
     ref = history.add_dpj(TINY_DPJS[0])
     history.apply(Synthesize(ref, 6, 5, 7))
     store_dpj(history.document, TINY_DPJS[1])
-    history.apply(Incrust(SYNTH3, REFS[1], mask="levels", levels="1"))
+    history.apply(Incrust(SYNTH3, (REFS[1],), mask="levels", levels="1"))
     path = tmp_path / "composed.texture"
     save_texture(path, history)
     again, manifest = load_texture(path)              # replays and checks the hash
@@ -197,30 +197,31 @@ def test_a_recipe_can_be_any_log():
     assert history.document.levels.tolist() == [[0, 3, 3], [0, 3, 3]]
 
 
-@pytest.mark.parametrize("recipe, ref, what", [
-    ("not json", None, "not valid JSON"), ('{"steps": []}', None, "actions"),
-    ('{"actions": []}', None, "1.."), ('{"actions": [{"type": "nope", "version": 1}]}', None,
-                                       "unknown action"),
-    (SYNTH, REFS[1], "synthesises from DPJ"), (SYNTH, None, "synthesises from DPJ"),
-    (recipe_of([Synthesize(REFS[0], 2, 2), Mix(SYNTH3, REFS[1])]), REFS[0], "2 DPJs")])
-def test_bad_recipes_are_refused(recipe, ref, what):
+@pytest.mark.parametrize("recipe, refs, what", [
+    ("not json", (), "not valid JSON"), ('{"steps": []}', (), "actions"),
+    ('{"actions": []}', (), "1.."), ('{"actions": [{"type": "nope", "version": 1}]}', (),
+                                     "unknown action"),
+    (SYNTH, (REFS[1],), "uses DPJ"), (SYNTH, (), "uses DPJ"),
+    (SYNTH, (REFS[0], REFS[1]), "does not use DPJ"),
+    (recipe_of([Synthesize(REFS[0], 2, 2), Mix(SYNTH3, (REFS[1],))]), (REFS[0],), "uses DPJ")])
+def test_bad_recipes_are_refused(recipe, refs, what):
     with pytest.raises(InputError, match=what):
-        Mix(recipe, ref)
+        Mix(recipe, refs)
 
 
 def test_composition_errors():
     with pytest.raises(InputError, match="unknown operator"):
-        Mix(SYNTH, REFS[0], op2="nand")
+        Mix(SYNTH, (REFS[0],), op2="nand")
     with pytest.raises(InputError, match="mask"):
-        Incrust(SYNTH, REFS[0], mask="brush")
+        Incrust(SYNTH, (REFS[0],), mask="brush")
     with pytest.raises(InputError, match="recipe"):
-        Incrust(SYNTH, REFS[0], mask="texture")
+        Incrust(SYNTH, (REFS[0],), mask="texture")
     with pytest.raises(InputError, match="1,3-5"):
-        Incrust(SYNTH, REFS[0], mask="levels", levels="one")
+        Incrust(SYNTH, (REFS[0],), mask="levels", levels="one")
     history = History()
     history.apply(NewCanvas(3, 3, 2))
     with pytest.raises(InputError, match="not part of this document"):
-        history.apply(Mix(SYNTH, REFS[0]))
+        history.apply(Mix(SYNTH, (REFS[0],)))
     assert history.index == 1
 
 

@@ -22,6 +22,7 @@ MAX_CANVAS_SIDE = 16384
 MAX_CANVAS_PIXELS = 2**26
 MAX_SEED = 2**63 - 1
 MAX_POINTS = 1_000_000
+MAX_REFS = 64                  # a "refs" parameter without its own bound (a .texture's limit)
 _REF = re.compile(r"^[0-9a-f]{16}$")
 
 REGISTRY: dict[str, type["Action"]] = {}
@@ -34,7 +35,7 @@ class ParamSpec:
     """What a form needs to edit one parameter: its name, kind, bounds, value and a hint."""
 
     name: str
-    kind: str            # int, float, bool, str, ref, seed, palette, points
+    kind: str            # int, float, bool, str, ref, refs, seed, palette, points
     minimum: float | None
     maximum: float | None
     optional: bool
@@ -86,6 +87,27 @@ def _ref(name, value, lo, hi):
     return value
 
 
+def _refs(name, value, lo, hi):
+    """A tuple of distinct DPJ references (the DPJs a texture recipe uses), at most ``hi``."""
+    most = hi or MAX_REFS
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if not isinstance(value, (list, tuple)):
+        raise InputError(f"{name} must be a list of DPJ references (16 hex digits each), "
+                         f"got {_short(value)}")
+    if len(value) > most:
+        raise InputError(f"{name} names {len(value)} DPJs; at most {most} are allowed")
+    refs = tuple(_ref(f"each of {name}", v, None, None) for v in value)
+    if len(set(refs)) != len(refs):
+        raise InputError(f"{name} names a DPJ more than once")
+    return refs
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def _palette(name, value, lo, hi):
     if isinstance(value, np.ndarray):
         value = value.tolist()
@@ -116,7 +138,8 @@ def _points(name, value, lo, hi):
 
 _KINDS: dict[str, Callable] = {
     "int": _int, "seed": lambda n, v, lo, hi: _int(n, v, 0, MAX_SEED), "float": _float,
-    "bool": _bool, "str": _str, "ref": _ref, "palette": _palette, "points": _points,
+    "bool": _bool, "str": _str, "ref": _ref, "refs": _refs, "palette": _palette,
+    "points": _points,
 }
 
 
@@ -261,12 +284,18 @@ def param_specs(action: Action | type[Action]) -> list[ParamSpec]:
 
 
 def dpj_refs(actions) -> list[str]:
-    """The DPJ references a log uses (parameters of kind "ref"), in order of first use."""
+    """The DPJ references a log uses (parameters of kind "ref" and "refs"), in order of first
+    use. A step that carries a texture recipe names every DPJ the recipe needs, at any depth
+    (`texture_actions.check_recipe`), so this list is complete without opening recipes."""
     seen: dict[str, None] = {}
     for a in actions:
         for f in dataclasses.fields(a):
-            if f.metadata.get("kind") == "ref" and getattr(a, f.name) is not None:
-                seen.setdefault(getattr(a, f.name))
+            kind, value = f.metadata.get("kind"), getattr(a, f.name)
+            if kind == "ref" and value is not None:
+                seen.setdefault(value)
+            elif kind == "refs":
+                for ref in value or ():
+                    seen.setdefault(ref)
     return list(seen)
 
 

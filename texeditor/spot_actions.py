@@ -4,11 +4,16 @@ mélanger ou en supprimer"): place one spot, scatter many, delete one — each a
 The spot tool and the CLI build these; `spots` makes the points. A placement carries its envelope
 (as compact JSON), its perturbation, fill, blend rule and seed, so replaying the log draws the
 same spots bit for bit. A "texture" fill carries the recipe of another texture (a bank entry,
-see `texture_actions`) and reads it where the spot lands, repeated, its levels mapped onto the
-document's G on the grey scale; placements of the other fills write their JSON without that
-parameter, exactly as before it existed, so their fingerprints (`spot_ref`) do not change. A
-deletion names the placement by its log index and restores what the log gives without it (see
-DeleteSpot).
+see `texture_actions`) and the DPJs it needs (``texture_dpjs``), and reads it where the spot
+lands, repeated, its levels mapped onto the document's G on the grey scale. A deletion names the
+placement by its log index and its fingerprint (`spot_ref`, a hash of its JSON), and restores
+what the log gives without it (see DeleteSpot).
+
+Versions and fingerprints. Version 1 named a texture fill's one DPJ in ``dpj``; version 2 lists
+them in ``texture_dpjs`` (`upgrade` migrates version 1). A placement is still written in the
+version-1 form whenever that form can say it — every placement but a texture fill whose recipe
+needs two DPJs or more — and without ``texture`` when it has none, exactly as before those
+parameters existed: placements keep their JSON and hence the fingerprints DeleteSpot steps name.
 """
 
 from __future__ import annotations
@@ -27,10 +32,11 @@ from .actions import MAX_CANVAS_SIDE, Action, Synthesize, param, register
 from .composition import convert_levels
 from .document import Document, bytes_ref
 from .dpj import MAX_LEVELS
-from .errors import Cancelled, InputError
+from .errors import Cancelled, FormatError, InputError
 from .spots import (BLENDS, INTERIORS, Envelope, Perturbation, Placement, Stamp, blend, pieces,
                     placed_outline, real_spot, spot_levels)
-from .texture_actions import MAX_RECIPE_CHARS, check_recipe, source_levels
+from .texture_actions import (MAX_RECIPE_CHARS, check_recipe, refs_field, source_levels,
+                              upgrade_ref)
 
 FILLS = ("level", "document", "dpj", "texture")
 MAX_ENVELOPE_CHARS = 400_000
@@ -58,13 +64,16 @@ def _fill():
 
 
 def _dpj():
-    return param("ref", default=None, optional=True, doc="the DPJ of a dpj fill, or the one a "
-                                                         "texture fill's recipe synthesises from")
+    return param("ref", default=None, optional=True, doc="the DPJ of a dpj fill")
 
 
 def _texture():
     return param("str", hi=MAX_RECIPE_CHARS, default=None, optional=True,
                  doc="texture fill: the recipe of the texture (the log that rebuilds it, JSON)")
+
+
+def _texture_dpjs():
+    return refs_field("texture fill: the DPJs the texture's recipe needs, at every depth")
 
 
 def _contour():
@@ -121,6 +130,7 @@ def _wrap():
 class SpotAction(Action):
     """A placement of one or more spots of one envelope: EFFECT "levels", never covers."""
 
+    VERSION: ClassVar[int] = 2
     EFFECT: ClassVar[str] = "levels"
 
     def _validate(self) -> None:
@@ -135,14 +145,31 @@ class SpotAction(Action):
         if self.fill == "texture":
             if self.texture is None:
                 raise InputError("a texture fill needs the recipe of its texture")
-            check_recipe(self.texture, self.dpj, "the spots' texture")
-        elif self.texture is not None:
+            if self.dpj is not None:
+                raise InputError("a texture fill names its DPJs in texture_dpjs, not dpj")
+            check_recipe(self.texture, self.texture_dpjs, "the spots' texture")
+        elif self.texture is not None or self.texture_dpjs:
             raise InputError(f"a texture recipe goes with a texture fill, not a {self.fill} fill")
 
+    @classmethod
+    def upgrade(cls, version: int, params: dict) -> dict:
+        """Version 1 named a texture fill's one DPJ (or none) in ``dpj``."""
+        if params.get("fill") == "texture":
+            return upgrade_ref(params, "dpj", "texture_dpjs")
+        if "texture_dpjs" in params:
+            raise FormatError("version 1 has no parameter 'texture_dpjs'")
+        return params
+
     def to_json(self) -> dict:
-        """Without ``texture`` when there is none: old placements keep their JSON and hence
-        their fingerprints, and old logs (which never name it) load as they were."""
+        """In the version-1 form when it can say it (see the module's docstring): placements
+        keep their JSON and their fingerprints."""
         obj = super().to_json()
+        if len(self.texture_dpjs) > 1:
+            return obj
+        del obj["texture_dpjs"]
+        obj["version"] = 1
+        if self.texture_dpjs:
+            obj["dpj"] = self.texture_dpjs[0]
         if obj["texture"] is None:
             del obj["texture"]
         return obj
@@ -195,8 +222,8 @@ class SpotAction(Action):
         self.rasterise(doc.shape, progress, cancel)
         if self.fill == "dpj" and self.dpj in doc.dpjs:
             self._lower_texture(doc)
-        elif self.fill == "texture" and (self.dpj is None or self.dpj in doc.dpjs):
-            source_levels(doc, self.texture, self.dpj, progress, cancel)
+        elif self.fill == "texture" and all(r in doc.dpjs for r in self.texture_dpjs):
+            source_levels(doc, self.texture, self.texture_dpjs, progress, cancel)
 
     def rasterise(self, shape, progress=None, cancel=None) -> None:
         """Rasterise every spot ahead of apply(), which then only writes: the slow part of a big
@@ -248,7 +275,7 @@ class SpotAction(Action):
                 raise InputError("a document fill needs a texture in the document")
             return doc.levels
         if self.fill == "texture":
-            levels, g = source_levels(doc, self.texture, self.dpj)
+            levels, g = source_levels(doc, self.texture, self.texture_dpjs)
             return convert_levels(levels, g, doc.num_levels)
         dpj = doc.dpjs.get(self.dpj)
         if dpj is None:
@@ -297,6 +324,7 @@ class PlaceSpot(SpotAction):
     fill: str = _fill()
     dpj: str | None = _dpj()
     texture: str | None = _texture()
+    texture_dpjs: tuple = _texture_dpjs()
     source_row: float | None = param("float", -MAX_CANVAS_SIDE, MAX_CANVAS_SIDE, default=None,
                                      optional=True, doc="document fill: where the texture is "
                                                         "read (row of the spot's centre)")
@@ -357,6 +385,7 @@ class ScatterSpots(SpotAction):
     fill: str = _fill()
     dpj: str | None = _dpj()
     texture: str | None = _texture()
+    texture_dpjs: tuple = _texture_dpjs()
     contour: float = _contour()
     frequency: int = _frequency()
     fractal: float = _fractal()

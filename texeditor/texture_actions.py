@@ -6,24 +6,33 @@ RenderGrains step later replays the edits made after it on the newly sized canva
 
 How a log refers to another texture. A composition source, or the texture a spot is filled
 with (`spot_actions`), is a *recipe*: the action log that rebuilds it, as the JSON text of a
-`.texture`'s actions.json (``{"actions": [...]}``), plus the one DPJ it synthesises from, which
-the document keeps in its DPJ store (so a saved file carries it, like any DPJ it refers to). A
-synthesis of a stored DPJ is the one-step recipe ``[Synthesize(ref, w, h, seed)]``; an opened
-`.texture` is its own log; "this document at step k" is its log cut at k; a bank entry is its
-optimised log, replayed once when it is chosen and checked against the SHA-256 the bank recorded
+`.texture`'s actions.json (``{"actions": [...]}``), plus the DPJs it needs, which the document
+keeps in its DPJ store (so a saved file carries them, like any DPJ it refers to). A synthesis of
+a stored DPJ is the one-step recipe ``[Synthesize(ref, w, h, seed)]``; an opened `.texture` is
+its own log; "this document at step k" is its log cut at k; a bank entry is its optimised log,
+replayed once when it is chosen and checked against the SHA-256 the bank recorded
 (`bank_source`). The step carries the whole recipe, so it replays bit for bit after save and load
 even if the bank entry is later changed or deleted. Replaying a recipe gives the same levels on
 every machine, and the result is kept in a small memo so a preview and the apply that follows it
 synthesise once. A doubling table is a DPJ (`doubling.learn`) in the same store, referred to by
 its reference.
 
-One DPJ per recipe, by decision. What a saved file and a bank entry carry is the set of DPJs a
-log names through its "ref" parameters (`actions.dpj_refs`), one reference per parameter; a
-recipe's DPJ is named by the step's own ``source_dpj``, ``mask_dpj`` or (a spot) ``dpj``. A
-source made from two or more DPJs (a bank entry that is itself a composition of two syntheses,
-say) is refused with a message that says so: naming its other DPJs would need a
-list-of-references parameter kind known to `dpj_refs`, and a version bump of the steps that use
-it. No built-in entry uses more than one.
+Any number of DPJs per recipe, at any depth. A step names the DPJs of each recipe it carries in a
+parameter of kind "refs" (a list of references: ``source_dpjs``, ``mask_dpjs``, a spot's
+``texture_dpjs``), and that list must be exactly the DPJs the recipe's log names (`check_recipe`),
+its own "refs" parameters included. A recipe may itself hold a composition or a texture spot
+whose recipe needs DPJs (a bank entry that was a composition, used again): its step names them,
+so the outer step names them too, and `actions.dpj_refs` of any log is every DPJ needed at every
+depth without opening a recipe. That list is what a saved file and a bank entry carry, and
+replaying a recipe on a scratch document holding just those DPJs gives the same levels after
+save and load. Limits, each refused with a message: recipes nest at most MAX_RECIPE_DEPTH deep, a
+recipe needs at most MAX_RECIPE_DPJS DPJs, and its text (the recipes nested in it included) is at
+most MAX_RECIPE_CHARS characters.
+
+Versions. Mix and Incrust version 1 (and spot placements version 1, see `spot_actions`) named a
+recipe's one DPJ, or none, in a "ref" parameter (``source_dpj``, ``mask_dpj``); version 2 lists
+them. `Action.upgrade` turns version-1 JSON into version 2 on load (`upgrade_ref`): the same steps,
+the same levels.
 """
 
 from __future__ import annotations
@@ -42,11 +51,12 @@ from . import composition, doubling
 from . import grain_render as gr
 from .actions import Action, dpj_refs, param, register
 from .document import dpj_ref
-from .dpj import DPJ
 from .errors import FormatError, InputError
 
-MAX_RECIPE_CHARS = 2**24
+MAX_RECIPE_CHARS = 2**24       # a recipe's text, the recipes nested in it included
 MAX_RECIPE_ACTIONS = 100_000
+MAX_RECIPE_DEPTH = 8           # a recipe in a recipe in a recipe… at most this many levels
+MAX_RECIPE_DPJS = 32           # the DPJs one recipe needs, at every depth together
 MASKS = ("texture", "levels", "points")
 
 
@@ -89,12 +99,39 @@ def synthesis_recipe(ref: str, width: int, height: int, seed: int) -> str:
     return recipe_of([Synthesize(ref, width, height, seed)])
 
 
+class _TooDeep(Exception):
+    """Recipes nested deeper than MAX_RECIPE_DEPTH: raised where it is found, and turned into one
+    InputError by the outermost recipe (not wrapped again by every level in between)."""
+
+
+_NESTING = threading.local()
+
+
 def parse_recipe(text: str) -> tuple[Action, ...]:
-    """The actions of a recipe, every one checked (InputError says what is wrong)."""
+    """The actions of a recipe, every one checked (InputError says what is wrong). The recipes
+    inside it are parsed as its actions are made, one level deeper each: the depth is counted
+    here, per thread, so a too deep nesting is refused before it is all read."""
+    depth = getattr(_NESTING, "depth", 0) + 1
+    if depth > MAX_RECIPE_DEPTH:
+        raise _TooDeep
+    _NESTING.depth = depth
+    try:
+        return _parse_recipe(text)
+    except _TooDeep:
+        if depth > 1:
+            raise
+        raise InputError(f"texture recipes nest at most {MAX_RECIPE_DEPTH} deep (a source whose "
+                         "log composes a source whose log composes…): choose a texture made "
+                         "with fewer levels of composition") from None
+    finally:
+        _NESTING.depth = depth - 1
+
+
+def _parse_recipe(text: str) -> tuple[Action, ...]:
     from .actions import action_from_json
     if not isinstance(text, str) or len(text) > MAX_RECIPE_CHARS:
         raise InputError(f"a texture recipe is a JSON text of at most {MAX_RECIPE_CHARS} "
-                         "characters")
+                         "characters, the recipes nested in it included")
     try:
         obj = json.loads(text, parse_constant=_no_constant)
     except (json.JSONDecodeError, RecursionError, ValueError) as exc:
@@ -113,15 +150,21 @@ def _no_constant(token):
     raise ValueError(f"{token} is not allowed")
 
 
-def check_recipe(text: str, ref: str | None, what: str) -> None:
-    """A valid recipe made from at most one DPJ, ``ref`` (see the module's docstring)."""
-    refs = dpj_refs(parse_recipe(text))
-    if len(refs) > 1:
-        raise InputError(f"{what} is made from {len(refs)} DPJs ({', '.join(refs)}); a texture "
-                         "used as a source may use one: choose a simpler texture")
-    if refs and refs[0] != ref:
-        raise InputError(f"{what} synthesises from DPJ {refs[0]}: give it as its DPJ "
-                         f"(got {ref})")
+def check_recipe(text: str, refs: tuple, what: str) -> None:
+    """A valid recipe whose DPJs are exactly ``refs``: every DPJ its log names, the DPJs of the
+    recipes nested in it included (their steps name them in turn), so a log's `dpj_refs` is
+    all a saved file or a bank entry must carry. Order does not matter."""
+    used = dpj_refs(parse_recipe(text))
+    if len(used) > MAX_RECIPE_DPJS:
+        raise InputError(f"{what} is made from {len(used)} DPJs; a texture used as a source may "
+                         f"use at most {MAX_RECIPE_DPJS}")
+    missing = [r for r in used if r not in refs]
+    if missing:
+        raise InputError(f"{what} uses DPJ {', '.join(missing)}, which the step does not name "
+                         f"(it names {', '.join(refs) or 'none'})")
+    extra = [r for r in refs if r not in used]
+    if extra:
+        raise InputError(f"{what} does not use DPJ {', '.join(extra)}, which the step names")
 
 
 def render_recipe(text: str, dpjs: dict, progress=None, cancel=None) -> tuple[np.ndarray, int]:
@@ -162,53 +205,62 @@ def _recipe_field(doc: str, optional: bool = False):
                  optional=optional, doc=doc)
 
 
-def _ref_field(doc: str):
-    return param("ref", default=None, optional=True, doc=doc)
+def refs_field(doc: str):
+    """The DPJs a recipe needs, at every depth (see `check_recipe`)."""
+    return param("refs", hi=MAX_RECIPE_DPJS, default=(), doc=doc)
 
 
-def source_levels(doc, text: str, ref: str | None, progress=None, cancel=None):
-    """(levels, G) of a recipe whose DPJ ``ref`` is in the document's store."""
-    dpjs = {}
-    if ref is not None:
-        if ref not in doc.dpjs:
-            raise InputError(f"DPJ {ref} of a texture recipe is not part of this document")
-        dpjs[ref] = doc.dpjs[ref]
-    return render_recipe(text, dpjs, progress, cancel)
+def source_levels(doc, text: str, refs: tuple, progress=None, cancel=None):
+    """(levels, G) of a recipe whose DPJs ``refs`` are in the document's store."""
+    missing = [r for r in refs if r not in doc.dpjs]
+    if missing:
+        raise InputError(f"DPJ {', '.join(missing)} of a texture recipe is not part of this "
+                         "document")
+    return render_recipe(text, {r: doc.dpjs[r] for r in refs}, progress, cancel)
+
+
+def upgrade_ref(params: dict, old: str, new: str) -> dict:
+    """Version-1 JSON named a recipe's one DPJ (or none) in ``old``; now ``new`` lists them."""
+    if new in params:
+        raise FormatError(f"version 1 has no parameter {new!r} (it names one DPJ in {old!r})")
+    params = dict(params)
+    ref = params.pop(old, None)
+    params[new] = [] if ref is None else [ref]
+    return params
 
 
 @dataclass(frozen=True)
 class TextureSource:
-    """A texture ready to be named by a step: its recipe, the DPJ it synthesises from (its
-    reference, and the DPJ itself for the document's store), its number of levels G, a name."""
+    """A texture ready to be named by a step: its recipe, the DPJs it needs at every depth (their
+    references, and the DPJs themselves for the document's store), its number of levels G, a
+    name."""
 
     recipe: str
-    ref: str | None
-    dpj: DPJ | None
+    refs: tuple
+    dpjs: dict
     levels: int
     name: str
 
     def store(self, doc) -> None:
-        """Keep the recipe's DPJ in ``doc`` (before a step that names it is made)."""
-        if self.dpj is not None:
-            store_dpj(doc, self.dpj)
+        """Keep the recipe's DPJs in ``doc`` (before a step that names them is made)."""
+        for dpj in self.dpjs.values():
+            store_dpj(doc, dpj)
 
 
 def bank_source(bank, entry_id: int, progress=None, cancel=None) -> TextureSource:
-    """A bank entry (of a `bank.Bank`) as a recipe: its log and its one DPJ.
+    """A bank entry (of a `bank.Bank`) as a recipe: its log and every DPJ it needs.
 
     The entry is replayed here and must give the texture the bank recorded (its SHA-256), so a
     damaged entry is refused before a step names it; the levels stay in the memo for the preview
     or the apply that follows. Slow: call it in a worker."""
     entry, recipe = bank.get(entry_id), bank.recipe(entry_id)
-    what = f"bank entry {entry.id} “{entry.name}”"
-    refs = dpj_refs(recipe.actions)
-    ref = refs[0] if refs else None
+    refs = tuple(dpj_refs(recipe.actions))
     text = recipe_of(recipe.actions)
-    check_recipe(text, ref, what)
+    check_recipe(text, refs, f"bank entry {entry.id} “{entry.name}”")
     doc = bank.render(entry_id, progress=progress, cancel=cancel)     # hash checked
     dpjs = {r: recipe.dpjs[r] for r in refs}
     _remember(text, dpjs, doc)
-    return TextureSource(text, ref, dpjs.get(ref), doc.num_levels, entry.name)
+    return TextureSource(text, refs, dpjs, doc.num_levels, entry.name)
 
 
 # -- grains and density (§5.3) ---------------------------------------------------------------------
@@ -291,9 +343,10 @@ class Mix(Action):
     """
 
     TYPE: ClassVar[str] = "mix"
+    VERSION: ClassVar[int] = 2
     EFFECT: ClassVar[str] = "levels"
     source: str = _recipe_field("T2's recipe: the log that rebuilds it (JSON)")
-    source_dpj: str | None = _ref_field("the DPJ T2 is synthesised from")
+    source_dpjs: tuple = refs_field("the DPJs T2's recipe needs, at every depth")
     a: float = param("float", 0, 1, default=1.0, doc="weight of T1 (0..1 of the grey scale)")
     op1: str = param("str", hi=8, default="multiply", doc="a op1 T1")
     op2: str = param("str", hi=8, default="max", doc="(a op1 T1) op2 (b op3 T2)")
@@ -306,13 +359,18 @@ class Mix(Action):
     def _validate(self) -> None:
         for op in (self.op1, self.op2, self.op3, self.op4):
             composition.check_op(op)
-        check_recipe(self.source, self.source_dpj, "T2")
+        check_recipe(self.source, self.source_dpjs, "T2")
+
+    @classmethod
+    def upgrade(cls, version: int, params: dict) -> dict:
+        """Version 1 named T2's one DPJ in ``source_dpj``."""
+        return upgrade_ref(params, "source_dpj", "source_dpjs")
 
     def prepare(self, doc, progress=None, cancel=None) -> None:
-        source_levels(doc, self.source, self.source_dpj, progress, cancel)
+        source_levels(doc, self.source, self.source_dpjs, progress, cancel)
 
     def apply(self, doc) -> None:
-        t2, g2 = source_levels(doc, self.source, self.source_dpj)
+        t2, g2 = source_levels(doc, self.source, self.source_dpjs)
         new = composition.mix(doc.levels, composition.fit(t2, doc.shape), levels=doc.num_levels,
                               levels2=g2, **self.ops())
         _commit(doc, new)
@@ -339,15 +397,16 @@ class Incrust(Action):
     """
 
     TYPE: ClassVar[str] = "incrust"
+    VERSION: ClassVar[int] = 2
     EFFECT: ClassVar[str] = "levels"
     source: str = _recipe_field("T2's recipe: the log that rebuilds it (JSON)")
-    source_dpj: str | None = _ref_field("the DPJ T2 is synthesised from")
+    source_dpjs: tuple = refs_field("the DPJs T2's recipe needs, at every depth")
     mask: str = param("str", hi=8, default="texture",
                       doc="texture (a third texture's levels), levels (the document's), points")
     levels: str = param("str", hi=64, default="1-15",
                         doc="the mask's levels where T2 shows, like 1,3-5")
     mask_source: str | None = _recipe_field("the mask texture's recipe", optional=True)
-    mask_dpj: str | None = _ref_field("the DPJ the mask texture is synthesised from")
+    mask_dpjs: tuple = refs_field("the DPJs the mask texture's recipe needs, at every depth")
     points: tuple = param("points", 0, 16383, default=(),
                           doc="painted (row, col) points where T2 shows")
 
@@ -355,16 +414,24 @@ class Incrust(Action):
         if self.mask not in MASKS:
             raise InputError(f"mask must be one of {', '.join(MASKS)}, got {self.mask!r}")
         composition.parse_level_set(self.levels)
-        check_recipe(self.source, self.source_dpj, "T2")
-        if self.mask == "texture":
-            if self.mask_source is None:
-                raise InputError("a texture mask needs the mask texture's recipe")
-            check_recipe(self.mask_source, self.mask_dpj, "the mask texture")
+        check_recipe(self.source, self.source_dpjs, "T2")
+        if self.mask == "texture" and self.mask_source is None:
+            raise InputError("a texture mask needs the mask texture's recipe")
+        if self.mask_source is not None:
+            check_recipe(self.mask_source, self.mask_dpjs, "the mask texture")
+        elif self.mask_dpjs:
+            raise InputError("mask_dpjs names DPJs, but there is no mask texture recipe")
+
+    @classmethod
+    def upgrade(cls, version: int, params: dict) -> dict:
+        """Version 1 named each recipe's one DPJ in ``source_dpj`` and ``mask_dpj``."""
+        return upgrade_ref(upgrade_ref(params, "source_dpj", "source_dpjs"), "mask_dpj",
+                           "mask_dpjs")
 
     def prepare(self, doc, progress=None, cancel=None) -> None:
-        source_levels(doc, self.source, self.source_dpj, progress, cancel)
+        source_levels(doc, self.source, self.source_dpjs, progress, cancel)
         if self.mask == "texture":
-            source_levels(doc, self.mask_source, self.mask_dpj, progress, cancel)
+            source_levels(doc, self.mask_source, self.mask_dpjs, progress, cancel)
 
     def membership(self, doc) -> np.ndarray:
         """Where T2 shows, on the document's canvas."""
@@ -373,11 +440,11 @@ class Incrust(Action):
         chosen = composition.parse_level_set(self.levels)
         if self.mask == "levels":
             return composition.membership_from_levels(doc.levels, chosen)
-        m, _ = source_levels(doc, self.mask_source, self.mask_dpj)
+        m, _ = source_levels(doc, self.mask_source, self.mask_dpjs)
         return composition.membership_from_levels(composition.fit(m, doc.shape), chosen)
 
     def apply(self, doc) -> None:
-        t2, g2 = source_levels(doc, self.source, self.source_dpj)
+        t2, g2 = source_levels(doc, self.source, self.source_dpjs)
         t2 = composition.convert_levels(composition.fit(t2, doc.shape), g2, doc.num_levels)
         _commit(doc, composition.incrust(self.membership(doc), [doc.levels, t2]))
 

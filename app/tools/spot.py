@@ -177,6 +177,7 @@ class SpotTool(Tool):
         self._colours = None          # (palette, level) the editor's preview was drawn with
         self.texture = None           # the bank entry of a texture fill, as a TextureSource
         self.picker = None            # the bank picker while it is open
+        self.last_fill = "level"      # the fill chosen before "Bank texture…", to go back to
 
     @property
     def editor(self):
@@ -312,22 +313,27 @@ class SpotTool(Tool):
     # -- the texture of a texture fill ------------------------------------------------------------
     def fill_changed(self) -> None:
         """Show the texture row for a texture fill; the first time, choose its entry."""
-        texture = self.opts.fill.currentData() == "texture"
-        self.opts.show_texture_row(texture)
-        if texture and self.texture is None:
+        fill = self.opts.fill.currentData()
+        self.opts.show_texture_row(fill == "texture")
+        if fill != "texture":
+            self.last_fill = fill
+        elif self.texture is None:
             self.choose_texture()
 
     def choose_texture(self) -> None:
-        """Open the bank picker; the chosen entry is read in the worker. Cancelled with no
-        texture yet, the fill goes back to the current level."""
+        """Open the bank picker; the chosen entry is read in the worker. Cancelled, or the entry
+        failing to load, with no texture yet: the fill goes back to the one chosen before."""
         self.picker = choose_bank_entry(self.window, lambda bank, entry_id: load_bank_source(
-            self.window, bank, entry_id, self._texture_loaded), note=BANK_NOTE)
+            self.window, bank, entry_id, self._texture_loaded, self._texture_refused),
+            note=BANK_NOTE)
         self.picker.rejected.connect(self._texture_refused)
         self.picker.finished.connect(lambda _r: setattr(self, "picker", None))
 
     def _texture_refused(self) -> None:
-        if self.texture is None:
-            self.opts.fill.setCurrentIndex(self.opts.fill.findData("level"))
+        """No texture to fill with: a texture fill without one goes back to the previous fill
+        (not when the user has meanwhile chosen another fill, or has a texture already)."""
+        if self.texture is None and self.opts.fill.currentData() == "texture":
+            self.opts.fill.setCurrentIndex(self.opts.fill.findData(self.last_fill))
 
     def _texture_loaded(self, source) -> None:
         self.texture = source
@@ -363,7 +369,7 @@ class SpotTool(Tool):
                     "Choose the bank entry that fills the spots first (Fill: Bank texture…)."))
                 return None
             self.texture.store(self.document)
-            params.update(texture=self.texture.recipe, dpj=self.texture.ref)
+            params.update(texture=self.texture.recipe, texture_dpjs=self.texture.refs)
         return params
 
     def place(self, row: int, col: int, angle: float | None = None,

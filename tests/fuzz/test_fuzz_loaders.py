@@ -57,6 +57,27 @@ def _texture() -> bytes:
 TEXTURE_BYTES = _texture()
 
 
+def _recipe_texture() -> bytes:
+    """A texture whose steps carry recipes of two DPJs, one of them nested two deep."""
+    from texeditor.actions import Synthesize
+    from texeditor.texture_actions import Incrust, Mix, recipe_of, store_dpj, synthesis_recipe
+
+    history = History()
+    ref = history.add_dpj(_dpj())
+    q = quantize(data.camera()[:48, :48], 2)
+    other = store_dpj(history.document, estimate_dpj(q.levels, (1, 2), 2, palette=q.palette))
+    flat = recipe_of([Synthesize(ref, 8, 6, 1),
+                      Mix(synthesis_recipe(other, 5, 4, 2), (other,), op2="max")])
+    for action in (Synthesize(ref, 16, 12, 3), Mix(flat, (ref, other), op2="xor"),
+                   Incrust(synthesis_recipe(other, 6, 6, 4), (other,), mask="texture",
+                           levels="1", mask_source=flat, mask_dpjs=(other, ref))):
+        history.apply(action)
+    return texture_bytes(history.document, history.applied)[0]
+
+
+RECIPE_TEXTURE_BYTES = _recipe_texture()
+
+
 def _png() -> bytes:
     import imageio.v3 as iio
     return iio.imwrite("<bytes>", data.camera()[:32, :48], extension=".png")
@@ -174,6 +195,35 @@ def zip_mutations(draw, seed: bytes) -> bytes:
     return buf.getvalue()
 
 
+@st.composite
+def recipe_mutations(draw, seed: bytes) -> bytes:
+    """Mutate the JSON inside a step's recipe (a source or a mask), at the top or one level
+    down, and put the file back together."""
+    with zipfile.ZipFile(io.BytesIO(seed)) as zf:
+        members = {i.filename: zf.read(i) for i in zf.infolist()}
+    log = json.loads(members["actions.json"])
+    carriers = [a for a in log["actions"] if "source" in a]
+    step = draw(st.sampled_from(carriers))
+    key = draw(st.sampled_from([k for k in ("source", "mask_source") if step.get(k)]))
+    step[key] = _mutate_recipe(draw, step[key], draw(st.booleans()))
+    members["actions.json"] = json.dumps(log).encode()
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as zf:
+        for name, content in members.items():
+            zf.writestr(name, content)
+    return buf.getvalue()
+
+
+def _mutate_recipe(draw, text: str, deeper: bool) -> str:
+    obj = json.loads(text)
+    inner = [a for a in obj["actions"] if isinstance(a.get("source"), str)]
+    if deeper and inner:
+        inner[0]["source"] = _mutate_recipe(draw, inner[0]["source"], False)
+    else:
+        obj = _mutate_json(draw, obj)
+    return json.dumps(obj, separators=(",", ":"))
+
+
 # -- oracles ----------------------------------------------------------------------------------------
 
 def load_dpj(blob: bytes) -> None:
@@ -229,6 +279,12 @@ def test_fuzz_texture_members(blob):
 
 
 @FUZZ
+@given(st.one_of(zip_mutations(RECIPE_TEXTURE_BYTES), recipe_mutations(RECIPE_TEXTURE_BYTES)))
+def test_fuzz_texture_recipes(blob):
+    only_texeditor_errors(load_texture, blob)
+
+
+@FUZZ
 @given(byte_mutations(PNG_BYTES))
 def test_fuzz_image(tmp_path_factory, blob):
     only_texeditor_errors(load_picture, blob, tmp_path_factory.mktemp("img"))
@@ -250,6 +306,7 @@ def test_corpus(tmp_path):
 def test_the_seeds_themselves_load():
     load_dpj(DPJ_BYTES)
     load_texture(TEXTURE_BYTES)
+    load_texture(RECIPE_TEXTURE_BYTES)
     assert np.asarray(load_image_bytes(PNG_BYTES)).shape == (32, 48)
 
 

@@ -1,16 +1,22 @@
 """The bank picker (issues 7 and 9): choose an entry with real clicks and keys, then fill spots
-with its texture or compose with it; an empty bank and an unusable one say so."""
+with its texture or compose with it (an entry made from two DPJs too); an empty bank and an
+unusable one say so, and a fill whose entry fails to load goes back to the previous fill."""
+
+import sqlite3
 
 import numpy as np
-from PySide6 import QtCore, QtTest
+from PySide6 import QtCore, QtTest, QtWidgets
 
 from app.bank_picker import EMPTY, BankPicker
+from test_history_support import REFS, TINY_DPJS
 from texeditor.actions import NewCanvas, SetLevels, Synthesize
 from texeditor.bank import Bank, default_path
 from texeditor.composition import fit
+from texeditor.document import dpj_ref
 from texeditor.history import History
 from texeditor.spot_actions import PlaceSpot
-from texeditor.texture_actions import Incrust
+from texeditor.texture_actions import Incrust, Mix, store_dpj, synthesis_recipe
+from texeditor.texturefile import load_texture, save_texture
 
 from .events import cell_pos, click, press_key
 from .test_spot_tools import spot_tool
@@ -58,6 +64,20 @@ def choose_fill(tool, value: str) -> None:
         press_key(combo, Key.Key_Down)
 
 
+def pick_in_popup(qtbot, combo, value) -> None:
+    """Open a combo box's list, move to ``value`` and press Return: the combo goes straight
+    there (stepping with the closed combo's arrows makes every item on the way current)."""
+    combo.setFocus()
+    press_key(combo, Key.Key_F4)
+    view = combo.view()
+    qtbot.waitUntil(view.isVisible, timeout=3000)
+    press_key(view, Key.Key_Home)
+    while view.currentIndex().data(QtCore.Qt.ItemDataRole.UserRole) != value:
+        press_key(view, Key.Key_Down)
+    press_key(view, Key.Key_Return)
+    assert combo.currentData() == value
+
+
 def test_choose_an_entry_then_place_a_spot_filled_with_its_texture(window, qtbot, small_dpj):
     entry = add_entry(pebbles(small_dpj), "Pebbles")
     tool = spot_tool(window)
@@ -79,7 +99,7 @@ def test_choose_an_entry_then_place_a_spot_filled_with_its_texture(window, qtbot
     texture = entry_levels(entry)
     assert np.array_equal(window.document.levels[rows, cols],
                           texture[rows % texture.shape[0], cols % texture.shape[1]])
-    assert action.dpj in window.document.dpjs
+    assert action.texture_dpjs and set(action.texture_dpjs) <= set(window.document.dpjs)
 
 
 def test_a_texture_of_another_g_says_its_levels_are_mapped(window, qtbot):
@@ -139,7 +159,7 @@ def test_an_empty_bank_says_so(qtbot, tmp_path):
 def test_an_unusable_bank_is_explained_and_the_fill_goes_back(window, qtbot):
     default_path().write_bytes(b"not a bank at all" * 100)
     tool = spot_tool(window)
-    choose_fill(tool, "texture")
+    pick_in_popup(qtbot, tool.opts.fill, "texture")
     picker = tool.picker
     qtbot.waitExposed(picker)
     assert "cannot be used" in picker.status.text() and "not a texture bank" in \
@@ -147,4 +167,93 @@ def test_an_unusable_bank_is_explained_and_the_fill_goes_back(window, qtbot):
     assert not picker.ok_button.isEnabled() and not picker.grid.isEnabled()
     press_key(picker, Key.Key_Escape)
     qtbot.waitUntil(lambda: tool.opts.fill.currentData() == "level", timeout=3000)
+    assert tool.texture is None
+
+
+def two_dpjs(dpj) -> History:
+    """A G = 4 texture made from two DPJs: pebbles mixed with a synthesis of another DPJ."""
+    history = pebbles(dpj)
+    store_dpj(history.document, TINY_DPJS[0])
+    history.apply(Mix(synthesis_recipe(REFS[0], 6, 5, 2), (REFS[0],), op2="xor"))
+    return history
+
+
+def choose(combo, value) -> None:
+    """Pick an item of a combo box with the keyboard."""
+    combo.setFocus()
+    press_key(combo, Key.Key_Home)
+    while combo.currentData() != value:
+        press_key(combo, Key.Key_Down)
+
+
+def test_compose_with_a_bank_entry_of_two_dpjs(window, qtbot, small_dpj, tmp_path):
+    entry = add_entry(two_dpjs(small_dpj), "Two DPJs")
+    window.act_compose.trigger()
+    dialog = window._composition_dialog
+    qtbot.waitExposed(dialog)
+    assert window.runner.wait(30_000)
+    source = dialog.source
+    choose(source.kind, "bank")
+    QtTest.QTest.mouseClick(source.bank_button, LEFT)
+    search_and_pick(qtbot, source.findChild(BankPicker), "two")
+    qtbot.waitUntil(lambda: source.bank_source is not None, timeout=30_000)
+    assert window.errors == [] and source.bank_label.text() == "Two DPJs"
+
+    bar = dialog.tabs.tabBar()
+    QtTest.QTest.mouseClick(bar, LEFT, pos=bar.tabRect(0).center())
+    choose(dialog.mask_kind, "levels")
+    dialog.mask_levels.selectAll()
+    QtTest.QTest.keyClicks(dialog.mask_levels, "0-3")          # every point: T3 is T2
+    qtbot.waitUntil(lambda: "points change" in dialog.status.text()
+                    and "levels 0-3" in dialog.status.text() and not window.runner.busy,
+                    timeout=30_000)
+    assert "bank entry “Two DPJs”" in dialog.status.text()
+    QtTest.QTest.mouseClick(dialog.apply_button, LEFT)
+    assert window.runner.wait(30_000)
+    action = window.history.actions[-1]
+    assert isinstance(action, Incrust) and window.errors == []
+    assert set(action.source_dpjs) == {dpj_ref(small_dpj), REFS[0]}
+    assert set(action.source_dpjs) <= set(window.document.dpjs)
+    assert np.array_equal(window.document.levels, fit(entry_levels(entry), window.document.shape))
+    dialog.close()
+
+    dock = window.history_dock
+    qtbot.mouseClick(dock.view.viewport(), LEFT, pos=dock.row_rect(window.history.index - 1)
+                     .center())
+    shown = [w.text() for w in dock.form.findChildren(QtWidgets.QLabel)]
+    assert any(t.startswith("2 DPJs: ") for t in shown)         # read-only, not an editor
+    assert "source_dpjs" not in dock.form.editors
+
+    path = tmp_path / "composed.texture"
+    save_texture(path, window.history)
+    with Bank() as bank:
+        bank.trash(entry)
+        bank.purge()
+    again, _ = load_texture(path)
+    assert again.document.result_hash() == window.document.result_hash()
+
+
+def test_a_fill_whose_entry_fails_to_load_goes_back_to_the_previous_fill(window, qtbot,
+                                                                         small_dpj):
+    entry = add_entry(pebbles(small_dpj), "Pebbles")
+    with sqlite3.connect(default_path()) as conn:          # damaged: its replay will not match
+        conn.execute("UPDATE entries SET sha256 = ? WHERE id = ?", ("0" * 64, entry))
+    tool = spot_tool(window)
+    pick_in_popup(qtbot, tool.opts.fill, "document")
+    pick_in_popup(qtbot, tool.opts.fill, "texture")
+    search_and_pick(qtbot, tool.picker, "pebb")
+    qtbot.waitUntil(lambda: tool.opts.fill.currentData() == "document", timeout=30_000)
+    assert window.runner.wait(30_000)
+    assert tool.texture is None and not tool.opts.texture_row.isVisible()
+    assert any("Pebbles" in title and "damaged" in text for title, text in window.errors)
+
+
+def test_a_cancelled_pick_goes_back_to_the_previous_fill(window, qtbot):
+    tool = spot_tool(window)
+    pick_in_popup(qtbot, tool.opts.fill, "document")
+    pick_in_popup(qtbot, tool.opts.fill, "texture")
+    picker = tool.picker
+    qtbot.waitExposed(picker)
+    press_key(picker, Key.Key_Escape)
+    qtbot.waitUntil(lambda: tool.opts.fill.currentData() == "document", timeout=3000)
     assert tool.texture is None

@@ -161,8 +161,8 @@ def test_incrust_a_synthesis_where_this_texture_is_background(window, qtbot):
     action = window.history.actions[-1]
     assert isinstance(action, Incrust) and action.mask == "levels"
     from texeditor.texture_actions import render_recipe
-    t2, _ = render_recipe(action.source, {action.source_dpj: window.document.dpjs[
-        action.source_dpj]})
+    t2, _ = render_recipe(action.source, {r: window.document.dpjs[r]
+                                          for r in action.source_dpjs})
     assert np.array_equal(window.document.levels, np.where(before == 0, t2, before))
     window.act_undo.trigger()
     assert np.array_equal(window.document.levels, before)
