@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 from PySide6 import QtCore, QtGui
-from skimage.util import img_as_ubyte
+import skimage as ski
 
 
 
@@ -28,7 +28,7 @@ def photo_rgb(image: np.ndarray) -> np.ndarray:
         img = img[..., 0]
     if img.dtype.kind == "f":
         img = np.clip(np.nan_to_num(img), 0.0, 1.0)
-    img = img_as_ubyte(img)
+    img = ski.util.img_as_ubyte(img)
     return np.repeat(img[..., None], 3, axis=2) if img.ndim == 2 else img
 
 

@@ -11,8 +11,7 @@ import math
 from dataclasses import asdict, dataclass, fields
 
 import numpy as np
-from skimage.feature import peak_local_max, structure_tensor
-from skimage.measure import label
+import skimage as ski     # its subpackages load on first use: skimage.feature pulls in scipy.stats
 
 from .errors import FormatError, InputError
 
@@ -111,7 +110,7 @@ def contrast(levels: np.ndarray, palette) -> float:
 def granularity(levels: np.ndarray) -> float:
     """Mean size, in points, of the regions of one level (4-connected): grains (§1.5.1) are
     small regions, spots large ones. Points / number of regions."""
-    regions = label(levels, background=-1, connectivity=1, return_num=True)[1]
+    regions = ski.measure.label(levels, background=-1, connectivity=1, return_num=True)[1]
     return float(levels.size / max(regions, 1))
 
 
@@ -128,7 +127,7 @@ def directivity(grey: np.ndarray) -> tuple[float, float]:
     of period 2 (nor does regularity: the resolution of the attributes is 3 points)."""
     if min(grey.shape) < 3:
         return 0.0, 0.0
-    arr, arc, acc = (a.mean() for a in structure_tensor(grey, sigma=1.0, mode="reflect"))
+    arr, arc, acc = (a.mean() for a in ski.feature.structure_tensor(grey, sigma=1.0, mode="reflect"))
     jxx, jyy, jxy = acc, arr, -arc            # x = column, y = up = -row
     trace = jxx + jyy
     strength = math.hypot(jxx - jyy, 2 * jxy) / trace if trace > 1e-12 else 0.0
@@ -168,7 +167,7 @@ def regularity(acf: np.ndarray | None) -> tuple[float, float]:
         return 0.0, 0.0
     centre = (acf.shape[0] // 2, acf.shape[1] // 2)
     lobe = _central_lobe(acf, centre)
-    peaks = peak_local_max(acf, min_distance=1, threshold_abs=0.0, exclude_border=False)
+    peaks = ski.feature.peak_local_max(acf, min_distance=1, threshold_abs=0.0, exclude_border=False)
     peaks = [p for p in peaks if not lobe[tuple(p)]]
     if not peaks:
         return 0.0, 0.0
@@ -203,7 +202,7 @@ def coarseness(acf: np.ndarray | None) -> float:
 
 
 def _central_lobe(acf: np.ndarray, centre) -> np.ndarray:
-    regions = label(acf > HALF, connectivity=2)
+    regions = ski.measure.label(acf > HALF, connectivity=2)
     return regions == regions[centre]
 
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from skimage.util import img_as_float64
+import skimage as ski
 
 from .dpj import DPJ, MAX_LEVELS
 from .errors import InputError
@@ -67,7 +67,7 @@ def _palette(image, grey, children, parent_palette) -> np.ndarray:
     """Each child's mean colour in the photo; a child no pixel falls in takes its parent's."""
     image = np.asarray(image)
     colour = image.ndim == 3 and image.shape[2] >= 3
-    channels = np.clip(img_as_float64(image[..., :3]), 0, 1) if colour else grey[..., None]
+    channels = np.clip(ski.util.img_as_float64(image[..., :3]), 0, 1) if colour else grey[..., None]
     n = 2 * len(parent_palette)
     flat = children.ravel()
     counts = np.bincount(flat, minlength=n)

@@ -15,8 +15,7 @@ import zlib
 from dataclasses import asdict, dataclass
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
+import scipy        # scipy.sparse loads on first use, not at start-up
 
 from .errors import FormatError, InputError
 from .fileio import atomic_write, read_limited
@@ -275,8 +274,8 @@ class DPJ:
         ids = ids.ravel()
         li, ri = ids[: len(left)], ids[len(left):]
         m = len(states)
-        graph = coo_matrix((np.ones(len(li)), (li, ri)), shape=(m, m)).tocsr()
-        _, label = connected_components(graph, directed=True, connection="strong")
+        graph = scipy.sparse.coo_matrix((np.ones(len(li)), (li, ri)), shape=(m, m)).tocsr()
+        _, label = scipy.sparse.csgraph.connected_components(graph, directed=True, connection="strong")
         leaves = label[li] != label[ri]
         inside = np.bincount(label[li][~leaves], minlength=label.max() + 1) > 0
         leaking = np.bincount(label[li][leaves], minlength=label.max() + 1) > 0

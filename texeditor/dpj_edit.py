@@ -8,9 +8,7 @@ and all-maximum weights, merging levels) and the small views the editor's charts
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
-from scipy.sparse.linalg import LinearOperator, cg
+import scipy        # scipy.sparse loads on first use, not at start-up
 
 from .dpj import DPJ, check_palette, check_window, decode, encode, grey_ramp
 from .errors import Cancelled, InputError
@@ -177,8 +175,8 @@ def _constraints(dpj: DPJ, keep: np.ndarray):
         sizes.append(m)
         offset += m
     if not rows:
-        return coo_matrix((len(idx), 0)).tocsr(), sizes
-    a = coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+        return scipy.sparse.coo_matrix((len(idx), 0)).tocsr(), sizes
+    a = scipy.sparse.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                    shape=(len(idx), offset)).tocsr()     # a self-loop's +1 and -1 cancel
     a.eliminate_zeros()
     return a, sizes
@@ -206,8 +204,8 @@ def _crossing_edges(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     states, ids = np.unique(np.concatenate([a, b]), return_inverse=True)
     ids = ids.ravel()
     k = len(a)
-    graph = coo_matrix((np.ones(k), (ids[:k], ids[k:])), shape=(len(states), len(states)))
-    _, label = connected_components(graph.tocsr(), directed=True, connection="strong")
+    graph = scipy.sparse.coo_matrix((np.ones(k), (ids[:k], ids[k:])), shape=(len(states), len(states)))
+    _, label = scipy.sparse.csgraph.connected_components(graph.tocsr(), directed=True, connection="strong")
     return label[ids[:k]] != label[ids[k:]]
 
 
@@ -250,8 +248,8 @@ def _newton_step(a, w, g) -> np.ndarray:
     orthogonal to), so CG needs a few dozen products where a sparse LU fills in badly."""
     h = (a.T @ a.multiply(w[:, None])).tocsr()
     diag = np.maximum(h.diagonal(), 1e-300)
-    precond = LinearOperator(h.shape, matvec=lambda x: x / diag)
-    step, _ = cg(h, -g, M=precond, rtol=1e-6, maxiter=500)
+    precond = scipy.sparse.linalg.LinearOperator(h.shape, matvec=lambda x: x / diag)
+    step, _ = scipy.sparse.linalg.cg(h, -g, M=precond, rtol=1e-6, maxiter=500)
     return step
 
 

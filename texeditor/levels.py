@@ -13,8 +13,7 @@ from typing import NamedTuple
 import imageio.v3 as iio
 import numpy as np
 from PIL import Image
-from skimage.color import rgb2gray, rgba2rgb
-from skimage.util import img_as_float64
+import skimage as ski     # its subpackages load on first use, not at start-up
 
 from .errors import ImageError, InputError
 
@@ -151,14 +150,14 @@ def to_grey(image) -> np.ndarray:
     if img.shape[2] <= 2:
         return np.ascontiguousarray(img[..., 0])
     if img.shape[2] == 4:
-        img = rgba2rgb(img)
-    return rgb2gray(img)
+        img = ski.color.rgba2rgb(img)
+    return ski.color.rgb2gray(img)
 
 
 def _as_unit_float(image) -> np.ndarray:
     image = np.asarray(image)
     _check_shape(image)
-    img = img_as_float64(image)
+    img = ski.util.img_as_float64(image)
     if img.dtype.kind == "f" and image.dtype.kind == "f" and not np.all(np.isfinite(img)):
         raise ImageError("the image holds NaN or infinite values")
     return np.clip(img, 0.0, 1.0)
