@@ -7,6 +7,7 @@ row by row, top-left most significant, in base G), so look-ups are binary search
 
 from __future__ import annotations
 
+import functools
 import io
 import json
 import math
@@ -216,8 +217,9 @@ class DPJ:
 
     __hash__ = None
 
-    @property
+    @functools.cached_property
     def total(self) -> float:
+        """The sum of the probabilities (cached: a table asks it for every row it paints)."""
         return float(self._probs.sum())
 
     def prob(self, config) -> float:
