@@ -246,6 +246,15 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             self._docks_sized = True
             QtCore.QTimer.singleShot(0, self._size_docks)   # once the layout has settled
 
+    def childEvent(self, ev) -> None:
+        """The tab bars Qt makes for tabbed docks show whole titles and scroll, as Krita's do:
+        four docks in the left column would otherwise read "Texture …", "Bru…", "G…"."""
+        super().childEvent(ev)
+        child = ev.child()
+        if ev.type() == QtCore.QEvent.Type.ChildPolished and isinstance(child, QtWidgets.QTabBar):
+            child.setElideMode(QtCore.Qt.TextElideMode.ElideNone)
+            child.setUsesScrollButtons(True)
+
     def closeEvent(self, ev) -> None:
         """The DPJ editors' unsaved changes are asked about first (Cancel keeps the window
         open), then the texture's (FileOps)."""

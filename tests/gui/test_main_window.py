@@ -235,3 +235,30 @@ def test_unsaved_changes_prompt_on_close(qtbot, window, monkeypatch, answer, clo
     assert window.close() is closes
     assert asked
     assert window.isVisible() is not closes
+
+
+def test_tabbed_left_docks_show_whole_titles_and_scroll_to_the_last(qtbot, window):
+    """Four docks tabbed in the left column at 1280×800: every title whole (scroll arrows
+    instead of "Bru…"), and the last tab reached with the arrow and a click raises its dock."""
+    window.resize(1280, 800)
+    for dock in (window.brush_dock, window.grain_dock):
+        dock.show()
+    bars = lambda: [b for b in window.findChildren(QtWidgets.QTabBar)
+                    if b.isVisible() and b.count() == 4]
+    qtbot.waitUntil(lambda: len(bars()) == 1)
+    bar = bars()[0]
+    assert bar.elideMode() == QtCore.Qt.TextElideMode.ElideNone
+    fm = bar.fontMetrics()
+    for i in range(bar.count()):
+        assert bar.tabRect(i).width() >= fm.horizontalAdvance(bar.tabText(i).replace("&&", "&"))
+    last = next(i for i in range(bar.count()) if bar.tabText(i).startswith("Grain &"))
+    arrows = [b for b in bar.findChildren(QtWidgets.QToolButton) if b.isVisible()]
+    right = max(arrows, key=lambda b: b.x()) if arrows else None
+    for _ in range(8):                       # scroll until the tab is wholly in view
+        if bar.rect().contains(bar.tabRect(last)) or right is None:
+            break
+        qtbot.mouseClick(right, LEFT)
+    assert bar.rect().contains(bar.tabRect(last))
+    qtbot.mouseClick(bar, LEFT, pos=bar.tabRect(last).center())
+    qtbot.waitUntil(lambda: not window.density_dock.visibleRegion().isEmpty())
+    assert window.brush_dock.visibleRegion().isEmpty()
