@@ -115,15 +115,21 @@ def test_a_texture_of_another_g_says_its_levels_are_mapped(window, qtbot):
     assert "mapped" in tool.opts.hint.text()
 
 
-def test_compose_with_a_bank_entry_chosen_with_the_keyboard(window, qtbot, small_dpj):
-    entry = add_entry(pebbles(small_dpj), "Pebbles")
+def open_composition_on_the_bank(window, qtbot):
+    """Image ▸ Composition…, source "a bank entry", its Choose button clicked: (dialog, source)."""
     window.act_compose.trigger()
     dialog = window._composition_dialog
     qtbot.waitExposed(dialog)
     assert window.runner.wait(30_000)
     source = dialog.source
-    source.kind.setCurrentIndex(source.kind.findData("bank"))
+    choose(source.kind, "bank")
     QtTest.QTest.mouseClick(source.bank_button, LEFT)
+    return dialog, source
+
+
+def test_compose_with_a_bank_entry_chosen_with_the_keyboard(window, qtbot, small_dpj):
+    entry = add_entry(pebbles(small_dpj), "Pebbles")
+    dialog, source = open_composition_on_the_bank(window, qtbot)
     picker = source.findChild(BankPicker)
     qtbot.waitExposed(picker)
     QtTest.QTest.keyClicks(picker.search, "pebbles")
@@ -188,13 +194,7 @@ def choose(combo, value) -> None:
 
 def test_compose_with_a_bank_entry_of_two_dpjs(window, qtbot, small_dpj, tmp_path):
     entry = add_entry(two_dpjs(small_dpj), "Two DPJs")
-    window.act_compose.trigger()
-    dialog = window._composition_dialog
-    qtbot.waitExposed(dialog)
-    assert window.runner.wait(30_000)
-    source = dialog.source
-    choose(source.kind, "bank")
-    QtTest.QTest.mouseClick(source.bank_button, LEFT)
+    dialog, source = open_composition_on_the_bank(window, qtbot)
     search_and_pick(qtbot, source.findChild(BankPicker), "two")
     qtbot.waitUntil(lambda: source.bank_source is not None, timeout=30_000)
     assert window.errors == [] and source.bank_label.text() == "Two DPJs"
