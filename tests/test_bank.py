@@ -467,6 +467,23 @@ def test_likeness_sees_entries_added_by_another_program(bank, known):
     other.close()
 
 
+def test_likeness_after_inserts_equals_a_fresh_read(bank, known):
+    """Inserts extend the cached feature rows (only the new ids are read): the ranking and the
+    spread must be those of a bank opened afresh, and a later purge reads everything again."""
+    target = known["noise a"]
+    bank.find(like=target)                                        # the cache is filled
+    copy = bank.duplicate(known["noise b"], "Noise b again")
+    added = bank.add(stripes(3, False), "Wider horizontal", tags=["stripes"])
+    fresh = Bank(bank.path, builtins=False)
+    assert copy in bank.find(like=target) and added in bank.find(like=target)
+    for like in (target, known["thin horizontal"], added):
+        assert bank.find(like=like) == fresh.find(like=like)
+    bank.purge([copy])
+    assert copy not in bank.find(like=target)
+    assert bank.find(like=target) == fresh.find(like=target)
+    fresh.close()
+
+
 def test_a_change_made_by_another_program_is_noticed(bank):
     bank.changed_elsewhere()
     other = Bank(bank.path, builtins=False)

@@ -348,7 +348,7 @@ class Bank:
             for record in records:
                 ids.append(self._insert(conn, record, builtin, parent))
             self._index(conn, ids)
-            _features_changed(conn)
+            _features_changed(conn, added_only=True)
         return ids
 
     def _insert(self, conn, r: Record, builtin: bool, parent) -> int:
@@ -468,19 +468,36 @@ class Bank:
 
     def _features(self) -> tuple:
         """(ids in order, feature vectors, their spread) of every entry with attributes, read
-        again only after a write that changes attributes (here or in another program: every
-        such write bumps the 'features' counter of the meta table)."""
-        stamp = self._read("SELECT value FROM meta WHERE key = 'features'")
-        if self._feature_cache is None or self._feature_cache[0] != stamp:
-            columns = ", ".join(_ATTR_COLUMNS)
-            rows = self._read(f"SELECT id, {columns} FROM entries WHERE attributes_version = ? "
-                              f"AND {' AND '.join(f'{c} IS NOT NULL' for c in _ATTR_COLUMNS)} "
-                              "ORDER BY id", (attrs.VERSION,))
-            table = np.array(rows, dtype=float).reshape(-1, len(_ATTR_COLUMNS) + 1)
-            features = attrs.feature_matrix(table[:, 1:])
-            spread = features.std(axis=0) if len(features) else np.ones(features.shape[1])
-            self._feature_cache = (stamp, (table[:, 0].astype(np.int64), features, spread))
+        again only after a write that changes attributes, here or in another program: such a
+        write bumps the 'features' counter of the meta table. Inserts bump 'features_added'
+        instead, and only the new rows are read: their ids are above every id already read."""
+        stamps = dict(self._read("SELECT key, value FROM meta "
+                                 "WHERE key IN ('features', 'features_added')"))
+        stamp, added = stamps.get("features"), stamps.get("features_added")
+        cached = self._feature_cache
+        if cached is not None and cached[0] == (stamp, added):
+            return cached[1]
+        if cached is not None and cached[0][0] == stamp:
+            ids, values = cached[2]
+            after = int(ids[-1]) if len(ids) else 0
+            new = self._feature_rows("AND id > ?", (after,))
+            ids, values = np.concatenate([ids, new[:, 0].astype(np.int64)]), \
+                np.concatenate([values, new[:, 1:]])
+        else:
+            table = self._feature_rows()
+            ids, values = table[:, 0].astype(np.int64), table[:, 1:]
+        features = attrs.feature_matrix(values)
+        spread = features.std(axis=0) if len(features) else np.ones(features.shape[1])
+        self._feature_cache = ((stamp, added), (ids, features, spread), (ids, values))
         return self._feature_cache[1]
+
+    def _feature_rows(self, condition: str = "", params=()) -> np.ndarray:
+        """(n, 1 + attributes) floats: id then the attributes of the entries that have them."""
+        rows = self._read(f"SELECT id, {', '.join(_ATTR_COLUMNS)} FROM entries "
+                          "WHERE attributes_version = ? AND "
+                          f"{' AND '.join(f'{c} IS NOT NULL' for c in _ATTR_COLUMNS)} "
+                          f"{condition} ORDER BY id", (attrs.VERSION, *params))
+        return np.array(rows, dtype=float).reshape(-1, len(_ATTR_COLUMNS) + 1)
 
     def search(self, text: str = "", **options) -> list:
         """Like ``find`` but the Entries themselves."""
@@ -687,7 +704,7 @@ class Bank:
             conn.execute("INSERT INTO tags (entry, tag) SELECT ?, tag FROM tags WHERE entry = ?",
                          (new, entry_id))
             self._index(conn, [new])
-            _features_changed(conn)
+            _features_changed(conn, added_only=True)
         return new
 
     def trash(self, entry_id: int) -> None:
@@ -995,10 +1012,12 @@ def _check_result(doc: Document, expected: str, what: str) -> None:
                           "it is not shown — the entry is damaged")
 
 
-def _features_changed(conn) -> None:
-    """Tell every Bank on this file that attributes changed (their likeness caches go stale)."""
-    conn.execute("INSERT INTO meta (key, value) VALUES ('features', '1') ON CONFLICT (key) "
-                 "DO UPDATE SET value = CAST(value AS INTEGER) + 1")
+def _features_changed(conn, *, added_only: bool = False) -> None:
+    """Tell every Bank on this file that attributes changed (their likeness caches go stale),
+    or, after inserts, only that entries were added (the caches read just the new rows)."""
+    key = "features_added" if added_only else "features"
+    conn.execute("INSERT INTO meta (key, value) VALUES (?, '1') ON CONFLICT (key) "
+                 "DO UPDATE SET value = CAST(value AS INTEGER) + 1", (key,))
 
 
 def _has_fts5(conn) -> bool:
