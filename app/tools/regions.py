@@ -14,7 +14,7 @@ from texeditor import region_actions as ra
 from texeditor import regions, transforms
 from texeditor.errors import TexeditorError
 
-from ..canvas import colourize
+from ..canvas import palette_lut
 from ..widgets import spin_box
 from . import Tool
 from .handles import Change, TransformFrame
@@ -23,15 +23,16 @@ KINDS = [("Region", "region"), ("Region in region", "region_in_region"),
          ("Regions in region", "regions_in_region"), ("Neighbours", "neighbours"),
          ("Partial region", "partial")]
 SELECTION_TINT = (40, 200, 255)
+GHOST_REST_MS = 150          # a handle drag's pointer still this long: the exact ghost
 
 
 def mask_overlay(mask: np.ndarray, colour, alpha: int = 110):
     """An RGBA picture of a presence mask cut to its bounding box: the inside tinted, the
     frontier opaque (a still 'marching ants' line). Returns (rgba, (x, y)) or (None, None)."""
-    rows, cols = np.nonzero(mask)
-    if rows.size == 0:
+    found = transforms.bbox(mask)          # not np.nonzero: a drag redraws it at every move
+    if found is None:
         return None, None
-    r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
+    r0, c0, r1, c1 = found
     box = np.pad(mask[r0:r1, c0:c1], 1)
     inner = box[1:-1, 1:-1]
     edge = inner & ~(box[:-2, 1:-1] & box[2:, 1:-1] & box[1:-1, :-2] & box[1:-1, 2:])
@@ -51,8 +52,9 @@ def ghost_overlay(carried: np.ndarray, palette):
         return None, None
     (x, y), (h, w) = origin, rgba.shape[:2]
     inner = rgba[..., 3] == 220
-    colours = colourize(carried[y:y + h, x:x + w] - 1, palette)[inner]
-    rgba[inner, :3] = (0.75 * colours + 0.25 * np.array(SELECTION_TINT)).astype(np.uint8)
+    tinted = (0.75 * palette_lut(palette) + 0.25 * np.array(SELECTION_TINT)).astype(np.uint8)
+    rgba[..., :3] = np.where(inner[..., None], tinted[carried[y:y + h, x:x + w] - 1],
+                             rgba[..., :3])
     return rgba, origin
 
 
@@ -177,6 +179,11 @@ class ExtractTool(Tool):
         self._mask: np.ndarray | None = None   # the selection's points, as last drawn
         self.frame: TransformFrame | None = None
         self._unsubscribe = None
+        self._ghost = None                     # during a handle drag: (carried, its picture)
+        self._latest: Change | None = None     # the drag's latest change
+        self._placed = None                    # the overlay's own transform while Qt carries it
+        self._resting = QtCore.QTimer(singleShot=True, interval=GHOST_REST_MS)
+        self._resting.timeout.connect(self._exact_ghost)
 
     def build_options(self):
         box = QtWidgets.QWidget()
@@ -243,6 +250,7 @@ class ExtractTool(Tool):
 
     def refresh(self) -> None:
         """Redraw the selection over the current document (after any change, undo included)."""
+        self._forget_ghost()
         if self.window.tool is not self:
             return
         mask = self._mask = self.mask()
@@ -275,11 +283,34 @@ class ExtractTool(Tool):
 
     # -- the transform handles --------------------------------------------------------------------
     def preview(self, change: Change) -> None:
-        """Show where a handle drag takes the selection, over the untouched document (one
-        engine call carries the points and their levels: level + 1, 0 for the rest)."""
-        carried = np.where(self._mask, self.document.levels + 1, 0).astype(np.uint8)
-        rgba, origin = ghost_overlay(self._carry(change, carried), self.document.palette)
+        """Show where a handle drag takes the selection, over the untouched document: while the
+        pointer moves, the selection's picture carried by Qt with the frame (instant at any
+        size); once it rests, the engine's own result (wrap-around included)."""
+        overlay = self.window.canvas.overlay
+        if self._ghost is None:
+            carried = np.where(self._mask, self.document.levels + 1, 0).astype(np.uint8)
+            self._ghost = (carried, ghost_overlay(carried, self.document.palette))
+        if self._placed is None:               # a new drag, or the engine's picture shown
+            rgba, origin = self._ghost[1]
+            self.window.canvas.set_overlay(rgba, origin or (0, 0))
+            self._placed = overlay.transform()
+        overlay.setTransform(self._placed * change.qtransform(self.frame.box.center()))
+        self._latest = change
+        self._resting.start()
+
+    def _exact_ghost(self) -> None:
+        """The pointer rests: the engine carries the selection (one call for the points and
+        their levels: level + 1, 0 for the rest)."""
+        if self._ghost is None or self._latest is None:
+            return
+        rgba, origin = ghost_overlay(self._carry(self._latest, self._ghost[0]),
+                                     self.document.palette)
         self.window.canvas.set_overlay(rgba, origin or (0, 0))
+        self._placed = None
+
+    def _forget_ghost(self) -> None:
+        self._resting.stop()
+        self._ghost = self._latest = self._placed = None
 
     def transform(self, change: Change) -> None:
         """Commit a handle drag as one Action; the selection follows the points it moved and

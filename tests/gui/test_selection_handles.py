@@ -8,7 +8,7 @@ import pytest
 from PySide6 import QtCore, QtGui, QtTest, QtWidgets
 
 from app.tools.handles import Change, scale_factor, turn_angle
-from app.tools.regions import ExtractTool
+from app.tools.regions import GHOST_REST_MS, ExtractTool, ghost_overlay
 from texeditor import region_actions as ra
 from texeditor import regions
 from texeditor.actions import NewCanvas, SetLevels
@@ -91,9 +91,17 @@ def test_corner_drag_to_twice_the_distance_scales_the_square_by_two(board):
     centre, corner = frame.box.center(), frame.corners()[2]
     press_and_move(board.canvas, line(corner, centre + (corner - centre) * 2))
     assert board.history.index == steps                   # nothing applied before the release
-    ghost = board.canvas.overlay
-    assert ghost.isVisible() and ghost.image.shape[0] >= 7    # the ghost has grown, not the doc
-    assert np.array_equal(board.document.levels, before)
+    ghost = board.canvas.overlay                          # while moving: Qt carries the picture
+    shown = ghost.mapRectToParent(ghost.boundingRect())
+    assert ghost.isVisible() and ghost.image.shape[:2] == (4, 4) and shown.width() >= 7
+    assert abs(shown.center().x() - centre.x()) < 0.5    # scaled about the box's centre
+    QtTest.QTest.qWait(GHOST_REST_MS + 150)               # at rest: the engine's exact result
+    carried = np.where(board.tool._mask, before + 1, 0).astype(np.uint8)
+    rgba, origin = ghost_overlay(board.tool._carry(board.tool._latest, carried),
+                                 board.document.palette)
+    assert ghost.image.shape[0] >= 7 and np.array_equal(ghost.image, rgba)
+    assert ghost.mapRectToParent(ghost.boundingRect()).topLeft() == QtCore.QPointF(*origin)
+    assert np.array_equal(board.document.levels, before)  # the ghost has grown, not the doc
     release(board.canvas, centre + (corner - centre) * 2)
     assert board.history.index == steps + 1               # one Action
     action = board.history.applied[-1]
