@@ -286,7 +286,9 @@ class BankDock(QtWidgets.QDockWidget):
             if history is not None:
                 self._show_opened(open_id, history)
 
-        self.main.runner.run("Preparing the texture bank…", work, done,
+        label = ("Preparing the texture bank (a first start compiles the synthesis kernels: "
+                 "up to a minute)…" if bank.pending() else "Opening the texture bank…")
+        self.main.runner.run(label, work, done,
                                on_error=lambda exc: self.main.show_error(
                                    "The texture bank cannot be prepared", exc))
 

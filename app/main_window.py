@@ -237,7 +237,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.history_dock.stepClicked.connect(self.goto_step)
         self.history_dock.editRequested.connect(self.edit_step)
         self.runner.started.connect(self._task_started)
-        self.runner.progress.connect(lambda f: self.progress.setValue(int(f * 1000)))
+        self.runner.progress.connect(self._task_progress)
         self.runner.finished.connect(self._task_finished)
 
     def showEvent(self, ev) -> None:
@@ -526,12 +526,19 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             self.level_label.setText(f"level {level}")
 
     def _task_started(self, label: str) -> None:
+        """The task's label, Cancel, and a busy bar until the task reports its first progress
+        (a first start compiles the kernels for a while before any)."""
         self.task_label.setText(label)
-        self.progress.setValue(0)
+        self.progress.setRange(0, 0)
         for w in (self.task_label, self.progress, self.cancel_button):
             w.show()
         self.act_cancel.setEnabled(True)
         self.synthesis_dock.set_busy(True)
+
+    def _task_progress(self, fraction: float) -> None:
+        if self.progress.maximum() == 0:
+            self.progress.setRange(0, 1000)
+        self.progress.setValue(int(fraction * 1000))
 
     def _task_finished(self) -> None:
         for w in (self.task_label, self.progress, self.cancel_button):

@@ -262,3 +262,25 @@ def test_tabbed_left_docks_show_whole_titles_and_scroll_to_the_last(qtbot, windo
     qtbot.mouseClick(bar, LEFT, pos=bar.tabRect(last).center())
     qtbot.waitUntil(lambda: not window.density_dock.visibleRegion().isEmpty())
     assert window.brush_dock.visibleRegion().isEmpty()
+
+
+def test_status_bar_shows_a_busy_bar_until_a_task_reports_progress(qtbot, window):
+    """A task that computes for a while before its first progress (a first start compiling the
+    kernels) shows a busy bar, then the fraction it reports; Cancel stays available."""
+    import threading
+    go = threading.Event()
+
+    def work(progress, cancel):
+        go.wait(10)
+        progress(0.25)
+        while not cancel():
+            threading.Event().wait(0.01)
+        return None
+
+    window.runner.run("Working…", work, lambda result: None)
+    qtbot.waitUntil(window.progress.isVisible)
+    assert window.progress.maximum() == 0 and window.task_label.text() == "Working…"
+    go.set()
+    qtbot.waitUntil(lambda: window.progress.maximum() == 1000 and window.progress.value() == 250)
+    qtbot.mouseClick(window.cancel_button, LEFT)
+    assert window.runner.wait(10_000) and not window.progress.isVisible()
