@@ -86,7 +86,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.task_label = QtWidgets.QLabel()
         self.cursor_label = QtWidgets.QLabel()
         self.level_label = QtWidgets.QLabel()
-        self.zoom_label = QtWidgets.QLabel()
+        self.zoom_label = QtWidgets.QLabel("zoom –")
         self.repairs_label = QtWidgets.QLabel()
         for w in (self.task_label, self.progress, self.cancel_button):
             bar.addPermanentWidget(w)
@@ -230,7 +230,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
 
     def _connect(self) -> None:
         self.canvas.hovered.connect(self._show_hover)
-        self.canvas.zoomChanged.connect(lambda z: self.zoom_label.setText(f"zoom {z * 100:.0f} %"))
+        self.canvas.zoomChanged.connect(self._show_zoom)
         self.synthesis_dock.requested.connect(self.synthesise)
         self.palette_dock.committed.connect(self._palette_committed)
         self.palette_dock.preview.connect(self.canvas.set_palette)
@@ -524,6 +524,11 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             x, y, level = info
             self.cursor_label.setText(f"x {x}, y {y}")
             self.level_label.setText(f"level {level}")
+
+    def _show_zoom(self, zoom: float) -> None:
+        """The zoom of the texture; none before there is one (an empty view's 61800 % says nothing)."""
+        shown = self.canvas.levels is not None and self.canvas.levels.size > 0
+        self.zoom_label.setText(f"zoom {zoom * 100:.0f} %" if shown else "zoom –")
 
     def _task_started(self, label: str) -> None:
         """The task's label, Cancel, and a busy bar until the task reports its first progress

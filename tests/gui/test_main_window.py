@@ -284,3 +284,20 @@ def test_status_bar_shows_a_busy_bar_until_a_task_reports_progress(qtbot, window
     qtbot.waitUntil(lambda: window.progress.maximum() == 1000 and window.progress.value() == 250)
     qtbot.mouseClick(window.cancel_button, LEFT)
     assert window.runner.wait(10_000) and not window.progress.isVisible()
+
+
+def test_zoom_is_shown_only_once_there_is_a_texture(qtbot, window):
+    from app.main_window import MainWindow
+    from texeditor.actions import NewCanvas
+    from texeditor.history import History
+    empty = MainWindow()
+    qtbot.addWidget(empty)
+    empty.show()
+    qtbot.waitExposed(empty)
+    assert empty.zoom_label.text() == "zoom –"
+    history = History()
+    history.apply(NewCanvas(40, 30, 4))
+    empty.set_history(history)
+    qtbot.waitUntil(lambda: empty.zoom_label.text().endswith(" %"))
+    assert window.zoom_label.text().startswith("zoom ") and window.zoom_label.text() != "zoom –"
+    empty.mark_clean()
