@@ -45,7 +45,7 @@ class BrushDock(QtWidgets.QDockWidget):
     def __init__(self, window):
         super().__init__("Brushes", window)
         self.setObjectName("BrushDock")
-        self.window = window
+        self.main_window = window
         self.library = BrushLibrary()
         self.brushes: list[Brush] = []
         body = QtWidgets.QWidget()
@@ -78,7 +78,7 @@ class BrushDock(QtWidgets.QDockWidget):
             self.brushes = self.library.all()
         except TexeditorError as exc:
             self.brushes = self.library.standard()
-            self.window.statusBar().showMessage(f"Your brush presets cannot be read: {exc}", 8000)
+            self.main_window.statusBar().showMessage(f"Your brush presets cannot be read: {exc}", 8000)
         self.list.clear()
         for brush in self.brushes:
             item = QtWidgets.QListWidgetItem(brush_icon(brush), brush.name)
@@ -90,19 +90,19 @@ class BrushDock(QtWidgets.QDockWidget):
     def tool_for(self, brush: Brush):
         from .tools.brush import BrushTool, SprayTool
         kind = SprayTool if brush.distribution == "cloud" else BrushTool
-        return next(t for t in self.window.tools if type(t) is kind)
+        return next(t for t in self.main_window.tools if type(t) is kind)
 
     def choose(self, row: int) -> None:
         """Paint with preset ``row``: its tool becomes current with its settings."""
         brush = self.brushes[row]
         tool = self.tool_for(brush)
         tool.set_brush(brush)
-        self.window.set_tool(tool)
-        self.window.statusBar().showMessage(f"{tool.NAME}: {brush.name}", 3000)
+        self.main_window.set_tool(tool)
+        self.main_window.statusBar().showMessage(f"{tool.NAME}: {brush.name}", 3000)
 
     def current_brush(self) -> Brush | None:
         from .tools.brush import BrushTool
-        tool = self.window.tool
+        tool = self.main_window.tool
         return tool.brush if isinstance(tool, BrushTool) else None
 
     def save_current(self, name: str | None = None) -> None:
@@ -119,7 +119,7 @@ class BrushDock(QtWidgets.QDockWidget):
         try:
             self.library.save(brush.replace(name=name.strip()))
         except TexeditorError as exc:
-            self.window.show_error("Cannot save this preset", exc)
+            self.main_window.show_error("Cannot save this preset", exc)
             return
         self.reload()
         self.list.setCurrentRow(len(self.brushes) - 1)
@@ -131,7 +131,7 @@ class BrushDock(QtWidgets.QDockWidget):
         try:
             self.library.remove(self.brushes[row].name)
         except TexeditorError as exc:
-            self.window.show_error("Cannot delete this preset", exc)
+            self.main_window.show_error("Cannot delete this preset", exc)
             return
         self.reload()
 

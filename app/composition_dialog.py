@@ -52,7 +52,7 @@ class SourcePicker(QtWidgets.QWidget):
 
     def __init__(self, window, seed: int):
         super().__init__()
-        self.window = window
+        self.main_window = window
         self.file_recipe: tuple[str, tuple] | None = None
         self.file_name = ""
         self.bank_source = None          # the chosen entry as a TextureSource
@@ -105,7 +105,7 @@ class SourcePicker(QtWidgets.QWidget):
 
     def reload(self) -> None:
         """Follow the document: its DPJs and the number of steps."""
-        history = self.window.history
+        history = self.main_window.history
         current = self.dpj.currentData()
         self.dpj.blockSignals(True)
         self.dpj.clear()
@@ -132,10 +132,10 @@ class SourcePicker(QtWidgets.QWidget):
             refs, text = tuple(dpj_refs(tex.actions)), recipe_of(tex.actions)
             check_recipe(text, refs, Path(path).name)     # its depth and number of DPJs
         except TexeditorError as exc:
-            self.window.show_error("Cannot use this texture", exc)
+            self.main_window.show_error("Cannot use this texture", exc)
             return
         for ref in refs:        # kept under the file's own reference, as a file's DPJ is
-            self.window.document.dpjs.setdefault(ref, tex.dpjs[ref])
+            self.main_window.document.dpjs.setdefault(ref, tex.dpjs[ref])
         self.file_recipe = (text, refs)
         self.file_name = Path(path).name
         self.file_label.setText(self.file_name)
@@ -144,20 +144,20 @@ class SourcePicker(QtWidgets.QWidget):
     def choose_entry(self) -> QtWidgets.QDialog:
         """Pick a bank entry; the worker then replays it (checking the bank's hash) into a
         recipe. Returns the picker."""
-        history = self.window.history
+        history = self.main_window.history
 
         def loaded(source):
-            if history is self.window.history:
+            if history is self.main_window.history:
                 self.bank_source = source
                 self.bank_label.setText(source.name)
                 self.changed.emit()
 
-        return choose_bank_entry(self.window, lambda bank, entry_id: load_bank_source(
-            self.window, bank, entry_id, loaded), parent=self)
+        return choose_bank_entry(self.main_window, lambda bank, entry_id: load_bank_source(
+            self.main_window, bank, entry_id, loaded), parent=self)
 
     def recipe(self) -> tuple[str, tuple]:
         kind = self.kind.currentData()
-        history = self.window.history
+        history = self.main_window.history
         if kind == "synth":
             ref = self.dpj.currentData()
             if ref is None:
@@ -199,7 +199,7 @@ class PaintablePreview(QtWidgets.QLabel):
         self.setFrameShape(QtWidgets.QFrame.Shape.StyledPanel)
         self.painting = False
         self.radius = 3
-        self.mask: np.ndarray | None = None
+        self.painted_mask: np.ndarray | None = None
         self._scale, self._origin = 1.0, (0, 0)
 
     def show_rgb(self, rgb: np.ndarray) -> None:
@@ -218,12 +218,12 @@ class PaintablePreview(QtWidgets.QLabel):
                 int((pos.x() - self._origin[0]) // self._scale))
 
     def paint_at(self, pos) -> None:
-        if not self.painting or self.mask is None:
+        if not self.painting or self.painted_mask is None:
             return
         r0, c0 = self.cell_at(pos)
-        h, w = self.mask.shape
+        h, w = self.painted_mask.shape
         rr, cc = np.ogrid[:h, :w]
-        self.mask |= (rr - r0) ** 2 + (cc - c0) ** 2 <= self.radius ** 2
+        self.painted_mask |= (rr - r0) ** 2 + (cc - c0) ** 2 <= self.radius ** 2
         self.painted.emit()
 
     def mousePressEvent(self, ev) -> None:
@@ -237,7 +237,7 @@ class PaintablePreview(QtWidgets.QLabel):
 class CompositionDialog(QtWidgets.QDialog):
     def __init__(self, window):
         super().__init__(window)
-        self.window = window
+        self.main_window = window
         self.setWindowTitle("Composition")
         self._pending = False
         outer = QtWidgets.QHBoxLayout(self)
@@ -302,7 +302,7 @@ class CompositionDialog(QtWidgets.QDialog):
         self.mask_levels = QtWidgets.QLineEdit("1-15")
         self.mask_levels.setToolTip("The mask's levels where T2 shows, like 1,3-5 (0 is the "
                                     "background)")
-        self.mask_source = SourcePicker(self.window, 3)
+        self.mask_source = SourcePicker(self.main_window, 3)
         self.mask_group = QtWidgets.QGroupBox("Mask texture")
         QtWidgets.QVBoxLayout(self.mask_group).addWidget(self.mask_source)
         self.radius = QtWidgets.QSpinBox()
@@ -416,7 +416,7 @@ class CompositionDialog(QtWidgets.QDialog):
         self.schedule()
 
     def reset_painting(self) -> None:
-        self.preview.mask = np.zeros(self.window.document.shape, bool)
+        self.preview.painted_mask = np.zeros(self.main_window.document.shape, bool)
         self.schedule()
 
     # -- the action --------------------------------------------------------------------------------
@@ -434,7 +434,7 @@ class CompositionDialog(QtWidgets.QDialog):
                            mask_source=mask_source, mask_dpjs=mask_refs)
         if kind == "levels":
             return Incrust(source, refs, mask="levels", levels=self.mask_levels.text())
-        mask = self._selection() if kind == "selection" else self.preview.mask
+        mask = self._selection() if kind == "selection" else self.preview.painted_mask
         if mask is None or not mask.any():
             raise TexeditorError("the mask is empty: " + (
                 "select with the Extract tool (E) first" if kind == "selection"
@@ -444,7 +444,7 @@ class CompositionDialog(QtWidgets.QDialog):
 
     def _selection(self):
         from .tools.regions import ExtractTool
-        tool = next((t for t in self.window.tools if isinstance(t, ExtractTool)), None)
+        tool = next((t for t in self.main_window.tools if isinstance(t, ExtractTool)), None)
         return None if tool is None else tool.mask()
 
     # -- preview and apply -------------------------------------------------------------------------
@@ -462,11 +462,11 @@ class CompositionDialog(QtWidgets.QDialog):
         QtCore.QTimer.singleShot(0, self._document_changed)   # catch up with the document
 
     def _document_changed(self) -> None:
-        if self.window.history is not self._history or not self.isVisible():
+        if self.main_window.history is not self._history or not self.isVisible():
             return
         self.source.reload()
         self.mask_source.reload()
-        if self.preview.mask is None or self.preview.mask.shape != self.window.document.shape:
+        if self.preview.painted_mask is None or self.preview.painted_mask.shape != self.main_window.document.shape:
             self.reset_painting()
         self.schedule()
 
@@ -477,15 +477,15 @@ class CompositionDialog(QtWidgets.QDialog):
         except TexeditorError as exc:
             self.status.setText(str(exc))
             self.apply_button.setEnabled(False)
-            self._show(self.window.document.levels)
+            self._show(self.main_window.document.levels)
             return
-        runner = self.window.runner
+        runner = self.main_window.runner
         if not self.isVisible():
             return
         if runner.busy:
             self.timer.start()
             return
-        dpjs = dict(self.window.document.dpjs)
+        dpjs = dict(self.main_window.document.dpjs)
         holder = _Store(dpjs)
         runner.run("Rendering the composition's sources…",
                    lambda progress, cancel: action.prepare(holder, progress, cancel),
@@ -493,17 +493,17 @@ class CompositionDialog(QtWidgets.QDialog):
                    on_error=lambda exc: self.status.setText(f"Cannot render a source: {exc}"))
 
     def _compose(self, action) -> None:
-        scratch = self.window.document.copy()
+        scratch = self.main_window.document.copy()
         try:
             action.apply(scratch)
         except TexeditorError as exc:
             self.status.setText(str(exc))
             self.apply_button.setEnabled(False)
             return
-        changed = int((scratch.levels != self.window.document.levels).sum())
+        changed = int((scratch.levels != self.main_window.document.levels).sum())
         inside = None
         if isinstance(action, Incrust) and self.tint.isChecked():
-            inside = action.membership(self.window.document)
+            inside = action.membership(self.main_window.document)
         self._show(scratch.levels, inside)
         self.status.setText(f"{action.label()}, T2 = {self.source.describe()}: "
                             f"{changed:,} points change.")
@@ -512,10 +512,10 @@ class CompositionDialog(QtWidgets.QDialog):
 
     def _show(self, levels, inside=None) -> None:
         """The levels in the document's colours; where T2 shows, tinted (and the painting)."""
-        palette = np.asarray(self.window.document.palette)
+        palette = np.asarray(self.main_window.document.palette)
         rgb = palette[levels[:PREVIEW, :PREVIEW]].copy()
-        if self.preview.painting and self.preview.mask is not None:
-            inside = self.preview.mask if inside is None else inside | self.preview.mask
+        if self.preview.painting and self.preview.painted_mask is not None:
+            inside = self.preview.painted_mask if inside is None else inside | self.preview.painted_mask
         if inside is not None:
             m = inside[:PREVIEW, :PREVIEW]
             rgb[m] = (rgb[m] * 0.7 + np.array(TINT) * 0.3).astype(np.uint8)
@@ -525,15 +525,15 @@ class CompositionDialog(QtWidgets.QDialog):
         try:
             action = self.action()
         except TexeditorError as exc:
-            self.window.show_error("Cannot compose", exc)
+            self.main_window.show_error("Cannot compose", exc)
             return
-        if self.window.runner.busy:
+        if self.main_window.runner.busy:
             return
-        holder = _Store(dict(self.window.document.dpjs))
-        self.window.runner.run("Rendering the composition's sources…",
+        holder = _Store(dict(self.main_window.document.dpjs))
+        self.main_window.runner.run("Rendering the composition's sources…",
                                lambda progress, cancel: action.prepare(holder, progress, cancel),
-                               lambda _=None: self.window.submit(action),
-                               on_error=lambda exc: self.window.show_error("Cannot compose", exc))
+                               lambda _=None: self.main_window.submit(action),
+                               on_error=lambda exc: self.main_window.show_error("Cannot compose", exc))
 
 
 class _Store:

@@ -29,7 +29,7 @@ PREVIEW = 200
 class DoublingDialog(QtWidgets.QDialog):
     def __init__(self, window):
         super().__init__(window)
-        self.window = window
+        self.main_window = window
         self.setWindowTitle("Double the grey levels")
         self.table = None
         self.paths: list[Path] = list(resources.sample_images())
@@ -91,7 +91,7 @@ class DoublingDialog(QtWidgets.QDialog):
 
     def _defaults(self) -> None:
         """The photo and quantiser the current DPJ was acquired with, when known."""
-        dpj = self.window.document.dpj
+        dpj = self.main_window.document.dpj
         meta = dpj.meta if dpj is not None else {}
         image = str(meta.get("image") or meta.get("source") or meta.get("name") or "")
         for k, path in enumerate(self.paths):
@@ -119,7 +119,7 @@ class DoublingDialog(QtWidgets.QDialog):
         """Learn the table from the photo and preview the doubled texture."""
         self.table = None
         self.apply_button.setEnabled(False)
-        doc = self.window.document
+        doc = self.main_window.document
         g = doc.num_levels
         try:
             path = self.photo.currentData()
@@ -148,8 +148,8 @@ class DoublingDialog(QtWidgets.QDialog):
     def apply(self) -> None:
         if self.table is None:
             return
-        ref = store_dpj(self.window.document, self.table)
-        if self.window.submit(DoubleLevels(ref, self.seed.value())):
+        ref = store_dpj(self.main_window.document, self.table)
+        if self.main_window.submit(DoubleLevels(ref, self.seed.value())):
             self.accept()
 
 

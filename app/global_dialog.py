@@ -25,7 +25,7 @@ OPERATORS = [
 class GlobalOperatorsDialog(QtWidgets.QDialog):
     def __init__(self, window):
         super().__init__(window)
-        self.window = window
+        self.main_window = window
         self.setWindowTitle("Global operators")
         form = QtWidgets.QFormLayout(self)
         self.operator = QtWidgets.QComboBox()
@@ -83,7 +83,7 @@ class GlobalOperatorsDialog(QtWidgets.QDialog):
         """The Extract tool's selection recipe, or {} for the whole texture."""
         from .tools.regions import ExtractTool
 
-        tool = next((t for t in self.window.tools if isinstance(t, ExtractTool)), None)
+        tool = next((t for t in self.main_window.tools if isinstance(t, ExtractTool)), None)
         if tool is None or tool.selection is None:
             return {}
         return dict(tool.selection)
@@ -97,7 +97,7 @@ class GlobalOperatorsDialog(QtWidgets.QDialog):
         """The Action the current fields describe."""
         key = self.operator.currentData()
         sel = self._selection()
-        h, w = self.window.document.shape
+        h, w = self.main_window.document.shape
         centre = {"centre_row": (h - 1) / 2, "centre_col": (w - 1) / 2}
         common = {"wrap": self.wrap.isChecked(), **sel}
         if key == "identity":
@@ -113,4 +113,4 @@ class GlobalOperatorsDialog(QtWidgets.QDialog):
         return ra.Affinity(m00=1.0, m01=0.0, m10=self.shear.value(), m11=1.0, **centre, **common)
 
     def apply(self) -> None:
-        self.window.submit(self.action())
+        self.main_window.submit(self.action())

@@ -91,7 +91,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
     def __init__(self, window):
         super().__init__("Grain && density", window)
         self.setObjectName("GrainDensityDock")
-        self.window = window
+        self.main_window = window
         self._loading = False
         self._base_key = None
         self._base = None               # (levels, palette) of the normalised texture
@@ -114,8 +114,8 @@ class GrainDensityDock(QtWidgets.QDockWidget):
             self.shape.addItem(text, value)
         self.shape.setToolTip("The shape every point of the normalised texture is drawn with; "
                               "hexagons sit on a honeycomb, continuous in both directions")
-        self.size = ValueSlider(1, 32, suffix=" px")
-        self.size.setToolTip("Grain diameter in pixels")
+        self.size_slider = ValueSlider(1, 32, suffix=" px")
+        self.size_slider.setToolTip("Grain diameter in pixels")
         self.angle = ValueSlider(-90, 90, suffix="°")
         self.angle.setToolTip("Orientation: turns every grain counter-clockwise")
         self.aspect = ValueSlider(0.25, 4, 20, "{:.2f}")
@@ -128,7 +128,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self.from_tool.setToolTip("Copy the shape, size, orientation (and drawing) of the grain "
                                   "chosen in the Grains dock")
         form.addRow("Shape", self.shape)
-        form.addRow("Size", self.size)
+        form.addRow("Size", self.size_slider)
         form.addRow("Orientation", self.angle)
         form.addRow("Aspect", self.aspect)
         form.addRow("Sides", self.sides)
@@ -173,7 +173,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         layout.addStretch(1)
         self.setWidget(scrolled(body))
 
-        for slider in (self.size, self.angle, self.aspect, self.explode_x, self.explode_y,
+        for slider in (self.size_slider, self.angle, self.aspect, self.explode_x, self.explode_y,
                        self.compression):
             slider.changed.connect(self._edited)
             slider.released.connect(self.commit)
@@ -194,7 +194,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
     # -- the settings ------------------------------------------------------------------------------
     def params(self) -> dict:
         shape = self.shape.currentData()
-        return {"shape": shape, "size": self.size.value(), "aspect": self.aspect.value(),
+        return {"shape": shape, "size": self.size_slider.value(), "aspect": self.aspect.value(),
                 "sides": self.sides.value(), "angle": float(self.angle.value()),
                 "explosion_x": self.explode_x.value(), "explosion_y": self.explode_y.value(),
                 "compression": self.compression.value(), "overlap": self.overlap.currentData(),
@@ -216,7 +216,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self._loading = True
         try:
             self.shape.setCurrentIndex(max(0, self.shape.findData(action.shape)))
-            self.size.set_value(min(action.size, 32))
+            self.size_slider.set_value(min(action.size, 32))
             self.angle.set_value(max(-90.0, min(90.0, action.angle)))
             self.aspect.set_value(action.aspect)
             self.sides.setValue(min(action.sides, 12))
@@ -255,7 +255,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
 
     def use_tool_grain(self) -> None:
         from .tools.grain import GrainTool
-        tool = next((t for t in self.window.tools if isinstance(t, GrainTool)), None)
+        tool = next((t for t in self.main_window.tools if isinstance(t, GrainTool)), None)
         if tool is None:
             return
         grain = tool.grain
@@ -266,7 +266,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         try:
             self.show_action(RenderGrains(**params))
         except TexeditorError as exc:
-            self.window.show_error("This grain cannot draw the texture", exc)
+            self.main_window.show_error("This grain cannot draw the texture", exc)
             return
         self._edited_now()
 
@@ -281,7 +281,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
     # -- following the document --------------------------------------------------------------------
     def refresh(self) -> None:
         """After any change of the history: show the grain step's settings, if it changed."""
-        history = self.window.history
+        history = self.main_window.history
         if history is None:
             return
         i = grain_step(history)
@@ -295,7 +295,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
 
     def normalised(self):
         """(levels, palette) of the texture before its grain step (the current one if none)."""
-        history = self.window.history
+        history = self.main_window.history
         i = grain_step(history)
         if i is None:
             doc = history.document
@@ -309,7 +309,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
 
     def update_preview(self) -> None:
         action = self.action()
-        if action is None or self.window.history is None:
+        if action is None or self.main_window.history is None:
             return
         try:
             levels, palette = self.normalised()
@@ -342,7 +342,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
     def commit(self) -> None:
         """Make the settings the texture's grain step: append one, or replace it and replay."""
         self._commit_timer.stop()
-        window = self.window
+        window = self.main_window
         action = self.action()
         if (action is None or window.history is None or not window.document.levels.size
                 or not window.isVisible()):

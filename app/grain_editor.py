@@ -77,14 +77,14 @@ class GrainView(QtWidgets.QWidget):
         self.setSizePolicy(QtWidgets.QSizePolicy.Policy.Expanding,
                            QtWidgets.QSizePolicy.Policy.Expanding)
         self.levels = np.zeros((1, 1), np.uint8)     # what is shown: levels, 0 = empty
-        self.mask = np.zeros((1, 1), bool)
+        self.grain_mask = np.zeros((1, 1), bool)
         self.palette_rgb = np.array([[0, 0, 0], [255, 255, 255]], np.uint8)
         self.editable = False
         self.draw_level = 1
         self._erase = False
 
     def show_grain(self, levels: np.ndarray, mask: np.ndarray, palette, editable: bool) -> None:
-        self.levels, self.mask = levels, mask
+        self.levels, self.grain_mask = levels, mask
         self.palette_rgb = np.asarray(palette, np.uint8)
         self.editable = editable
         self.setCursor(QtCore.Qt.CursorShape.CrossCursor if editable
@@ -92,26 +92,26 @@ class GrainView(QtWidgets.QWidget):
         self.update()
 
     def _geometry(self) -> tuple[float, float, float]:
-        h, w = self.mask.shape
+        h, w = self.grain_mask.shape
         cell = max(2.0, min((self.width() - 8) / w, (self.height() - 8) / h))
         return cell, (self.width() - cell * w) / 2, (self.height() - cell * h) / 2
 
     def cell_at(self, pos: QtCore.QPointF) -> tuple[int, int] | None:
         cell, x0, y0 = self._geometry()
         r, c = int((pos.y() - y0) // cell), int((pos.x() - x0) // cell)
-        h, w = self.mask.shape
+        h, w = self.grain_mask.shape
         return (r, c) if 0 <= r < h and 0 <= c < w else None
 
     def paintEvent(self, ev):
         p = QtGui.QPainter(self)
         p.fillRect(self.rect(), QtGui.QColor(43, 43, 43))
         cell, x0, y0 = self._geometry()
-        h, w = self.mask.shape
+        h, w = self.grain_mask.shape
         pal = self.palette_rgb
         for r in range(h):
             for c in range(w):
                 rect = QtCore.QRectF(x0 + c * cell, y0 + r * cell, cell, cell)
-                if self.mask[r, c]:
+                if self.grain_mask[r, c]:
                     colour = pal[min(int(self.levels[r, c]), len(pal) - 1)]
                     p.fillRect(rect, QtGui.QColor(*(int(v) for v in colour)))
                 else:                                   # empty: a checker, as transparency
@@ -122,9 +122,9 @@ class GrainView(QtWidgets.QWidget):
             p.drawLine(QtCore.QPointF(x0, y0 + r * cell), QtCore.QPointF(right, y0 + r * cell))
         for c in range(w + 1):
             p.drawLine(QtCore.QPointF(x0 + c * cell, y0), QtCore.QPointF(x0 + c * cell, bottom))
-        if self.mask.any():
-            cy, cx = grains.centre_of_gravity(self.mask)
-            ay, ax = grains.anchor(self.mask)
+        if self.grain_mask.any():
+            cy, cx = grains.centre_of_gravity(self.grain_mask)
+            ay, ax = grains.anchor(self.grain_mask)
             p.setPen(QtGui.QPen(CENTRE, 2))
             p.drawRect(QtCore.QRectF(x0 + ax * cell + 1, y0 + ay * cell + 1, cell - 2, cell - 2))
             x, y = x0 + (cx + 0.5) * cell, y0 + (cy + 0.5) * cell
@@ -150,7 +150,7 @@ class GrainView(QtWidgets.QWidget):
         value = 0 if self._erase else self.draw_level
         if self.levels[cell] != value:
             self.levels[cell] = value
-            self.mask = self.levels > 0
+            self.grain_mask = self.levels > 0
             self.update()
             self.drawn.emit()
 
@@ -188,8 +188,8 @@ class GrainEditor(QtWidgets.QDialog):
         for text, value in SHAPES:
             self.shape.addItem(text, value)
         form.addRow("Shape", self.shape)
-        self.size = self._spin(1, grains.MAX_GRAIN_SIZE, " pt", "Diameter in points")
-        form.addRow("Size", self.size)
+        self.size_box = self._spin(1, grains.MAX_GRAIN_SIZE, " pt", "Diameter in points")
+        form.addRow("Size", self.size_box)
         self.aspect = self._spin(7, 1600, " %", "Height as a share of the width "
                                                 "(rectangles, ellipses, diamonds, polygons)")
         form.addRow("Aspect", self.aspect)
@@ -240,7 +240,7 @@ class GrainEditor(QtWidgets.QDialog):
         layout.addLayout(left, 1)
         layout.addLayout(right)
 
-        for w in (self.size, self.aspect, self.sides, self.angle, self.fixed_level):
+        for w in (self.size_box, self.aspect, self.sides, self.angle, self.fixed_level):
             w.valueChanged.connect(self.refresh)
         self.shape.currentIndexChanged.connect(self._shape_changed)
         self.level_mode.currentIndexChanged.connect(self.refresh)
@@ -262,7 +262,7 @@ class GrainEditor(QtWidgets.QDialog):
         self._loading = True
         self.name.setText(grain.name)
         self.shape.setCurrentIndex(self.shape.findData(grain.shape))
-        self.size.setValue(grain.size)
+        self.size_box.setValue(grain.size)
         self.aspect.setValue(round(grain.aspect * 100))
         self.sides.setValue(grain.sides)
         self.angle.setValue(round(grain.angle) if grain.angle <= 180 else round(grain.angle) - 360)
@@ -279,7 +279,7 @@ class GrainEditor(QtWidgets.QDialog):
         """The grain the form describes (InputError when it describes none)."""
         shape, mode = self.shape.currentData(), self.level_mode.currentData()
         bitmap = grains.format_bitmap(self.drawing) if shape == "bitmap" else None
-        size = max(grains.parse_bitmap(bitmap).shape) if bitmap else self.size.value()
+        size = max(grains.parse_bitmap(bitmap).shape) if bitmap else self.size_box.value()
         return GrainType(self.name.text().strip() or "My grain", shape, size,
                          self.aspect.value() / 100, self.sides.value(),
                          float(self.angle.value()) if shape != "bitmap" else 0.0,
@@ -294,7 +294,7 @@ class GrainEditor(QtWidgets.QDialog):
         for w in (self.aspect,):
             w.setEnabled(shape in ("rectangle", "circle", "diamond", "hexagon", "polygon"))
         self.sides.setEnabled(shape == "polygon")
-        self.size.setEnabled(not drawn)
+        self.size_box.setEnabled(not drawn)
         self.angle.setEnabled(not drawn)
         own = self.level_mode.findData("own")
         self.level_mode.model().item(own).setEnabled(drawn)
@@ -336,7 +336,7 @@ class GrainEditor(QtWidgets.QDialog):
     def _draw_from(self, shape: str) -> None:
         """Switching to “Drawn” starts from the shape that was there (then edit it point by
         point)."""
-        grain = GrainType("start", shape, min(self.size.value(), grains.MAX_BITMAP_SIDE - 2),
+        grain = GrainType("start", shape, min(self.size_box.value(), grains.MAX_BITMAP_SIDE - 2),
                           self.aspect.value() / 100, self.sides.value(),
                           float(self.angle.value()))
         pen = self.fixed_level.value() if self.level_mode.currentData() == "fixed" \

@@ -134,7 +134,7 @@ class ScanView(QtWidgets.QWidget):
 class PeanoDialog(QtWidgets.QDialog):
     def __init__(self, window):
         super().__init__(window)
-        self.window = window
+        self.main_window = window
         self._shown = False
         self.setWindowTitle("Peano sub-regions")
         self.view = ScanView()
@@ -227,7 +227,7 @@ class PeanoDialog(QtWidgets.QDialog):
 
     def refresh(self) -> None:
         """Follow the document: its texture, palette and top level."""
-        doc = self.window.document
+        doc = self.main_window.document
         top = doc.num_levels - 1
         first = self.high.maximum() != top or not self._shown
         self._shown = True
@@ -248,7 +248,7 @@ class PeanoDialog(QtWidgets.QDialog):
 
     def update_scan(self) -> None:
         """Parse, assign, and show the scan and the tree (errors point at the character)."""
-        doc = self.window.document
+        doc = self.main_window.document
         self.error.clear()
         self.problem.clear()
         self.tree.clear()
@@ -305,9 +305,9 @@ class PeanoDialog(QtWidgets.QDialog):
         try:
             action = self.action()
         except TexeditorError as exc:
-            self.window.show_error("Cannot give these levels", exc)
+            self.main_window.show_error("Cannot give these levels", exc)
             return
-        if self.window.submit(action):
-            self.view.set_texture(self.window.document.levels, self.window.document.palette)
+        if self.main_window.submit(action):
+            self.view.set_texture(self.main_window.document.levels, self.main_window.document.palette)
             self.view.update()
 

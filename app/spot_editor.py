@@ -66,7 +66,7 @@ class EnvelopeView(QtWidgets.QWidget):
         self.origin = np.zeros(2)               # the envelope point at the middle of the area
         self.perturbation = Perturbation()
         self.seed = 0
-        self.palette = DEFAULT_PALETTE             # the preview's colours: the level the tool
+        self.colours = DEFAULT_PALETTE             # the preview's colours: the level the tool
         self.level, self.shift = 4, 1              # fills with, and its shifted points
         self.pending_a: tuple[float, float] | None = None   # first equator end, clicked
         self.pointer: tuple[float, float] | None = None
@@ -114,8 +114,8 @@ class EnvelopeView(QtWidgets.QWidget):
 
     def colour(self, steps: int):
         """The colour of a point moved ``steps`` shifts from the fill level."""
-        level = min(max(self.level + steps * self.shift, 0), len(self.palette) - 1)
-        return tuple(int(c) for c in self.palette[level])
+        level = min(max(self.level + steps * self.shift, 0), len(self.colours) - 1)
+        return tuple(int(c) for c in self.colours[level])
 
     # -- coordinates ------------------------------------------------------------------------------
     def _k(self) -> float:
@@ -686,7 +686,7 @@ class SpotEditor(QtWidgets.QWidget):
 
     def set_palette(self, palette, level: int) -> None:
         """Preview in the document's colours: the level the tool fills with (and its shifts)."""
-        self.view.palette = np.asarray(palette, np.uint8)
+        self.view.colours = np.asarray(palette, np.uint8)
         self.view.level = int(level)
         self.view.refresh()
 

@@ -44,15 +44,15 @@ class StrokePreview(QtWidgets.QGraphicsObject):
 
     def __init__(self, shape):
         super().__init__()
-        self.shape = tuple(shape)
+        self.canvas_shape = tuple(shape)
         self.tiles: dict[tuple[int, int], tuple[np.ndarray, QtGui.QImage]] = {}
-        h, w = self.shape
+        h, w = self.canvas_shape
         self.drawn: list[int] = [h, w, 0, 0]          # the box of what is drawn: t, l, b, r
         self.setFlag(QtWidgets.QGraphicsItem.GraphicsItemFlag.ItemUsesExtendedStyleOption)
         self.setZValue(PREVIEW_Z)
 
     def boundingRect(self) -> QtCore.QRectF:
-        return QtCore.QRectF(0, 0, self.shape[1], self.shape[0])
+        return QtCore.QRectF(0, 0, self.canvas_shape[1], self.canvas_shape[0])
 
     def _tile(self, key) -> np.ndarray:
         if key not in self.tiles:
@@ -64,7 +64,7 @@ class StrokePreview(QtWidgets.QGraphicsObject):
 
     def paint(self, painter, option, widget=None):
         exposed = option.exposedRect.toAlignedRect().intersected(
-            QtCore.QRect(0, 0, self.shape[1], self.shape[0]))
+            QtCore.QRect(0, 0, self.canvas_shape[1], self.canvas_shape[0]))
         for (ty, tx), (_pixels, image) in self.tiles.items():
             tile = QtCore.QRect(tx * TILE, ty * TILE, TILE, TILE)
             part = tile.intersected(exposed)
@@ -77,15 +77,15 @@ class StrokePreview(QtWidgets.QGraphicsObject):
         box, or the 64×64 blocks they touched when they wrap round an edge."""
         if not len(rows):
             return
-        keys = (rows // TILE) * (self.shape[1] // TILE + 1) + cols // TILE
+        keys = (rows // TILE) * (self.canvas_shape[1] // TILE + 1) + cols // TILE
         for key in np.unique(keys).tolist():
             here = keys == key
-            pixels = self._tile(divmod(key, self.shape[1] // TILE + 1))
+            pixels = self._tile(divmod(key, self.canvas_shape[1] // TILE + 1))
             pixels[rows[here] % TILE, cols[here] % TILE] = colours[here]
         t, l, b, r = rows.min(), cols.min(), rows.max() + 1, cols.max() + 1
         d = self.drawn
         d[:] = [min(d[0], t), min(d[1], l), max(d[2], b), max(d[3], r)]
-        h, w = self.shape
+        h, w = self.canvas_shape
         if 2 * (b - t) <= h and 2 * (r - l) <= w:
             self.update(QtCore.QRectF(l, t, r - l, b - t))
             return
@@ -100,11 +100,11 @@ class StrokePreview(QtWidgets.QGraphicsObject):
         self.tiles.clear()
         if b > t:
             self.update(QtCore.QRectF(l, t, r - l, b - t))
-        self.drawn[:] = [self.shape[0], self.shape[1], 0, 0]
+        self.drawn[:] = [self.canvas_shape[0], self.canvas_shape[1], 0, 0]
 
     def snapshot(self) -> np.ndarray:
         """The preview as one (H, W) ARGB array (for checks on small canvases)."""
-        h, w = self.shape
+        h, w = self.canvas_shape
         out = np.zeros((h + TILE, w + TILE), np.uint32)
         for (ty, tx), (pixels, _image) in self.tiles.items():
             out[ty * TILE:(ty + 1) * TILE, tx * TILE:(tx + 1) * TILE] = pixels
@@ -116,7 +116,7 @@ def preview_for(window) -> StrokePreview:
     canvas = window.canvas
     preview = getattr(canvas, "_stroke_preview", None)
     shape = window.document.shape
-    if preview is None or preview.shape != shape:
+    if preview is None or preview.canvas_shape != shape:
         if preview is not None:
             canvas.view.removeItem(preview)
         preview = StrokePreview(shape)
@@ -154,15 +154,15 @@ class BrushOptions(QtWidgets.QWidget):
         self.preset = QtWidgets.QLabel()
         self.preset.setToolTip("The preset these settings started from (Brushes dock)")
         grid.addWidget(self.preset, 0, 0, 1, 4)
-        self.size = QtWidgets.QSpinBox()
-        self.size.setRange(1, brushes.MAX_BRUSH_SIZE)
-        self.size.setToolTip("Diameter in points ([ smaller, ] bigger)")
+        self.size_box = QtWidgets.QSpinBox()
+        self.size_box.setRange(1, brushes.MAX_BRUSH_SIZE)
+        self.size_box.setToolTip("Diameter in points ([ smaller, ] bigger)")
         self.shape = QtWidgets.QComboBox()
         for text, value in SHAPE_NAMES:
             self.shape.addItem(text, value)
         self.shape.addItem("Drawn", "bitmap")
         self.shape.setToolTip("Shape of the brush (a drawn one comes from a preset)")
-        self._row(grid, 1, "Size", self.size, "Shape", self.shape)
+        self._row(grid, 1, "Size", self.size_box, "Shape", self.shape)
         self.angle = QtWidgets.QSpinBox()
         self.angle.setRange(-180, 180)
         self.angle.setSuffix("°")
@@ -197,7 +197,7 @@ class BrushOptions(QtWidgets.QWidget):
                              "(seamless tiles; always on in the tiled view)")
         grid.addWidget(self.wrap, 5, 0, 1, 4)
         self.set_brush(brush)
-        for w in (self.size, self.angle, self.density, self.spacing):
+        for w in (self.size_box, self.angle, self.density, self.spacing):
             w.valueChanged.connect(self.changed)
         self.concentration.valueChanged.connect(self.changed)
         self.shape.currentIndexChanged.connect(self.changed)
@@ -213,7 +213,7 @@ class BrushOptions(QtWidgets.QWidget):
         self._bitmap = brush.bitmap
         self.preset.setText(f"Preset: {brush.name}")
         self._name = brush.name
-        self.size.setValue(brush.size)
+        self.size_box.setValue(brush.size)
         self.shape.setCurrentIndex(max(0, self.shape.findData(brush.shape)))
         self.angle.setValue(round(brush.angle))
         self.density.setValue(round(brush.density * 100))
@@ -222,7 +222,7 @@ class BrushOptions(QtWidgets.QWidget):
 
     def brush(self) -> Brush:
         shape = self.shape.currentData()
-        return Brush(self._name, self.size.value(), shape, float(self.angle.value()),
+        return Brush(self._name, self.size_box.value(), shape, float(self.angle.value()),
                      self._bitmap if shape == "bitmap" else None,
                      "cloud" if self.cloud else "solid", self.density.value() / 100,
                      self.concentration.value(), self.spacing.value() / 100)
@@ -268,8 +268,8 @@ class BrushTool(Tool):
         """[ and ]: about 10 % smaller or bigger, at least one point."""
         size = self.brush.size
         step = max(1, round(size * 0.1))
-        self.opts.size.setValue(size + step if bigger else size - step)
-        self.window.statusBar().showMessage(f"{self.NAME} size {self.opts.size.value()}", 2000)
+        self.opts.size_box.setValue(size + step if bigger else size - step)
+        self.window.statusBar().showMessage(f"{self.NAME} size {self.opts.size_box.value()}", 2000)
 
     def stroke(self, points, seed: int) -> Stroke:
         return Stroke.from_brush(self.brush, points, self.window.current_level,

@@ -53,10 +53,10 @@ def test_moving_size_and_density_sliders_renders_the_document_and_undo_returns(w
                                                                                 qtbot):
     normal = window.document.levels.copy()
     steps = window.history.index
-    slide(dock.size, 6)
+    slide(dock.size_slider, 6)
     settled(window, qtbot)
-    size = dock.size.value()
-    assert size > 1 and dock.size.slider.isSliderDown() is False
+    size = dock.size_slider.value()
+    assert size > 1 and dock.size_slider.slider.isSliderDown() is False
     assert window.history.index == steps + 1
     assert window.document.shape == (48 * size, 64 * size)
     assert np.array_equal(window.document.levels, gr.render(normal, "square", size))
@@ -78,16 +78,16 @@ def test_moving_size_and_density_sliders_renders_the_document_and_undo_returns(w
 
     window.act_undo.trigger()
     assert np.array_equal(window.document.levels, normal)  # back to the normalised texture
-    assert dock.size.value() == 1                            # the dock follows the document
+    assert dock.size_slider.value() == 1                            # the dock follows the document
     window.act_redo.trigger()
-    assert dock.compression.value() == comp and dock.size.value() == size
+    assert dock.compression.value() == comp and dock.size_slider.value() == size
 
 
 def test_changing_the_shape_renders_hexagons_on_a_honeycomb(window, dock, qtbot):
     normal = window.document.levels.copy()
-    slide(dock.size, 8)
+    slide(dock.size_slider, 8)
     settled(window, qtbot)
-    size = dock.size.value()
+    size = dock.size_slider.value()
     dock.shape.setCurrentIndex(dock.shape.findData("hexagon"))
     settled(window, qtbot)
     assert np.array_equal(window.document.levels, gr.render(normal, "hexagon", size))
@@ -97,9 +97,9 @@ def test_changing_the_shape_renders_hexagons_on_a_honeycomb(window, dock, qtbot)
 
 def test_editing_the_grain_size_after_a_fill_replays_the_fill(window, dock, qtbot):
     normal = window.document.levels.copy()
-    slide(dock.size, 4)
+    slide(dock.size_slider, 4)
     settled(window, qtbot)
-    size = dock.size.value()
+    size = dock.size_slider.value()
     grain_index = grain_step(window.history)
     # a later edit: the Fill tool clicked on the rendered canvas
     press_key(window, QtCore.Qt.Key.Key_F)
@@ -111,9 +111,9 @@ def test_editing_the_grain_size_after_a_fill_replays_the_fill(window, dock, qtbo
     fill = window.history.actions[-1]
     assert window.history.index == grain_index + 2 and fill.TYPE == "fill"
 
-    slide(dock.size, 7)                                   # back in the dock: a new size
+    slide(dock.size_slider, 7)                                   # back in the dock: a new size
     settled(window, qtbot)
-    new = dock.size.value()
+    new = dock.size_slider.value()
     assert new != size
     assert window.history.actions[grain_index] == RenderGrains("square", new)
     assert window.history.actions[grain_index + 1] == fill   # the fill is still there...
@@ -126,10 +126,10 @@ def test_editing_the_grain_size_after_a_fill_replays_the_fill(window, dock, qtbo
 
 
 def test_keyboard_steps_commit_after_a_pause(window, dock, qtbot):
-    dock.size.slider.setFocus()
+    dock.size_slider.slider.setFocus()
     for _ in range(3):
-        press_key(dock.size.slider, QtCore.Qt.Key.Key_Right)
-    assert dock.size.value() == 4
+        press_key(dock.size_slider.slider, QtCore.Qt.Key.Key_Right)
+    assert dock.size_slider.value() == 4
     qtbot.waitUntil(lambda: grain_step(window.history) is not None, timeout=5000)
     assert window.document.shape == (48 * 4, 64 * 4)
 
@@ -197,7 +197,7 @@ def test_painted_incrustation_changes_only_the_painted_points(window, qtbot):
                       preview._origin[1] + int(10.5 * preview._scale))
     b = QtCore.QPoint(a.x() + int(20 * preview._scale), a.y())
     drag(preview, LEFT, (a.x(), a.y()), (b.x(), b.y()))
-    assert preview.mask.sum() > 20
+    assert preview.painted_mask.sum() > 20
     dialog.update_preview()
     settled(window, qtbot)
     dialog.apply_button.click()
@@ -205,8 +205,8 @@ def test_painted_incrustation_changes_only_the_painted_points(window, qtbot):
     action = window.history.actions[-1]
     assert isinstance(action, Incrust) and action.mask == "points"
     changed = window.document.levels != before
-    assert changed.any() and not changed[~preview.mask].any()
-    assert {tuple(p) for p in action.points} == set(map(tuple, np.argwhere(preview.mask)))
+    assert changed.any() and not changed[~preview.painted_mask].any()
+    assert {tuple(p) for p in action.points} == set(map(tuple, np.argwhere(preview.painted_mask)))
     dialog.close()
 
 

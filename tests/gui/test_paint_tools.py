@@ -159,7 +159,7 @@ def test_choosing_a_preset_in_the_brush_dock_loads_its_tool(window, qtbot):
 
 def test_saving_a_preset_keeps_it_in_the_user_folder(window, qtbot, user_data):
     window.set_tool(tool(window, SprayTool))
-    window.tool.opts.size.setValue(40)
+    window.tool.opts.size_box.setValue(40)
     window.brush_dock.save_current("Wide spray")
     data = json.loads((user_data / "brushes.json").read_text())
     assert [b["name"] for b in data["items"]] == ["Wide spray"] and data["items"][0]["size"] == 40
@@ -244,7 +244,7 @@ def test_the_grain_editor_draws_saves_and_uses_a_grain(window, qtbot, user_data)
     editor.clear_drawing()
     view = editor.view
     editor.pen_level.setValue(3)
-    n = view.mask.shape[0]
+    n = view.grain_mask.shape[0]
     for r, c in [(1, 1), (1, 2), (2, 2), (3, 3)]:            # a little zigzag, with the mouse
         cell, x0, y0 = view._geometry()
         pos = QtCore.QPoint(int(x0 + (c + 0.5) * cell), int(y0 + (r + 0.5) * cell))
