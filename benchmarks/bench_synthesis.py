@@ -1,6 +1,6 @@
 """Warm synthesis time, MPix/s and dead-end figures for DPJs acquired from scikit-image's gravel.
 
-Run: python benchmarks/bench_synthesis.py [--photo gravel] [--repeat 5]
+Run: python benchmarks/bench_synthesis.py [--photo gravel] [--repeat 5] [--compile]
 Targets (2-core machine): 512², 2x2, G = 8 in <= 80 ms; 3x3, G = 4 in <= 150 ms; time linear in
 pixels; memory O(non-zero entries + width · G^u).
 """
@@ -8,6 +8,9 @@ pixels; memory O(non-zero entries + width · G^u).
 import argparse
 import os
 import platform
+import subprocess
+import sys
+import tempfile
 import time
 
 import numpy as np
@@ -23,11 +26,28 @@ def table_bytes(dpj) -> int:
     return sum(a.nbytes for a in _tables(dpj) if isinstance(a, np.ndarray))
 
 
+def first_compile_seconds() -> float:
+    """A first start's wait: the kernels compiled into an empty numba cache, in a fresh process."""
+    code = ("import time; from app.resources import default_dpj; from texeditor import synthesize;"
+            "d = default_dpj(); t = time.perf_counter(); synthesize(d, (64, 64));"
+            "print(time.perf_counter() - t)")
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": root}
+        out = subprocess.run([sys.executable, "-c", code], env=env, cwd=root, check=True,
+                             capture_output=True, text=True).stdout
+    return float(out.split()[-1])
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--photo", default="gravel")
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--compile", action="store_true",
+                    help="also time a first compile of the kernels (an empty numba cache)")
     args = ap.parse_args()
+    if args.compile:
+        print(f"first compile of the kernels (empty numba cache): {first_compile_seconds():.1f} s")
     photo = getattr(data, args.photo)()
     print(f"machine: {platform.machine()}, {os.cpu_count()} cores, {platform.python_version()}; "
           f"photo: {args.photo}; best of {args.repeat} warm runs "
