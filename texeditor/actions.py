@@ -197,6 +197,11 @@ class Action:
         """The canvas shape after this action, from the shape before (for "canvas"/"reset")."""
         return shape
 
+    def target(self, levels) -> str | None:
+        """A digest of the region this step picks from the levels before it (None: it picks
+        none). An edit of an earlier step can change it: History then marks the step."""
+        return None
+
     def covers(self, shape: tuple[int, int]) -> bool:
         """True when this action overwrites every level of a canvas of this shape."""
         return False
@@ -395,6 +400,23 @@ class Synthesize(Action):
         _MEMO.put(self._key(), result.levels)
         return result
 
+    def remember(self, levels) -> bool:
+        """Take ``levels`` as this step's result without synthesising (a stored picture the
+        caller has checked against a recorded hash). False, and nothing changed, when the result
+        is already at hand or ``levels`` is not an (H, W) uint8 matrix; ``forget()`` undoes it."""
+        levels = np.asarray(levels)
+        if (levels.dtype != np.uint8 or levels.shape != (self.height, self.width)
+                or _MEMO.get(self._key()) is not None):
+            return False
+        levels = levels.copy()
+        levels.flags.writeable = False
+        _MEMO.put(self._key(), levels)
+        return True
+
+    def forget(self) -> None:
+        """Drop the result kept for this step (the next apply() synthesises)."""
+        _MEMO.discard(self._key())
+
     def _check_dpj(self, dpj) -> None:
         from .document import dpj_ref
         if dpj_ref(dpj) != self.dpj:
@@ -568,6 +590,10 @@ class _Memo:
             while (len(self._items) > self.max_items
                    or sum(v.nbytes for v in self._items.values()) > self.max_bytes):
                 self._items.popitem(last=False)
+
+    def discard(self, key) -> None:
+        with self._lock:
+            self._items.pop(key, None)
 
     def clear(self) -> None:
         with self._lock:

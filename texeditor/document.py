@@ -240,6 +240,7 @@ class State:
 
 
 # -- undo atoms: each holds one old value and swaps it with the document's current one ----------
+# (``differs``: the old value is not the current one, so the step changed something).
 # A step's atoms undone in reverse order turn into its redo record, and redone in forward order
 # back into its undo record (napari's Labels history keeps (indices, old, new) the same way).
 
@@ -251,6 +252,9 @@ class _Matrix:
 
     def swap(self, doc: Document) -> None:
         self.levels, doc._levels = doc._levels, self.levels
+
+    def differs(self, doc: Document) -> bool:
+        return not np.array_equal(self.levels, doc._levels)
 
     @property
     def nbytes(self) -> int:
@@ -270,6 +274,11 @@ class _Patch:
         doc._levels[region] = self.block
         self.block = current
 
+    def differs(self, doc: Document) -> bool:
+        h, w = self.block.shape
+        return not np.array_equal(self.block, doc._levels[self.top:self.top + h,
+                                                          self.left:self.left + w])
+
     @property
     def nbytes(self) -> int:
         return self.block.nbytes
@@ -284,6 +293,9 @@ class _Palette:
     def swap(self, doc: Document) -> None:
         self.palette, doc._palette = doc._palette, self.palette
 
+    def differs(self, doc: Document) -> bool:
+        return not np.array_equal(self.palette, doc._palette)
+
     nbytes = 48
 
 
@@ -295,5 +307,8 @@ class _CurrentDPJ:
 
     def swap(self, doc: Document) -> None:
         self.ref, doc._dpj_ref = doc._dpj_ref, self.ref
+
+    def differs(self, doc: Document) -> bool:
+        return self.ref != doc._dpj_ref
 
     nbytes = 16

@@ -52,6 +52,11 @@ class History:
     a snapshot of the whole state is kept every ``snapshot_every`` steps, or sooner after
     ``snapshot_cost`` seconds of work, within ``snapshot_memory`` bytes (thinned evenly when
     full). Undo never replays from step 0: it swaps a record back or replays from a snapshot.
+
+    An edit of a past step (``commit``) is itself undoable: ``undo`` right after it puts the
+    old log and document back, ``redo`` the edit again (a Revision, as Krita's undo stack keeps
+    one command for a whole replayed change). Region steps remember a digest of the region they
+    acted on, so an edit tells which later steps now act on a different one (``retargeted``).
     """
 
     def __init__(self, document: Document | None = None, *, snapshot_every: int = 32,
@@ -72,6 +77,10 @@ class History:
         self._costs: dict[int, float] = {}
         self._subscribers: list[Callable[[], None]] = []
         self._changes = 0                      # notifications so far: a PendingEdit's staleness
+        self._targets: dict[int, str] = {}     # region step → digest of the region it acted on
+        self.retargeted: frozenset[int] = frozenset()   # later steps the last edit re-targeted
+        self._done: list[Revision] = []        # edits of past steps, undoable (latest last)
+        self._undone: list[Revision] = []      # edits undone, redoable (latest last)
         if self._index:
             self._add_snapshot(self._index, self._doc._state())
 
@@ -106,11 +115,21 @@ class History:
 
     @property
     def can_undo(self) -> bool:
-        return self._index > 0
+        return self._index > 0 or self.undoes_edit
 
     @property
     def can_redo(self) -> bool:
-        return self._index < len(self._actions)
+        return self._index < len(self._actions) or self.redoes_edit
+
+    @property
+    def undoes_edit(self) -> bool:
+        """True when ``undo`` would take back the edit of a past step (the state is the one
+        that edit left), not the last step."""
+        return bool(self._done) and self._done[-1].after.matches(self)
+
+    @property
+    def redoes_edit(self) -> bool:
+        return bool(self._undone) and self._undone[-1].before.matches(self)
 
     @property
     def memory(self) -> dict:
@@ -132,19 +151,32 @@ class History:
         self._notify()
         return ref
 
-    def apply(self, action: Action) -> None:
-        """Apply a new step after the current one; the redo tail is dropped."""
+    def apply(self, action: Action, *, if_changed: bool = False) -> bool:
+        """Apply a new step after the current one; the redo tail is dropped. ``if_changed``: a
+        step that changes nothing (a fill with the region's own level) is not added, and the
+        log stays as it was; returns whether a step was added."""
         if not isinstance(action, Action):
             raise InputError(f"only an Action can be applied, got {type(action).__name__}")
-        self._truncate(self._index)
-        self._advance(action, self._index)
+        k, records, costs, targets = self._index, {}, {}, {}
+        self._step(self._doc, action, k, records, costs, targets)
+        if if_changed and not any(atom.differs(self._doc) for atom in records[k]):
+            for atom in reversed(records[k]):
+                atom.swap(self._doc)
+            return False
+        self._truncate(k)
+        self._accept(action, k, records, costs, targets)
         self._notify()
+        return True
 
     def undo(self) -> bool:
         if not self.can_undo:
             return False
         try:
-            self._goto(self._index - 1)
+            if self.undoes_edit:
+                self._undone.append(self._done.pop())
+                self._undone[-1].undo(self)
+            else:
+                self._goto(self._index - 1)
         finally:
             self._notify()
         return True
@@ -153,7 +185,11 @@ class History:
         if not self.can_redo:
             return False
         try:
-            self._goto(self._index + 1)
+            if self.redoes_edit:
+                self._done.append(self._undone.pop())
+                self._done[-1].redo(self)
+            else:
+                self._goto(self._index + 1)
         finally:
             self._notify()
         return True
@@ -186,18 +222,34 @@ class History:
             raise InputError("the history changed while this edit was replayed: apply it again")
         if not edit.finished:
             raise InputError("this edit has not been replayed yet")
+        before = Version(self)
         self._actions = edit.actions
         if edit.i >= edit.new_index:         # only the redo tail changed: nothing was replayed
             self._truncate_records(edit.i)
+            self._drop_targets(edit.i)
+            self.retargeted = frozenset()
         else:
             self._take_replay(edit)
+        self._remember(Revision(edit.i, before, Version(self)))
         self._notify()
+
+    def _remember(self, revision: "Revision") -> None:
+        """Keep an edit for undo; the oldest go first beyond a quarter of the undo budget."""
+        self._done.append(revision)
+        self._undone.clear()
+        while (len(self._done) > 1
+               and sum(r.nbytes for r in self._done) > self.undo_memory // 4):
+            self._done.pop(0)
 
     def _take_replay(self, edit: "PendingEdit") -> None:
         """Forget what was learnt from the edited steps on; keep the replay's state and records."""
         self._truncate_records(edit.start)
         for key in [s for s in self._snap_keys if s > edit.i]:
             self._drop_snapshot(key)
+        self.retargeted = frozenset(k for k, digest in edit.targets.items()
+                                    if k > edit.i and self._targets.get(k, digest) != digest)
+        self._drop_targets(edit.start)
+        self._targets.update(edit.targets)
         self._costs = {k: c for k, c in self._costs.items() if k < edit.i}
         self._costs.update(edit.costs)
         self._doc._restore(edit.state, copy=False)
@@ -231,8 +283,13 @@ class History:
         ``replaying`` = (n, progress, cancel) when rebuilding a stored log of n steps: failures
         are then ReplayErrors and long steps report progress and can be cancelled.
         """
-        records, costs = {}, {}
-        self._step(self._doc, action, k, records, costs, replaying)
+        records, costs, targets = {}, {}, {}
+        self._step(self._doc, action, k, records, costs, targets, replaying)
+        self._accept(action, k, records, costs, targets)
+
+    def _accept(self, action: Action, k: int, records: dict, costs: dict, targets: dict) -> None:
+        """Make an applied action step k: the log, the undo records, costs and snapshots."""
+        self._targets.update(targets)
         if k < len(self._actions):
             self._actions[k] = action
         else:
@@ -246,8 +303,12 @@ class History:
         self._trim_records()
 
     @staticmethod
-    def _step(doc, action, k, records, costs, replaying=None, progress=None, cancel=None) -> None:
+    def _step(doc, action, k, records, costs, targets, replaying=None, progress=None,
+              cancel=None) -> None:
         atoms: list = []
+        target = action.target(doc.levels)
+        if target is not None:
+            targets[k] = target
         doc._recorder = atoms
         start = time.perf_counter()
         try:
@@ -319,6 +380,14 @@ class History:
     def _truncate(self, index: int) -> None:
         del self._actions[index:]
         self._truncate_records(index)
+        self._drop_targets(index)
+        self.retargeted = frozenset(k for k in self.retargeted if k < index)
+        self._done = [r for r in self._done if r.after.index <= index]
+        self._undone.clear()
+
+    def _drop_targets(self, index: int) -> None:
+        for step in [s for s in self._targets if s >= index]:
+            del self._targets[step]
 
     def _truncate_records(self, index: int) -> None:
         """Forget what was learnt from steps index and later (records, snapshots, costs)."""
@@ -414,6 +483,7 @@ class PendingEdit:
         self._old_costs = dict(history._costs)
         self.records: dict[int, list] = {}
         self.costs: dict[int, float] = {}
+        self.targets: dict[int, str] = {}
         self.snaps: dict[int, State] = {}
         self._record_bytes = self._snap_bytes = 0
         self.state: State | None = None
@@ -446,7 +516,8 @@ class PendingEdit:
     def _replay_step(self, scratch: Document, k: int, progress: Progress, cancel: Cancel) -> None:
         action = self.actions[k]
         try:
-            History._step(scratch, action, k, self.records, self.costs, None, progress, cancel)
+            History._step(scratch, action, k, self.records, self.costs, self.targets, None,
+                          progress, cancel)
         except InputError as exc:
             raise InputError(f"after this edit, step {k + 1} ({action.label()}) "
                              f"fails: {exc}") from None
@@ -463,3 +534,55 @@ class PendingEdit:
             drop = _thinnest([self.start] + sorted(self.snaps), self.new_index + 1)
             self._snap_bytes -= self.snaps.pop(drop).nbytes
             self._keys.remove(drop)
+
+
+class Version:
+    """What an edit of a past step changes: the log, the position in it, the document's state
+    and what the region steps acted on. Restoring one forgets the records and snapshots of the
+    steps after the edited one (undo then replays from a snapshot before it)."""
+
+    def __init__(self, history: History):
+        self.actions = list(history._actions)
+        self.index = history._index
+        self.state = history._doc._state()
+        self.targets = dict(history._targets)
+        self.retargeted = history.retargeted
+
+    @property
+    def nbytes(self) -> int:
+        return self.state.nbytes
+
+    def matches(self, history: History) -> bool:
+        """The history stands where this version stood, with the very same steps applied
+        (Actions are immutable, so identity is enough)."""
+        return history._index == self.index and all(
+            a is b for a, b in zip(history._actions[:self.index], self.actions[:self.index]))
+
+    def restore(self, history: History, i: int) -> None:
+        history._actions = list(self.actions)
+        history._truncate_records(i)
+        history._index = self.index
+        history._doc._restore(self.state)
+        history._doc._log[:] = self.actions[:self.index]
+        history._targets = dict(self.targets)
+        history.retargeted = self.retargeted
+
+
+class Revision:
+    """An edit of step ``i`` as one undoable change: the versions before and after it."""
+
+    def __init__(self, i: int, before: Version, after: Version):
+        self.i, self.before, self.after = i, before, after
+
+    @property
+    def nbytes(self) -> int:
+        return self.before.nbytes + self.after.nbytes
+
+    def undo(self, history: History) -> None:
+        """Back to the version before; the steps undone since the edit stay redoable."""
+        self.after = Version(history)
+        self.before.restore(history, self.i)
+
+    def redo(self, history: History) -> None:
+        self.before = Version(history)
+        self.after.restore(history, self.i)

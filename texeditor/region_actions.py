@@ -9,6 +9,7 @@ the connectivity — so replaying the log finds the same points again, bit for b
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -136,6 +137,16 @@ class RegionAction(Action):
         return regions.select(levels, self.point, kind=getattr(self, "kind", "region"),
                               scope=getattr(self, "scope", "region"),
                               connectivity=getattr(self, "connectivity", 4))
+
+    def target(self, levels) -> str | None:
+        """The selection's points, as a digest (the whole texture: "texture")."""
+        if self.point is None:
+            return "texture"
+        if not 0 <= self.row < levels.shape[0] or not 0 <= self.col < levels.shape[1]:
+            return "outside"
+        mask = self.selection(levels)
+        return hashlib.blake2b(np.packbits(mask).tobytes() + repr(mask.shape).encode(),
+                               digest_size=16).hexdigest()
 
     def _check_levels(self, doc, *values) -> None:
         for value in values:
