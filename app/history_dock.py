@@ -13,7 +13,6 @@ from texeditor.actions import replace_params
 from texeditor.errors import TexeditorError
 
 from .params_form import ParamsForm
-from .widgets import scrolled
 
 
 class LogModel(QtCore.QAbstractListModel):
@@ -41,8 +40,9 @@ class LogModel(QtCore.QAbstractListModel):
         row = index.row()
         action = self.history.actions[row]
         applied = row < self.history.index
+        moved = row in self.history.retargeted
         if role == QtCore.Qt.ItemDataRole.DisplayRole:
-            return f"{row + 1}. {action.label()}"
+            return f"{'⚠ ' if moved else ''}{row + 1}. {action.label()}"
         if role == QtCore.Qt.ItemDataRole.ForegroundRole and not applied:
             return QtGui.QBrush(QtGui.QColor(140, 140, 140))
         if role == QtCore.Qt.ItemDataRole.FontRole:
@@ -53,8 +53,13 @@ class LogModel(QtCore.QAbstractListModel):
         if role == QtCore.Qt.ItemDataRole.ToolTipRole:
             state = "current state" if row == self.history.index - 1 else (
                 "applied" if applied else "undone: click to redo up to here")
-            return f"{action.label()} ({state})"
+            note = ("\nThe edit of an earlier step changed the region this step acts on: it now "
+                    "fills or moves other points than before." if moved else "")
+            return f"{action.label()} ({state}){note}"
         return None
+
+
+MIN_ROWS = 8          # the list keeps this many steps in view however tall the step's form is
 
 
 class HistoryDock(QtWidgets.QDockWidget):
@@ -79,7 +84,14 @@ class HistoryDock(QtWidgets.QDockWidget):
         box = QtWidgets.QVBoxLayout(self.group)
         self.form = ParamsForm()
         self.form.changed.connect(self._form_changed)
-        box.addWidget(self.form)
+        # a step with many parameters scrolls down, never sideways, and never takes the list's rows
+        self.form_area = QtWidgets.QScrollArea()
+        self.form_area.setWidget(self.form)
+        self.form_area.setWidgetResizable(True)
+        self.form_area.setFrameShape(QtWidgets.QFrame.Shape.NoFrame)
+        self.form_area.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.form_area.setMinimumHeight(60)
+        box.addWidget(self.form_area, 1)
         buttons = QtWidgets.QHBoxLayout()
         self.apply_button = QtWidgets.QPushButton("Apply && replay")
         self.apply_button.setToolTip("Replace this step with the edited parameters and replay "
@@ -96,10 +108,16 @@ class HistoryDock(QtWidgets.QDockWidget):
         body = QtWidgets.QWidget()
         layout = QtWidgets.QVBoxLayout(body)
         layout.setContentsMargins(4, 4, 4, 4)
-        self.view.setMinimumHeight(60)
-        layout.addWidget(self.view, 1)
-        layout.addWidget(self.group)
-        self.setWidget(scrolled(body))
+        rows = self.view.fontMetrics().lineSpacing() + 2
+        self.view.setMinimumHeight(MIN_ROWS * rows + 2 * self.view.frameWidth())
+        splitter = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)   # the user sets the share
+        splitter.setChildrenCollapsible(False)
+        splitter.addWidget(self.view)
+        splitter.addWidget(self.group)
+        splitter.setStretchFactor(0, 3)
+        splitter.setStretchFactor(1, 1)
+        layout.addWidget(splitter)
+        self.setWidget(body)
         self.selected_step: int | None = None
         self._update_buttons()
 
@@ -119,6 +137,7 @@ class HistoryDock(QtWidgets.QDockWidget):
         current = self.history.index - 1
         if current >= 0:
             self.view.setCurrentIndex(self.model.index(current))
+            self.view.doItemsLayout()     # the scroll range must count the new rows first
             self.view.scrollTo(self.model.index(current))
         self._show_selected()
 

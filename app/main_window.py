@@ -88,10 +88,15 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.level_label = QtWidgets.QLabel()
         self.zoom_label = QtWidgets.QLabel("zoom –")
         self.repairs_label = QtWidgets.QLabel()
+        self.retargeted_label = QtWidgets.QLabel()
+        self.retargeted_label.setToolTip("Steps after an edited one whose Fill, Translate, Copy or "
+                                         "Extract now acts on a different region (marked ⚠ in "
+                                         "the History)")
         for w in (self.task_label, self.progress, self.cancel_button):
             bar.addPermanentWidget(w)
             w.hide()
-        for w, chars in ((self.repairs_label, 0), (self.cursor_label, 14),
+        for w, chars in ((self.retargeted_label, 0), (self.repairs_label, 0),
+                         (self.cursor_label, 14),
                          (self.level_label, 9), (self.zoom_label, 11)):
             if chars:
                 w.setMinimumWidth(QtGui.QFontMetrics(w.font()).horizontalAdvance("0" * chars))
@@ -299,8 +304,10 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.history_dock.refresh()
         self.synthesis_dock.set_dpj(doc.dpj)
         self.density_dock.refresh()
-        self.act_undo.setEnabled(self.history.index > 1)
+        self.act_undo.setEnabled(self.can_undo())
         self.act_redo.setEnabled(self.history.can_redo)
+        moved = len(self.history.retargeted)
+        self.retargeted_label.setText(f"⚠ {moved} step(s) re-targeted" if moved else "")
         self._update_title()
         self.journal_sync()
 
@@ -331,14 +338,18 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self._journal = None
 
     def submit(self, action) -> bool:
-        """Apply an Action; a refused one is explained in a dialog and changes nothing."""
+        """Apply an Action; a refused one is explained in a dialog and changes nothing. One that
+        would change nothing (a fill with the region's own level) adds no step, and says so."""
         if self.edits_locked():
             return False
         try:
-            self.history.apply(action)
+            added = self.history.apply(action, if_changed=True)
         except TexeditorError as exc:
             self.show_error("This change cannot be made", exc)
             return False
+        if not added:
+            self.statusBar().showMessage(f"{action.label()}: this changes nothing, so no step "
+                                         "was added.", 5000)
         return True
 
     def _palette_committed(self, palette) -> None:
@@ -350,8 +361,15 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
     def undo(self) -> None:
         if self._replaying is not None:
             self.runner.cancel()       # undo the edit being replayed: as Krita cancels a stroke
-        elif self.history.index > 1:   # the first step is the base texture, as in GIMP
+        elif self.can_undo():
             self._guarded(self.history.undo)
+            if self.history.redoes_edit:
+                self.statusBar().showMessage("Edit undone: the step's old parameters and the "
+                                             "later steps are back.", 5000)
+
+    def can_undo(self) -> bool:
+        """The first step is the base texture, as in GIMP; an edit of it can be undone."""
+        return self.history.index > 1 or self.history.undoes_edit
 
     def redo(self) -> None:
         if not self.edits_locked():
@@ -453,14 +471,17 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             self.show_error("Cannot apply this edit", exc)
             return
         later = pending.new_index - pending.i - 1
+        moved = len(history.retargeted)
+        note = (f" {moved} later step(s) now act on a different region (marked ⚠ in the "
+                "History)." if moved else "")
         self.statusBar().showMessage(f"Step {pending.i + 1} edited and the {later} later "
-                                     "step(s) replayed.", 8000)
+                                     f"step(s) replayed.{note} Ctrl+Z undoes the edit.", 12000)
 
     def _set_replaying(self, pending) -> None:
         """While a replay runs the history dock is locked and Ctrl+Z cancels it."""
         self._replaying = pending
         self.history_dock.set_replaying(pending is not None)
-        self.act_undo.setEnabled(pending is not None or self.history.index > 1)
+        self.act_undo.setEnabled(pending is not None or self.can_undo())
 
     def _replay_ended(self, message: str = "") -> None:
         """Nothing was swapped in; the history dock keeps the edited values (to try again)."""
