@@ -13,6 +13,8 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6 import QtCore, QtGui
 
+from .mip import box_average, mip_level
+
 GRID_MIN_ZOOM = 12.0          # screen pixels per cell before the pixel grid is drawn
 ZOOM_STEP = math.sqrt(2.0)    # one +/- key press
 MIN_ZOOM, MAX_ZOOM = 1 / 32, 128.0
@@ -75,37 +77,57 @@ class CanvasViewBox(pg.ViewBox):
             ev.ignore()
 
 
+class CanvasImage(pg.ImageItem):
+    """The texture's image item: the level matrix through the palette at 100 % and above, a mip
+    level below (set by the canvas, always placed on the cells it covers). ``smooth`` (zoomed
+    out) draws it with bilinear filtering, so the last factor of less than 2 left by the mip
+    level does not drop cells either; zoomed in, cells stay crisp squares."""
+
+    def __init__(self):
+        super().__init__(axisOrder="row-major")
+        self.smooth = False
+
+    def paint(self, painter, *args):
+        painter.save()
+        painter.setRenderHint(QtGui.QPainter.RenderHint.SmoothPixmapTransform, self.smooth)
+        super().paint(painter, *args)
+        painter.restore()
+
+
 class TileEcho(pg.GraphicsObject):
     """The eight neighbours of the 3×3 tiled preview, painted from the image item's own QImage.
 
-    Sharing the rendered image keeps a tiled 2048² preview at the memory cost of one tile.
+    Sharing the rendered image keeps a tiled 2048² preview at the memory cost of one tile; the
+    image may be a mip level, so it is drawn where the item sits (its rect in cell coordinates)
+    and repeated every ``tile_size`` cells.
     """
 
-    def __init__(self, source: pg.ImageItem):
+    def __init__(self, source: CanvasImage):
         super().__init__()
         self.source = source
-
-    def _size(self) -> tuple[int, int]:
-        image = self.source.image
-        return (0, 0) if image is None else (image.shape[1], image.shape[0])
+        self.tile_size = (0, 0)      # (w, h) of the texture in cells, set by the canvas
 
     def boundingRect(self) -> QtCore.QRectF:
-        w, h = self._size()
+        w, h = self.tile_size
         return QtCore.QRectF(-w, -h, 3 * w, 3 * h)
 
     def paint(self, painter, *args):
-        w, h = self._size()
-        if not w:
+        w, h = self.tile_size
+        if not w or self.source.image is None:
             return
-        if self.source.qimage is None:
+        if self.source.qimage is None or self.source._renderRequired:
             self.source.render()
         qimage = self.source.qimage
         if qimage is None:
             return
+        rect = self.source.mapRectToParent(self.source.boundingRect())
+        painter.save()
+        painter.setRenderHint(QtGui.QPainter.RenderHint.SmoothPixmapTransform, self.source.smooth)
         for dy in (-1, 0, 1):
             for dx in (-1, 0, 1):
                 if dx or dy:
-                    painter.drawImage(QtCore.QRectF(dx * w, dy * h, w, h), qimage)
+                    painter.drawImage(rect.translated(dx * w, dy * h), qimage)
+        painter.restore()
 
 
 class PixelGrid(pg.GraphicsObject):
@@ -149,6 +171,9 @@ class CanvasView(pg.GraphicsView):
 
     def __init__(self, parent=None):
         self._levels: np.ndarray | None = None
+        self._lut: np.ndarray | None = None      # the palette's 256-entry table
+        self._mips: dict[int, np.ndarray] = {}   # mip level k -> its picture, for this image
+        self._shown_level: int | None = None     # the level the image item holds (None: stale)
         self._tiled = False
         self._last_zoom = 0.0
         super().__init__(parent, background=BACKGROUND)
@@ -158,7 +183,7 @@ class CanvasView(pg.GraphicsView):
         self._gesture = None        # the running drag generator
         self.view = CanvasViewBox(self)
         self.setCentralItem(self.view)
-        self.image = pg.ImageItem(axisOrder="row-major")
+        self.image = CanvasImage()
         self.overlay = pg.ImageItem(axisOrder="row-major")   # tool previews: ghosts, selections
         self.echo = TileEcho(self.image)
         self.echo.setVisible(False)
@@ -177,15 +202,60 @@ class CanvasView(pg.GraphicsView):
         """Show a level matrix through a palette; a new shape fits the view to it."""
         new_shape = self._levels is None or self._levels.shape != levels.shape
         self._levels = levels
-        self.image.setImage(levels, lut=palette_lut(palette), levels=(0, 255), autoLevels=False)
-        self.echo.update()
+        self._lut = palette_lut(palette)
+        self._mips.clear()
+        self._shown_level = None
+        self.echo.tile_size = (levels.shape[1], levels.shape[0])
+        self.echo.prepareGeometryChange()
         self.grid.set_bounds(self.content_rect())
         if new_shape:
             self.fit()
+        self._show_level()
 
     def set_palette(self, palette) -> None:
         """Recolour without touching the matrix (used by the palette dock's live preview)."""
-        self.image.setLookupTable(palette_lut(palette))
+        self._lut = palette_lut(palette)
+        self._mips.clear()
+        if self._shown_level == 0:
+            self.image.setLookupTable(self._lut)
+            self.echo.update()
+        elif self._shown_level is not None:
+            self._shown_level = None
+            self._show_level()
+
+    def mip(self, k: int) -> np.ndarray:
+        """Mip level k of the shown picture (box averages of 2^k × 2^k cells), built once per
+        image or palette change and kept until the next."""
+        mip = self._mips.get(k)
+        if mip is None:
+            mip = self._mips[k] = box_average(self._levels, self._lut, k)
+        return mip
+
+    @property
+    def shown_level(self) -> int | None:
+        """The mip level on screen (0: the cells themselves)."""
+        return self._shown_level
+
+    def _show_level(self) -> None:
+        """Put the picture for the current zoom in the image item: the cells at 100 % and
+        above, below it the mip level of the largest power of two ≤ 1/zoom (device pixels),
+        its rect kept on the cells it averages so picking and overlays line up."""
+        if self._levels is None or (self._shown_level is not None and self.image.image is None):
+            return       # no texture, or the main window cleared the picture (an empty document)
+        zoom = self.zoom() * self.devicePixelRatioF()
+        self.image.smooth = zoom < 1.0
+        k = mip_level(zoom, self._levels.shape)
+        if k == self._shown_level:
+            return
+        h, w = self._levels.shape
+        if k == 0:
+            self.image.setImage(self._levels, lut=self._lut, levels=(0, 255), autoLevels=False)
+            self.image.setRect(QtCore.QRectF(0, 0, w, h))
+        else:
+            mip, f = self.mip(k), 1 << k
+            self.image.setImage(mip, lut=None, levels=(0, 255), autoLevels=False)
+            self.image.setRect(QtCore.QRectF(0, 0, mip.shape[1] * f, mip.shape[0] * f))
+        self._shown_level = k
         self.echo.update()
 
     @property
@@ -194,8 +264,7 @@ class CanvasView(pg.GraphicsView):
 
     def displayed_colour(self, x: int, y: int) -> tuple[int, int, int]:
         """The colour the canvas shows at cell (x, y) — what the user sees, for checks."""
-        lut = self.image.lut
-        return tuple(int(c) for c in lut[self._levels[y, x]][:3])
+        return tuple(int(c) for c in self._lut[self._levels[y, x]][:3])
 
     # -- tiled preview ----------------------------------------------------------------------------
     @property
@@ -259,6 +328,7 @@ class CanvasView(pg.GraphicsView):
 
     def _range_changed(self, *args):
         self.grid.update()
+        self._show_level()
         zoom = self.zoom()
         if not math.isclose(zoom, self._last_zoom, rel_tol=1e-6):
             self._last_zoom = zoom

@@ -1,7 +1,8 @@
 """The canvas alone: palette display, wheel zoom around the cursor, pan, grid and tiled preview."""
 
 import numpy as np
-from PySide6 import QtCore
+import pytest
+from PySide6 import QtCore, QtGui
 
 from app.canvas import GRID_MIN_ZOOM, CanvasView
 
@@ -87,3 +88,130 @@ def test_hover_reports_cell_and_level(qtbot):
     qtbot.mouseMove(canvas.viewport(), pos)
     qtbot.wait(20)
     assert seen and seen[-1] == (5, 2, int(levels[2, 5]))
+
+
+# -- zoomed out: mip levels (issue 16) ---------------------------------------------------------------
+
+GREYS = np.array([[0, 0, 0], [255, 255, 255], [255, 0, 0], [0, 0, 255]], np.uint8)
+
+
+def zoomed_out(qtbot, levels, zoom=0.25, palette=GREYS):
+    canvas = CanvasView()
+    qtbot.addWidget(canvas)
+    canvas.resize(600, 400)
+    canvas.show()
+    qtbot.waitExposed(canvas)
+    canvas.set_image(levels, palette)
+    canvas.set_zoom(zoom)
+    canvas.view.setRange(QtCore.QRectF(0, 0, 10, 10), padding=0)   # top-left corner in view
+    canvas.set_zoom(zoom)
+    qtbot.wait(20)
+    return canvas
+
+
+def screen(canvas) -> np.ndarray:
+    """The canvas as rendered on screen: (h, w, 3) uint8 from a grab."""
+    image = canvas.grab().toImage().convertToFormat(QtGui.QImage.Format.Format_RGB888)
+    w, h, stride = image.width(), image.height(), image.bytesPerLine()
+    return np.frombuffer(image.constBits(), np.uint8).reshape(h, stride)[:, :3 * w].reshape(
+        h, w, 3).copy()
+
+
+def texture_pixels(canvas, shot: np.ndarray, margin: int = 3) -> np.ndarray:
+    """The screen pixels that show the texture (a margin inside its edges)."""
+    rect = canvas.mapFromScene(canvas.view.mapViewToScene(
+        QtCore.QRectF(0, 0, canvas.levels.shape[1], canvas.levels.shape[0]))).boundingRect()
+    rect = rect.intersected(QtCore.QRect(0, 0, shot.shape[1], shot.shape[0]))
+    return shot[rect.top() + margin:rect.bottom() - margin, rect.left() + margin:
+                rect.right() - margin]
+
+
+@pytest.mark.parametrize("pattern", ["checkerboard", "stripes", "pairs"])
+def test_zoomed_out_shows_area_averages_not_moire(qtbot, pattern):
+    y, x = np.indices((1024, 1536))
+    levels = {"checkerboard": (x + y) % 2, "stripes": x % 2,
+              "pairs": (x // 2) % 2}[pattern].astype(np.uint8)
+    canvas = zoomed_out(qtbot, levels, 0.25)
+    assert abs(canvas.zoom() - 0.25) < 0.01 and canvas.shown_level == 2
+    seen = texture_pixels(canvas, screen(canvas)).astype(int)
+    assert seen.size > 3 * 100 * 100
+    # half black, half white cells: every screen pixel is their mean, a mid-grey
+    assert np.all(np.abs(seen - 127.5) <= 3), (seen.min(), seen.max())
+
+
+def test_zoom_between_levels_and_back_to_cells(qtbot):
+    y, x = np.indices((1024, 1536))
+    canvas = zoomed_out(qtbot, ((x + y) % 2).astype(np.uint8), 0.3)
+    assert canvas.shown_level == 1                     # 2 ≤ 1/0.3 < 4
+    seen = texture_pixels(canvas, screen(canvas)).astype(int)
+    assert np.all(np.abs(seen - 127.5) <= 3)
+    canvas.set_zoom(4)
+    qtbot.wait(10)
+    assert canvas.shown_level == 0
+    shot = screen(canvas)                              # zoomed in: crisp black and white cells
+    centre = canvas.mapFromScene(canvas.view.mapViewToScene(QtCore.QPointF(5.5, 5.5)))
+    assert tuple(shot[centre.y(), centre.x()]) in ((0, 0, 0), (255, 255, 255))
+
+
+def block_texture():
+    levels = np.zeros((1024, 1536), np.uint8)
+    levels[::2, ::2] = 1                                # a fine pattern everywhere
+    levels[300:420, 500:700] = 2                        # a red block somewhere
+    return levels
+
+
+def test_picking_and_picture_line_up_when_zoomed_out(qtbot):
+    levels = block_texture()
+    canvas = zoomed_out(qtbot, levels, 0.3)
+    canvas.fit()
+    qtbot.wait(20)
+    assert canvas.zoom() < 0.5 and canvas.shown_level >= 1
+    shot = screen(canvas).astype(int)
+    red = (shot[..., 0] > 200) & (shot[..., 1] < 60) & (shot[..., 2] < 60)
+    ys, xs = np.nonzero(red)
+    assert len(ys) > 50
+    seen = []
+    canvas.hovered.connect(seen.append)
+    # the red block on screen is the block's cells under the pointer: its centre and corners
+    # (within two screen pixels: the edges are blends of a mip level drawn smoothly)
+    tol = 2 / canvas.zoom() + 1
+    for px, py, (cx, cy) in (((xs.min() + xs.max()) // 2, (ys.min() + ys.max()) // 2, (600, 360)),
+                             (xs.min() + 1, ys.min() + 1, (500, 300)),
+                             (xs.max() - 1, ys.max() - 1, (699, 419))):
+        qtbot.mouseMove(canvas.viewport(), QtCore.QPoint(int(px), int(py)))
+        qtbot.wait(20)
+        x, y, level = seen[-1]
+        assert level == 2
+        assert abs(x - cx) <= tol and abs(y - cy) <= tol, ((x, y), (cx, cy), canvas.zoom())
+
+
+def test_tiled_preview_zoomed_out_repeats_the_averaged_picture(qtbot):
+    levels = block_texture()
+    canvas = zoomed_out(qtbot, levels, 0.3)
+    canvas.set_tiled(True)
+    qtbot.wait(20)
+    assert canvas.shown_level >= 2
+    shot = screen(canvas).astype(int)
+    for dx in (-1, 0, 1):                               # the block's centre in three tiles
+        p = canvas.mapFromScene(canvas.view.mapViewToScene(QtCore.QPointF(600 + dx * 1536, 360)))
+        r, g, b = shot[p.y(), p.x()]
+        assert r > 200 and g < 60 and b < 60, (dx, r, g, b)
+    p = canvas.mapFromScene(canvas.view.mapViewToScene(QtCore.QPointF(100 - 1536, 100)))
+    assert np.all(np.abs(shot[p.y() - 2:p.y() + 3, p.x() - 2:p.x() + 3] - 64) <= 3)
+
+
+def test_zoomed_out_picture_follows_edits_and_palette(qtbot):
+    levels = block_texture()
+    canvas = zoomed_out(qtbot, levels, 0.25)
+    centre = canvas.mapFromScene(canvas.view.mapViewToScene(QtCore.QPointF(40, 40)))
+    assert np.all(np.abs(screen(canvas)[centre.y(), centre.x()].astype(int) - 64) <= 3)
+    painted = levels.copy()
+    painted[20:60, 20:60] = 3                           # an edit lands: the new picture shows
+    canvas.set_image(painted, GREYS)
+    qtbot.wait(10)
+    assert tuple(screen(canvas)[centre.y(), centre.x()]) == (0, 0, 255)
+    canvas.set_palette(np.array([[0, 0, 0], [255, 255, 255], [255, 0, 0], [0, 200, 0]],
+                                np.uint8))             # the palette preview recolours the mip
+    qtbot.wait(10)
+    assert tuple(screen(canvas)[centre.y(), centre.x()]) == (0, 200, 0)
+    assert canvas.displayed_colour(30, 30) == (0, 200, 0)
