@@ -472,7 +472,7 @@ class DeleteSpot(Action):
     spot: int | None = param("int", 0, MAX_SCATTER - 1, default=None, optional=True,
                              doc="which spot of a scatter (none: all of that placement)")
 
-    def target(self, actions) -> int:
+    def placement_step(self, actions) -> int:
         """The log index of the placement this deletion names, among ``actions`` before it: the
         step itself when its fingerprint matches, else the latest placement with that
         fingerprint (the log was optimised or edited), else the step if it still places spots
@@ -491,7 +491,7 @@ class DeleteSpot(Action):
 
     def apply(self, doc) -> None:
         actions = doc.actions
-        k = self.target(actions)
+        k = self.placement_step(actions)
         if self.spot is not None and self.spot >= len(actions[k].spots(doc.shape)):
             raise InputError(f"step {k + 1} placed {len(actions[k].spots(doc.shape))} spots: "
                              f"there is no spot {self.spot + 1}")
@@ -530,7 +530,7 @@ def deleted_spots(actions) -> dict:
     skipped: dict = {}
     for j, a in enumerate(actions):
         if isinstance(a, DeleteSpot):
-            _skip(skipped, a.target(actions[:j]), a.spot)
+            _skip(skipped, a.placement_step(actions[:j]), a.spot)
     return skipped
 
 
