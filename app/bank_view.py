@@ -181,11 +181,20 @@ class ThumbnailGrid(QtWidgets.QListView):
         """Two rows: the grid asks for little and takes what is left (the details come first)."""
         return QtCore.QSize(3 * CELL.width() + 20, 2 * CELL.height() + 8)
 
+    def layout_width(self) -> int:
+        """The width Qt lays the tiles out in: the viewport's without scroll bars, less a
+        vertical scroll bar's (QListView keeps room for it whether shown or not). Columns
+        counted from the viewport's own width disagreed with Qt's: the last row fell below the
+        fold and the scroll bar came and went until it stayed hidden ("3 results", 2 shown)."""
+        extent = self.style().pixelMetric(QtWidgets.QStyle.PixelMetric.PM_ScrollBarExtent,
+                                          None, self.verticalScrollBar())
+        return self.maximumViewportSize().width() - extent - 1    # a tile wraps past right()
+
     def resizeEvent(self, ev) -> None:
         super().resizeEvent(ev)
-        width = self.viewport().width()
+        width = self.layout_width()
         columns = max(1, width // CELL.width())
-        size = QtCore.QSize(width // columns, CELL.height())
+        size = QtCore.QSize(max(CELL.width(), width // columns), CELL.height())
         if size != self.gridSize():
             self.setGridSize(size)
 

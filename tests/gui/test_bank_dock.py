@@ -314,3 +314,47 @@ def test_thumbnails_are_read_lazily(window, qtbot, tmp_path):
     dock.view.scrollToBottom()
     qtbot.waitUntil(lambda: dock.model.ids[-1] in dock.model.pixmaps, timeout=5000)
     assert dock.model.ids[0] in dock.model.pixmaps and len(dock.model.pixmaps) < 200
+
+
+def reachable(view, rows: int) -> None:
+    """Every tile either lies in the viewport or the vertical scroll bar is there to reach it;
+    the last one, scrolled to, lies wholly in the viewport and a click selects it."""
+    viewport = view.viewport().rect()
+    model = view.model()
+    hidden = [r for r in range(rows) if not viewport.contains(view.visualRect(model.index(r)))]
+    assert not hidden or view.verticalScrollBar().isVisible(), (hidden, viewport)
+    last = model.index(rows - 1)
+    view.scrollTo(last)
+    QtTest.QTest.qWait(20)
+    rect = view.visualRect(last)
+    assert viewport.contains(rect), (rect, viewport)
+    click(view.viewport(), rect.center())
+    assert view.currentIndex().row() == rows - 1
+
+
+@pytest.mark.parametrize("results", [3, 14])
+def test_every_result_can_be_scrolled_to_and_clicked(window, qtbot, tmp_path, results):
+    """"grav" found 3 and showed 2 with no scroll bar (issue 16): at every dock width each
+    result is in view or a scroll bar reaches it, and the grid reflows with the width."""
+    path = tmp_path / "many.sqlite"
+    with Bank(path, builtins=False) as bank:
+        for k in range(results):
+            bank.add(noise(k), f"Gravel {k}", tags=["granular"])
+        bank.add(noise(99), "Stripes")
+    window.resize(1280, 800)
+    dock = window.bank_dock
+    dock.show()
+    dock.raise_()
+    assert dock.load(path)
+    assert window.runner.wait(60_000)
+    type_search(qtbot, dock, "grav")
+    qtbot.waitUntil(lambda: len(shown(dock)) == results)
+    view = dock.view
+    columns = {}
+    for width in (295, 300, 303, 340, 390, 420):
+        window.resizeDocks([dock], [width], QtCore.Qt.Orientation.Horizontal)
+        qtbot.wait(60)
+        reachable(view, results)
+        columns[dock.width()] = len({view.visualRect(view.model().index(r)).left()
+                                     for r in range(results)})
+    assert columns[max(columns)] > columns[min(columns)] or results <= 3    # it reflows
