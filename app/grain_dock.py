@@ -1,4 +1,4 @@
-"""The Grain & density dock (thesis §5.3, §5.4.1): the texture's grain shape, size and orientation,
+"""The Grain rendering dock (thesis §5.3, §5.4.1): the texture's grain shape, size and orientation,
 its explosion and compression, with a live preview; each committed setting is one Action.
 
 A texture is "its DPJ, its grain and density parameters and its actions" (§5.4.2): the dock edits
@@ -10,11 +10,14 @@ always returns to the normalised texture, whatever the number of settings tried.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.errors import TexeditorError
-from texeditor.grain_render import LATTICES, MAX_COMPRESSION, MAX_EXPLOSION, OVERLAP_RULES
+from texeditor.grain_render import (LATTICES, MAX_COMPRESSION, MAX_EXPLOSION, OVERLAP_RULES,
+                                    check_size)
 from texeditor.texture_actions import RenderGrains
 
 from .images import qimage_from_rgb
@@ -28,8 +31,38 @@ LATTICE_NAMES = [("Automatic", "auto"), ("Grid", "grid"), ("Honeycomb", "honeyco
 PREVIEW = 200                 # preview side, pixels (shown 1:1: the real grain)
 PREVIEW_DELAY_MS = 40
 COMMIT_DELAY_MS = 600         # a setting typed or stepped with keys is committed after a pause
+LARGE_PIXELS = 16 * 2**20     # an output beyond 4096² is called large before it is made
+WORKER_COST = 1e7             # render_cost (~0.3 s per 10^8) above which the render runs in the
+WORKER_PIXELS = 2**22         # worker with progress and Cancel; also any output over 4 M pixels
 assert [v for _, v in OVERLAPS] == list(OVERLAP_RULES) and [v for _, v in LATTICE_NAMES] == \
     list(LATTICES)
+
+
+def output_text(action: RenderGrains, texture_shape: tuple[int, int]) -> str:
+    """What a render will make, and why, said before it is made: "Output 4608×3584 px: 9×7
+    pixels a point of the 512×512 texture (grain 8 px, explosion 1.9×1)…", with a warning when
+    the picture is large or beyond the canvas limits."""
+    lat = action.grain_lattice()
+    h, w = texture_shape
+    oh, ow = lat.shape(texture_shape)
+    why = [f"{action.shape} grain {action.size} px"]
+    if action.explosion_x != 1 or action.explosion_y != 1:
+        why.append(f"explosion {action.explosion_x:g}×{action.explosion_y:g}")
+    if action.compression:
+        why.append(f"compression {action.compression:g}")
+    scale = f"{lat.pitch_x}×" if lat.pitch_x == lat.pitch_y else f"{lat.pitch_x}×{lat.pitch_y}"
+    text = (f"Output <b>{ow}×{oh}</b> px: {scale} the {w}×{h} texture ({', '.join(why)}); one "
+            f"grain every {lat.pitch_x}×{lat.pitch_y} px" + (", odd rows shifted" if
+                                                            lat.row_offset else ""))
+    try:
+        check_size(texture_shape, lat)
+    except TexeditorError as exc:
+        return text + f"<br><span style='color:#b00020'>{exc}</span>"
+    if oh * ow > LARGE_PIXELS:
+        text += (f"<br><span style='color:#b35c00'>Large: {oh * ow / 2**20:.0f} M pixels; "
+                 "rendering and every later step will be slower. Smaller grains or less "
+                 "explosion make a smaller picture.</span>")
+    return text
 
 
 def grain_step(history) -> int | None:
@@ -89,7 +122,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
     """Grain shape, size, orientation; explosion across and down; compression and overlap."""
 
     def __init__(self, window):
-        super().__init__("Grain && density", window)
+        super().__init__("Grain rendering", window)
         self.setObjectName("GrainDensityDock")
         self.main_window = window
         self._loading = False
@@ -97,6 +130,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self._base = None               # (levels, palette) of the normalised texture
         self._bitmap: str | None = None
         self._shown_step = object()     # nothing shown yet
+        self._rendering: RenderGrains | None = None   # a render running in the worker
         self._build()
         self.show_action(None)
         self._preview_timer = self._timer(PREVIEW_DELAY_MS, self.update_preview)
@@ -126,7 +160,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self.sides.setToolTip("Vertices of the regular polygon")
         self.from_tool = QtWidgets.QPushButton("Use the Grain tool's grain")
         self.from_tool.setToolTip("Copy the shape, size, orientation (and drawing) of the grain "
-                                  "chosen in the Grains dock")
+                                  "chosen in the Grain stamps dock")
         form.addRow("Shape", self.shape)
         form.addRow("Size", self.size_slider)
         form.addRow("Orientation", self.angle)
@@ -166,6 +200,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self.preview.setToolTip("The top-left corner of the texture with these grains, at 100 %")
         self.info = QtWidgets.QLabel()
         self.info.setWordWrap(True)
+        self.info.setTextFormat(QtCore.Qt.TextFormat.RichText)
         layout.addWidget(self.preview, 0, QtCore.Qt.AlignmentFlag.AlignHCenter)
         layout.addWidget(self.info)
         layout.addWidget(grain)
@@ -235,13 +270,14 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self.aspect.setEnabled(shape in ("rectangle", "circle", "polygon", "hexagon", "diamond"))
         self.sides.setEnabled(shape == "polygon")
         bitmap_ok = shape != "bitmap" or self._bitmap is not None
-        self.shape.setToolTip("" if bitmap_ok else "Draw or choose a grain in the Grains dock, "
+        self.shape.setToolTip("" if bitmap_ok else "Draw or choose a grain in the Grain stamps dock, "
                               "then press “Use the Grain tool's grain”")
 
     def _edited(self) -> None:
         if self._loading:
             return
         self._enable_fields()
+        self.update_info()
         self._preview_timer.start()
         self._commit_timer.start()
 
@@ -279,17 +315,26 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self._edited_now()
 
     # -- following the document --------------------------------------------------------------------
+    def editing(self) -> bool:
+        """True while settings of the user's are on their way to the document (waiting for a
+        pause, a slider held, a render running): the controls then show them, not the log."""
+        return (self._commit_timer.isActive() or self._rendering is not None
+                or any(s.slider.isSliderDown() for s in (
+                    self.size_slider, self.angle, self.aspect, self.explode_x, self.explode_y,
+                    self.compression)))
+
     def refresh(self) -> None:
-        """After any change of the history: show the grain step's settings, if it changed."""
+        """After any change of the history (and after a task ends, a cancelled one included):
+        the controls show the document's grain step — derived from the log every time, never
+        kept from an earlier setting — unless the user's settings are on their way."""
         history = self.main_window.history
         if history is None:
             return
         i = grain_step(history)
         step = history.actions[i] if i is not None else None
-        if step != self._shown_step:
+        if not self.editing():
             self._shown_step = step
-            if not self._commit_timer.isActive():
-                self.show_action(step)
+            self.show_action(step)
         if self.isVisible():
             self._preview_timer.start()
 
@@ -329,10 +374,20 @@ class GrainDensityDock(QtWidgets.QDockWidget):
             return
         rgb = np.asarray(palette)[picture[:PREVIEW, :PREVIEW]]
         self.preview.setPixmap(QtGui.QPixmap.fromImage(qimage_from_rgb(rgb)))
-        oh, ow = lat.shape(levels.shape)
-        self.info.setText(f"{levels.shape[1]}×{levels.shape[0]} points → {ow}×{oh} pixels; "
-                          f"one grain every {lat.pitch_x}×{lat.pitch_y} px"
-                          + (", odd rows shifted" if lat.row_offset else ""))
+        self.info.setText(output_text(action, levels.shape))
+
+    def update_info(self) -> None:
+        """Say the output size of the settings, at once (as a slider moves)."""
+        action = self.action()
+        if action is None or self.main_window.history is None:
+            return
+        try:
+            levels, _palette = self.normalised()
+        except TexeditorError as exc:
+            self.info.setText(str(exc))
+            return
+        if levels.size:
+            self.info.setText(output_text(action, levels.shape))
 
     def showEvent(self, ev) -> None:
         super().showEvent(ev)
@@ -355,11 +410,57 @@ class GrainDensityDock(QtWidgets.QDockWidget):
             if action.mask().shape == (1, 1) and action.grain_lattice().shape((1, 1)) == (1, 1):
                 return                     # one pixel a point: the texture already looks so
             base = window.document.levels.copy(), window.document.palette
-            if window.submit(action):
+            if self.slow(action, base[0].shape):
+                self._render_in_worker(action, *base)
+            elif window.submit(action):
                 self._base_key = (id(window.history), tuple(window.history.actions[:-1]))
                 self._base = base
         elif window.history.actions[i] != action:
-            window.edit_step(i, action)
+            window.edit_step(i, action)    # replayed in the worker, with progress and Cancel
+
+    @staticmethod
+    def slow(action: RenderGrains, texture_shape) -> bool:
+        """Whether a render may take over ~0.3 s (then it runs in the worker)."""
+        oh, ow = action.grain_lattice().shape(texture_shape)
+        return action.render_cost(texture_shape) > WORKER_COST or oh * ow > WORKER_PIXELS
+
+    def _render_in_worker(self, action: RenderGrains, levels, palette) -> None:
+        """Render in the window's worker (progress, Cancel/Esc), then submit the action with
+        its picture; Cancel, or a document changed meanwhile, leaves the document as it is."""
+        window = self.main_window
+        history, applied, start = window.history, window.history.applied, time.perf_counter()
+        oh, ow = action.grain_lattice().shape(levels.shape)
+        self._rendering = action
+
+        def done(picture) -> None:
+            self._rendering = None
+            if window.history is not history or history.applied != applied:
+                window.statusBar().showMessage("The texture changed during the grain rendering: "
+                                               "it was not applied.", 8000)
+                self.refresh()
+                return
+            action.use_result(levels, picture)
+            if window.submit(action):
+                self._base_key = (id(history), tuple(history.actions[:-1]))
+                self._base = levels, palette
+                window.statusBar().showMessage(
+                    f"Grains rendered: {ow}×{oh} px in {time.perf_counter() - start:.1f} s.",
+                    8000)
+
+        def cancelled() -> None:
+            self._rendering = None
+            window.statusBar().showMessage("Grain rendering cancelled: the document is "
+                                           "unchanged.", 8000)
+            self.refresh()
+
+        def failed(exc) -> None:
+            self._rendering = None
+            self.refresh()
+            window.show_error("Cannot render the grains", exc)
+
+        window.runner.run(f"Rendering grains ({ow}×{oh} px)…",
+                          lambda progress, cancel: action.render(levels, progress, cancel),
+                          done, on_cancel=cancelled, on_error=failed)
 
 
 def install(window) -> GrainDensityDock:
@@ -375,6 +476,9 @@ def install(window) -> GrainDensityDock:
         window.tabifyDockWidget(neighbour, dock)
         (getattr(window, "bank_dock", None) or neighbour).raise_()
     dock.visibilityChanged.connect(lambda shown: shown and dock.refresh())
+    # a task that ends without changing the history (a cancelled replay of the grain step) must
+    # still put the controls back on the document; after the task's own callback has run
+    window.runner.finished.connect(lambda: QtCore.QTimer.singleShot(0, dock.refresh))
     from .composition_dialog import open_composition
     from .doubling_dialog import open_doubling
     window.act_compose = window._action("&Composition…", lambda: open_composition(window),

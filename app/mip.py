@@ -30,9 +30,16 @@ def box_average(levels: np.ndarray, lut: np.ndarray, k: int) -> np.ndarray:
     f = 1 << k
     h, w = levels.shape
     out = np.empty(((h + f - 1) // f, (w + f - 1) // f, 3), np.uint8)
-    _box(np.ascontiguousarray(levels, dtype=np.uint8),
-         np.ascontiguousarray(lut[:, :3], dtype=np.uint8), f, out)
+    _box(_readonly(levels), _readonly(lut[:, :3]), f, out)
     return out
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    """A C-contiguous uint8 read-only view: one compiled signature (numba types read-only arrays
+    apart, and the document hands out read-only views) and one compilation."""
+    a = np.ascontiguousarray(a, dtype=np.uint8).view()
+    a.flags.writeable = False
+    return a
 
 
 @numba.njit(cache=True, nogil=True)

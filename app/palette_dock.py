@@ -27,6 +27,26 @@ def grey_scale(levels: int, darkest: int, lightest: int, contrast: int) -> np.nd
     return np.repeat(np.clip(grey, 0, 255).astype(np.uint8)[:, None], 3, axis=1)
 
 
+def fit_grey_scale(palette, contrast_hint: int = 0) -> tuple[int, int, int]:
+    """The (darkest, lightest, contrast) whose grey_scale() is nearest the palette's greys (its
+    luminance, for a colour palette): the sliders' state derived from the document. Among equal
+    fits (two levels have no middle to bend) the contrast nearest ``contrast_hint`` wins."""
+    pal = np.asarray(palette, np.float64).reshape(-1, 3)
+    grey = np.round(pal @ np.array([0.299, 0.587, 0.114]))
+    darkest, lightest = int(grey[0]), int(grey[-1])
+    if len(grey) < 3 or darkest == lightest:
+        return darkest, lightest, int(contrast_hint)
+    cs = np.arange(-100, 101)
+    t = np.linspace(0.0, 1.0, len(grey))[None, :]
+    a = np.exp(1.5 * cs / 100.0)[:, None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        curved = t**a / (t**a + (1 - t) ** a)
+    ramps = np.clip(np.round(darkest + (lightest - darkest) * curved), 0, 255)
+    error = np.abs(ramps - grey[None, :]).max(axis=1)
+    best = np.flatnonzero(error == error.min())
+    return darkest, lightest, int(cs[best[np.argmin(np.abs(cs[best] - contrast_hint))]])
+
+
 def text_colour(rgb) -> QtGui.QColor:
     r, g, b = (int(c) for c in rgb)
     return QtGui.QColor("black") if 0.299 * r + 0.587 * g + 0.114 * b > 140 else QtGui.QColor("white")
@@ -171,8 +191,12 @@ class PaletteDock(QtWidgets.QDockWidget):
         grey = self.palette_rgb[:, 0]
         is_grey = bool(np.all(self.palette_rgb == grey[:, None]))
         self.grey_group.setTitle("Grey scale" if is_grey else "Grey scale (replaces the colours)")
-        if is_grey:
-            for slider, value in ((self.darkest, grey[0]), (self.lightest, grey[-1])):
+        # every slider shows the document's palette (undo, redo, replay, open), never a value
+        # kept from an earlier edit; a grey-scale edit still settling (keys, a drag) is left be
+        if not (self._commit_timer.isActive()
+                or any(s.isSliderDown() for s in (self.darkest, self.lightest, self.contrast))):
+            values = fit_grey_scale(self.palette_rgb, self.contrast.value())
+            for slider, value in zip((self.darkest, self.lightest, self.contrast), values):
                 slider.blockSignals(True)
                 slider.setValue(int(value))
                 slider.blockSignals(False)

@@ -17,6 +17,15 @@ DEFAULT_SIZE = 256
 DEFAULT_SEED = 1984
 
 
+def synthesis_step(history):
+    """The Synthesize step that made the current texture (None when the last new canvas was not
+    a synthesis, or there is none)."""
+    for action in reversed(history.applied):
+        if action.EFFECT == "reset":
+            return action if action.TYPE == "synthesize" else None
+    return None
+
+
 class SynthesisDock(QtWidgets.QDockWidget):
     """``requested(width, height, seed)`` when the user asks for a synthesis."""
 
@@ -61,6 +70,23 @@ class SynthesisDock(QtWidgets.QDockWidget):
             self.dpj_label.setText(f"{name}\n{details}")
         self.dpj_label.setToolTip(dpj_summary(dpj) if dpj is not None else "")
         self.button.setEnabled(self.has_dpj and not getattr(self, "busy", False))
+
+    def refresh(self, history) -> None:
+        """Follow the document after any change (undo, redo, replay, open): its DPJ, and the
+        size and seed of the synthesis that made the current texture. Those are shown when that
+        step changes, so values typed for the next synthesis survive unrelated edits (a stroke)."""
+        doc = history.document
+        self.set_dpj(doc.dpj)
+        step = synthesis_step(history)
+        if step is not None and step != getattr(self, "_shown_step", None):
+            self.show_step(step)
+        self._shown_step = step
+
+    def show_step(self, action) -> None:
+        """Show a Synthesize step's size and seed."""
+        self.width_box.setValue(action.width)
+        self.height_box.setValue(action.height)
+        self.seed.set_value(action.seed)
 
     def set_busy(self, busy: bool) -> None:
         self.busy = busy

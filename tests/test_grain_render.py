@@ -266,3 +266,27 @@ def test_kernel_matches_the_definition(levels, shape, size, angle, ex, ey, comp,
                            compression=comp)
     assert np.array_equal(gr.render_grains(t, mask, lat, overlap),
                           reference(t, mask, lat, overlap))
+
+
+def test_banded_render_with_progress_is_the_same_picture_and_can_be_cancelled():
+    from texeditor.errors import Cancelled
+    from texeditor.texture_actions import RenderGrains
+    from texeditor.document import Document
+    t = np.random.default_rng(3).integers(0, 4, (40, 30), dtype=np.uint8)
+    action = RenderGrains("hexagon", 6, explosion_x=1.9, compression=0.3, overlap="max")
+    seen = []
+    banded = action.render(t, progress=seen.append, cancel=lambda: False)
+    assert np.array_equal(banded, action.render(t))
+    assert seen[-1] == 1.0 and len(seen) > 10 and seen == sorted(seen)
+    with pytest.raises(Cancelled):
+        action.render(t, progress=seen.append, cancel=lambda: len(seen) > 15)
+    # a picture handed over from a worker is used once, only for the levels it was made from
+    doc = Document()
+    doc._set_levels(t, np.zeros((4, 3), np.uint8))
+    action.use_result(t.copy(), np.full(banded.shape, 3, np.uint8))
+    action.apply(doc)
+    assert np.all(doc.levels == 3)
+    doc._set_levels(t, np.zeros((4, 3), np.uint8))
+    action.use_result(t + 1, np.full(banded.shape, 3, np.uint8))   # stale: rendered again
+    action.apply(doc)
+    assert np.array_equal(doc.levels, banded)

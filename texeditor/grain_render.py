@@ -32,7 +32,7 @@ from functools import lru_cache
 import numba
 import numpy as np
 
-from .errors import InputError
+from .errors import Cancelled, InputError
 from .grains import grain_mask
 
 OVERLAP_RULES = ("last", "max", "min")
@@ -123,8 +123,12 @@ def grain_lattice(mask, *, shape: str = "square", lattice: str = "auto", explosi
 
 # -- drawing ---------------------------------------------------------------------------------------
 
-def render_grains(levels, mask, lattice: Lattice, overlap: str = "last") -> np.ndarray:
+def render_grains(levels, mask, lattice: Lattice, overlap: str = "last", *, progress=None,
+                  cancel=None) -> np.ndarray:
     """Draw every non-background point of ``levels`` as the grain ``mask`` on ``lattice``.
+
+    With ``progress`` (called with 0..1) or ``cancel`` (Cancelled when it returns True), the
+    rows are drawn in bands, in the same order, so the picture is the same either way.
 
     >>> render_grains(np.array([[1, 2], [0, 3]]), np.ones((2, 2), bool), Lattice(2, 2))
     array([[1, 1, 2, 2],
@@ -147,10 +151,27 @@ def render_grains(levels, mask, lattice: Lattice, overlap: str = "last") -> np.n
     dy = (ys - ay + lattice.pitch_y // 2).astype(np.int64)
     dx = (xs - ax + lattice.pitch_x // 2).astype(np.int64)
     out = np.zeros(out_shape, dtype=np.uint8)
-    if levels.size:
-        _draw(np.ascontiguousarray(levels, dtype=np.uint8), dy, dx, lattice.pitch_y,
-              lattice.pitch_x, lattice.row_offset, OVERLAP_RULES.index(overlap), out)
+    if not levels.size:
+        return out
+    src = np.ascontiguousarray(levels, dtype=np.uint8)
+    h = src.shape[0]
+    band = h if progress is None and cancel is None else max(1, -(-h // 100))   # ≤ 100 bands
+    for r0 in range(0, h, band):
+        if cancel is not None and cancel():
+            raise Cancelled("grain rendering cancelled")
+        _draw(src, dy, dx, lattice.pitch_y, lattice.pitch_x, lattice.row_offset,
+              OVERLAP_RULES.index(overlap), out, r0, min(h, r0 + band))
+        if progress is not None:
+            progress(min(h, r0 + band) / h)
     return out
+
+
+def render_cost(texture_shape: tuple[int, int], mask, lattice: Lattice) -> float:
+    """A rough cost of a render in grain points drawn plus pixels cleared (for the GUI to
+    decide whether to show progress): about 0.3 s per 10^8 on one core."""
+    h, w = texture_shape
+    oh, ow = lattice.shape(texture_shape)
+    return float(h * w * int(np.count_nonzero(mask)) + oh * ow)
 
 
 def check_size(shape: tuple[int, int], lattice: Lattice) -> tuple[int, int]:
@@ -165,11 +186,11 @@ def check_size(shape: tuple[int, int], lattice: Lattice) -> tuple[int, int]:
 
 
 @numba.njit(cache=True, nogil=True)
-def _draw(levels, dy, dx, py, px, row_offset, rule, out):   # pragma: no cover - compiled
+def _draw(levels, dy, dx, py, px, row_offset, rule, out, r0, r1):   # pragma: no cover
     h, w = levels.shape
     oh, ow = out.shape
     n = dy.shape[0]
-    for r in range(h):
+    for r in range(r0, r1):
         shift = row_offset if r % 2 == 1 else 0
         top = r * py
         for c in range(w):

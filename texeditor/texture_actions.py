@@ -313,11 +313,33 @@ class RenderGrains(Action):
                                 explosion_x=self.explosion_x, explosion_y=self.explosion_y,
                                 compression=self.compression)
 
-    def render(self, levels) -> np.ndarray:
-        return gr.render_grains(levels, self.mask(), self.grain_lattice(), self.overlap)
+    def render(self, levels, progress=None, cancel=None) -> np.ndarray:
+        return gr.render_grains(levels, self.mask(), self.grain_lattice(), self.overlap,
+                                progress=progress, cancel=cancel)
+
+    def render_cost(self, texture_shape) -> float:
+        """`grain_render.render_cost` of this render on a texture of ``texture_shape``."""
+        return gr.render_cost(texture_shape, self.mask(), self.grain_lattice())
+
+    def prepare(self, doc, progress=None, cancel=None) -> None:
+        """In a replay with progress or cancel (the GUI's worker), render here, in bands that
+        report progress and can stop; apply() then only swaps the picture in."""
+        if progress is not None or cancel is not None:
+            levels = doc.levels
+            self.use_result(levels, self.render(levels, progress, cancel))
+
+    def use_result(self, levels, picture) -> None:
+        """Hand apply() the picture this action renders from ``levels``, made elsewhere (a
+        worker): used once, and only if the document's levels are still equal to ``levels``."""
+        object.__setattr__(self, "_result", (levels, picture))
 
     def apply(self, doc) -> None:
-        doc._set_levels(self.render(doc.levels), copy=False)
+        levels, picture = self.__dict__.pop("_result", (None, None))
+        current = doc.levels
+        if picture is None or levels.shape != current.shape or not np.array_equal(levels,
+                                                                                  current):
+            picture = self.render(current)
+        doc._set_levels(picture, copy=False)
 
     def canvas_shape(self, shape):
         return self.grain_lattice().shape(shape)

@@ -1,4 +1,4 @@
-"""The Grain & density dock, the composition dialog and the doubling dialog (issue 9), driven by
+"""The Grain rendering dock, the composition dialog and the doubling dialog (issue 9), driven by
 mouse and keys on the real widgets; every check is on the document."""
 
 import numpy as np
@@ -76,11 +76,22 @@ def test_moving_size_and_density_sliders_renders_the_document_and_undo_returns(w
     assert np.array_equal(window.document.levels,
                           gr.render(normal, "square", size, explosion_x=ex, compression=comp))
 
-    window.act_undo.trigger()
+    # each setting is one undoable edit of the grain step; the controls follow every undo/redo
+    states = [(1, 1.0, 0.0), (size, 1.0, 0.0), (size, ex, 0.0), (size, ex, comp)]
+    for expect in reversed(states[:-1]):
+        window.act_undo.trigger()
+        assert (dock.size_slider.value(), dock.explode_x.value(), dock.compression.value()) == \
+            expect
+        if expect[0] > 1:
+            assert np.array_equal(window.document.levels, gr.render(
+                normal, "square", expect[0], explosion_x=expect[1], compression=expect[2]))
     assert np.array_equal(window.document.levels, normal)  # back to the normalised texture
-    assert dock.size_slider.value() == 1                            # the dock follows the document
-    window.act_redo.trigger()
-    assert dock.compression.value() == comp and dock.size_slider.value() == size
+    for expect in states[1:]:
+        window.act_redo.trigger()
+        assert (dock.size_slider.value(), dock.explode_x.value(), dock.compression.value()) == \
+            expect
+    assert np.array_equal(window.document.levels,
+                          gr.render(normal, "square", size, explosion_x=ex, compression=comp))
 
 
 def test_changing_the_shape_renders_hexagons_on_a_honeycomb(window, dock, qtbot):
