@@ -302,7 +302,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             self.canvas.image.clear()
         self.palette_dock.set_palette(doc.palette)
         self.history_dock.refresh()
-        self.synthesis_dock.set_dpj(doc.dpj)
+        self.synthesis_dock.refresh(self.history)
         self.density_dock.refresh()
         self.act_undo.setEnabled(self.can_undo())
         self.act_redo.setEnabled(self.history.can_redo)
