@@ -52,6 +52,39 @@ def preview_image(rgb: np.ndarray) -> QtGui.QImage:
                                        QtCore.Qt.AspectRatioMode.KeepAspectRatio, mode)
 
 
+def chain_advice(report, wrap: bool) -> tuple[str, str, bool]:
+    """What the DPJ's horizontal chain means for synthesis, in a user's words, with what to do;
+    then the detail (for a tooltip) and whether it is a warning.
+
+    The sampler draws a row left to right, each window continuing the columns the previous one
+    ended with (its *state*). A *closed class* is a set of states it can go on drawing from for
+    ever; a *transient* state is one it passes through and never sees again, usually a column
+    seen only at the photo's edges. With no closed class every row runs into dead ends, which
+    the synthesis repairs by drawing from a simpler context (thesis §4.5, Massaloux)."""
+    states, closed, transient = report.states, report.closed_classes, report.transient_states
+    detail = (f"Horizontal Markov chain of the DPJ: {states:,} states (column patterns of the "
+              f"window), {closed} closed class(es) — sets of patterns the synthesis can keep "
+              f"drawing from along a row — and {transient:,} transient state(s), which it passes "
+              "through at most once, mostly patterns seen only at the photo's edges. The DPJ "
+              "editor's Restrict (Massaloux, thesis §4.5) keeps the main closed class.")
+    fewer = ("tick “Wrap around the edges”, " if not wrap else "") + \
+        "choose fewer levels G or a smaller window"
+    if states and closed == 0:
+        return (f"Rows will hit dead ends: no run of column patterns can repeat, so the "
+                f"synthesis will often repair (draw from a simpler context) and the result may "
+                f"look patchy. To fix it, {fewer}.", detail, True)
+    if closed > 1:
+        return (f"The patterns fall into {closed} separate families: a row keeps the family it "
+                f"starts in, so rows may look unlike each other. To join them, {fewer}, or use "
+                "Restrict in the DPJ editor to keep the main one.", detail, True)
+    if transient and states and transient * 2 > states:
+        return (f"{transient:,} of {states:,} column patterns occur only near the photo's "
+                "edges: a row leaves them within a few points and never comes back. A larger "
+                f"photo helps, or {fewer}.", detail, True)
+    return ("Every row can be drawn to any length from this DPJ: ready to synthesise.", detail,
+            False)
+
+
 def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, cancel) -> Acquired:
     """Read the photo (unless ``image`` is given), quantise it and count its windows: all the
     slow part of the dialog, for the worker. Stops between stages when ``cancel()``."""
@@ -254,10 +287,12 @@ class AcquireDialog(QtWidgets.QDialog):
         dpj, (u, v), g = self.dpj, self.dpj.window, self.dpj.levels
         h, w = self.quantization.levels.shape
         self.info.setStyleSheet("")
+        advice, detail, warn = chain_advice(report, self.wrap.isChecked())
+        colour = "#c07000" if warn else "#308030"
         self.info.setText(
             f"<b>{len(dpj):,} non-zero configurations</b> of {u}×{v} windows with G = {g} "
-            f"(from a {w}×{h} photo).<br>Horizontal chain: {report.states:,} states, "
-            f"{report.closed_classes} closed class(es), {report.transient_states} transient.")
+            f"(from a {w}×{h} photo).<br><span style='color: {colour}'>{advice}</span>")
+        self.info.setToolTip(detail)
         self.ok_button.setEnabled(True)
 
     def _show_error(self, message: str) -> None:

@@ -1,6 +1,6 @@
 """The Brushes dock (thesis §3.2.2, "several brushes grouped in a menu"): brush presets as
 pictures of one dab, the user's own saved in the user data folder; and the few menu entries and
-keys of the painting tools ([ and ], the grain menu, Peano sub-regions).
+keys of the painting tools ([ and ], the Grain stamps menu, Peano sub-regions).
 
 A preset is plain data (texeditor.brushes.Brush); choosing one loads it into the Brush or Spray
 tool, which turns strokes into Stroke actions.
@@ -139,8 +139,10 @@ class BrushDock(QtWidgets.QDockWidget):
 # -- the painting tools' menu entries and keys -----------------------------------------------------
 
 def install_paint_ui(window) -> None:
-    """Add the Brushes and Grains docks (hidden until the Brush, Spray or Grain tool shows them,
-    or View shows them), [ and ] (tool size), the Grains menu and Image ▸ Peano sub-regions."""
+    """Add the Brushes and Grain stamps docks (shown while the Brush or Spray, or the Grain tool
+    is current, or by View), [ and ] (tool size), the Grain stamps menu (the Grain tool's
+    stamps; rendering every point as a grain is the Grain rendering dock's) and Image ▸ Peano
+    sub-regions."""
     from .grain_editor import GrainDock
     window.brush_dock = BrushDock(window)
     window.grain_dock = GrainDock(_grain_tool(window), window)
@@ -170,7 +172,7 @@ def install_paint_ui(window) -> None:
     if "Tools" in menus:
         menus["Tools"].addSeparator()
         menus["Tools"].addActions([window.act_smaller, window.act_bigger])
-    grains = window.menuBar().addMenu("&Grains")
+    grains = window.menuBar().addMenu("Grain &stamps")
     grains.aboutToShow.connect(lambda: _fill_grain_menu(window, grains))
     _fill_grain_menu(window, grains)
 

@@ -415,7 +415,7 @@ class GrainDock(QtWidgets.QDockWidget):
     then the user's; a click makes one the Grain tool's grain, a double click edits it."""
 
     def __init__(self, tool, parent=None):
-        super().__init__("Grains", parent)
+        super().__init__("Grain stamps", parent)
         self.setObjectName("GrainDock")
         self.tool = tool
         body = QtWidgets.QWidget()

@@ -64,6 +64,8 @@ class ParamsForm(QtWidgets.QWidget):
         super().__init__(parent)
         self.form = QtWidgets.QFormLayout(self)
         self.form.setFieldGrowthPolicy(QtWidgets.QFormLayout.FieldGrowthPolicy.AllNonFixedFieldsGrow)
+        # in a narrow dock a long row puts its field under its name instead of scrolling sideways
+        self.form.setRowWrapPolicy(QtWidgets.QFormLayout.RowWrapPolicy.WrapLongRows)
         self.action = None
         self.editors: dict[str, tuple[str, QtWidgets.QWidget]] = {}
 
@@ -77,6 +79,8 @@ class ParamsForm(QtWidgets.QWidget):
         for spec in param_specs(action):
             editor = self._editor(spec, dpjs or {})
             editor.setToolTip(spec.doc)
+            if isinstance(editor, QtWidgets.QLabel):
+                editor.setWordWrap(True)        # a description wraps: the form never scrolls sideways
             self.form.addRow(LABELS.get(spec.name, spec.name.replace("_", " ").capitalize()), editor)
 
     def _editor(self, spec, dpjs) -> QtWidgets.QWidget:

@@ -494,6 +494,7 @@ class _Slider(QtWidgets.QWidget):
         row.setContentsMargins(0, 0, 0, 0)
         self.slider = QtWidgets.QSlider(QtCore.Qt.Orientation.Horizontal)
         self.slider.setRange(0, maximum)
+        self.slider.setMinimumWidth(48)          # never squashed to a bare handle beside a field
         self.label = QtWidgets.QLabel()
         self.label.setMinimumWidth(QtGui.QFontMetrics(self.label.font())
                                    .horizontalAdvance("100 %") + 4)
@@ -562,7 +563,8 @@ class SpotEditor(QtWidgets.QWidget):
     # -- building ---------------------------------------------------------------------------------
     def _build_top(self) -> QtWidgets.QHBoxLayout:
         row = QtWidgets.QHBoxLayout()
-        self.new_button = QtWidgets.QPushButton("New")
+        self.new_button = QtWidgets.QToolButton(text="New")   # narrow: the editor fits under a
+        #                                                          1280-pixel window's canvas
         self.new_button.setToolTip("Start a new envelope: click the two ends of its equator")
         self.new_button.clicked.connect(self.new_envelope)
         self.axes_button = QtWidgets.QToolButton(text="Axes", checkable=True, checked=True)
@@ -603,6 +605,9 @@ class SpotEditor(QtWidgets.QWidget):
         self.roughness.setSingleStep(0.05)
         self.roughness.setToolTip("Roughness exponent h: 0 very rough, 1 smooth")
         self.interior = QtWidgets.QComboBox()
+        self.interior.setSizeAdjustPolicy(
+            QtWidgets.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.interior.setMinimumContentsLength(7)       # its slider keeps room in a narrow dock
         for key, text in INTERIOR_NAMES.items():
             self.interior.addItem(text, key)
         self.interior.setToolTip("Holes: points left out; level patches: points one level "

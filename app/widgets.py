@@ -2,7 +2,28 @@
 
 from __future__ import annotations
 
-from PySide6 import QtWidgets
+from PySide6 import QtCore, QtGui, QtWidgets
+
+# a window manager's frame and title bar, which Qt learns only once the window is shown
+DECORATIONS = QtCore.QSize(16, 40)
+
+
+def available_area(window: QtWidgets.QWidget) -> QtCore.QRect:
+    """The usable part of the screen the window (or its parent) is on, less the window's frame."""
+    parent = window.parentWidget()
+    screen = (parent.screen() if parent is not None else None) or window.screen() \
+        or QtGui.QGuiApplication.primaryScreen()
+    area = screen.availableGeometry()
+    return area.adjusted(0, 0, -DECORATIONS.width(), -DECORATIONS.height())
+
+
+def fit_to_screen(window: QtWidgets.QWidget, width: int, height: int) -> QtCore.QSize:
+    """Resize a top-level window to width×height, or to less on a smaller screen (a 1280×800
+    laptop): never beyond the available screen area, so no button is out of reach."""
+    area = available_area(window)
+    size = QtCore.QSize(min(width, area.width()), min(height, area.height()))
+    window.resize(size)
+    return size
 
 
 def scrolled(body: QtWidgets.QWidget) -> QtWidgets.QScrollArea:

@@ -18,7 +18,7 @@ from texeditor.dpj import DPJ, MAX_LEVELS, MAX_SIDE, decode
 from texeditor.errors import TexeditorError
 
 from ..synthesis_worker import TaskRunner
-from ..widgets import scrolled
+from ..widgets import fit_to_screen, scrolled
 from .charts import ChartsPanel
 from .checks import ChecksPanel
 from .generators import IN_BACKGROUND, GeneratorsPanel
@@ -118,7 +118,7 @@ class DPJEditor(QtWidgets.QMainWindow):
         super().__init__(parent)
         self.setWindowFlag(QtCore.Qt.WindowType.Window, True)
         self.setObjectName("DPJEditor")
-        self.resize(1400, 900)
+        fit_to_screen(self, 1400, 900)      # a 1280×800 laptop gets the whole editor on screen
         self.headless = False
         self.path: Path | None = None
         self.dpj = dpj if dpj is not None else hand_made()
@@ -132,15 +132,15 @@ class DPJEditor(QtWidgets.QMainWindow):
         self.checks = ChecksPanel()
         self.preview = PreviewPanel()
         self.charts = ChartsPanel()
-        self.charts.setMinimumHeight(260)
+        self.charts.setMinimumHeight(180)
         left, right = (QtCore.Qt.DockWidgetArea.LeftDockWidgetArea,
                        QtCore.Qt.DockWidgetArea.RightDockWidgetArea)
         self.docks = {}
         for title, widget, area, scroll in (
                 ("Configuration painter", self.painter, left, False),
                 ("Generators", self.generators, left, True),
-                ("Checks", self.checks, right, False),
-                ("Live preview", self.preview, right, False),
+                ("Checks", self.checks, right, True),         # scrolled: the column fits 800 px
+                ("Live preview", self.preview, right, True),
                 ("Charts", self.charts, right, False)):
             dock = QtWidgets.QDockWidget(title, self)
             dock.setObjectName(title.replace(" ", ""))
@@ -149,6 +149,10 @@ class DPJEditor(QtWidgets.QMainWindow):
                              | QtWidgets.QDockWidget.DockWidgetFeature.DockWidgetFloatable)
             self.addDockWidget(area, dock)
             self.docks[title] = dock
+        self.charts_tabbed = self.height() < 880
+        if self.charts_tabbed:      # a short screen: the charts are a tab beside the preview
+            self.tabifyDockWidget(self.docks["Live preview"], self.docks["Charts"])
+            self.docks["Live preview"].raise_()
         side = max(self.painter.sizeHint().width(), self.generators.sizeHint().width()) + 24
         for title in ("Configuration painter", "Generators"):
             self.docks[title].setMinimumWidth(side)      # the generators never scroll sideways
@@ -271,13 +275,19 @@ class DPJEditor(QtWidgets.QMainWindow):
 
     def _size_docks(self) -> None:
         """Painter, checks and preview at their natural height; generators and charts the rest."""
-        for column in (("Configuration painter", "Generators"),
-                       ("Checks", "Live preview", "Charts")):
+        right = ("Checks", "Live preview") if self.charts_tabbed else (
+            "Checks", "Live preview", "Charts")
+        for column in (("Configuration painter", "Generators"), right):
             docks = [self.docks[t] for t in column]
             natural = [d.widget().sizeHint().height() + d.height() - d.widget().height()
                        for d in docks[:-1]]
             rest = max(200, sum(d.height() for d in docks) - sum(natural))
             self.resizeDocks(docks, natural + [rest], QtCore.Qt.Orientation.Vertical)
+        # the checks read on one line each; the table's columns need less than its share
+        checks = self.docks["Checks"]
+        want = min(self.checks.sizeHint().width() + 40, self.width() // 3)
+        if checks.width() < want:
+            self.resizeDocks([checks], [want], QtCore.Qt.Orientation.Horizontal)
 
     # -- edits -------------------------------------------------------------------------------------
     def edit(self, new: DPJ, text: str, merge_id: int = -1) -> None:

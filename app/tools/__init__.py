@@ -45,6 +45,24 @@ class Tool:
 
     def deactivate(self) -> None:
         self.window.canvas.set_overlay(None)
+        if getattr(self, "_own_dock", None) is not None:
+            self._own_dock.hide()
+            self._own_dock = None
+            bank = getattr(self.window, "bank_dock", None)
+            if bank is not None and bank.toggleViewAction().isChecked():
+                bank.raise_()                    # the column's first tab comes back, not another
+
+    def show_own_dock(self, name: str) -> None:
+        """Show the window's dock ``name`` (the Brushes, the Grain stamps) while this tool is
+        current, as Krita and GIMP show presets only with the tools that use them: one the tool
+        opened closes when another tool is chosen; one the user had open stays open."""
+        dock = getattr(self.window, name, None)
+        if dock is None:
+            return
+        if not dock.toggleViewAction().isChecked():
+            self._own_dock = dock
+        dock.show()
+        dock.raise_()
 
     # -- gestures -----------------------------------------------------------------------------------
     def click(self, cell: Cell, modifiers: QtCore.Qt.KeyboardModifier) -> None:

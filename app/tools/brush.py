@@ -249,10 +249,7 @@ class BrushTool(Tool):
         return self.opts
 
     def activate(self):
-        dock = getattr(self.window, "brush_dock", None)
-        if dock is not None:
-            dock.show()
-            dock.raise_()                        # the presets in view while painting
+        self.show_own_dock("brush_dock")         # the presets in view while painting
 
     @property
     def brush(self) -> Brush:

@@ -27,7 +27,7 @@ DEFAULT_GRAIN = "Circle 5"
 
 
 class GrainOptions(QtWidgets.QWidget):
-    """The current grain (chosen in the Grains dock or menu) and the Shift+drag settings."""
+    """The current grain (chosen in the Grain stamps dock or menu) and the Shift+drag settings."""
 
     def __init__(self, tool: "GrainTool"):
         super().__init__()
@@ -93,10 +93,7 @@ class GrainTool(Tool):
 
     def activate(self):
         self._show()
-        dock = getattr(self.window, "grain_dock", None)
-        if dock is not None:
-            dock.show()
-            dock.raise_()                        # the library in view while placing grains
+        self.show_own_dock("grain_dock")         # the library in view while placing grains
 
     def reload(self) -> None:
         """Read the library again (a damaged user file is reported; the standard grains stay)."""
@@ -118,7 +115,7 @@ class GrainTool(Tool):
             dock.fill(self.grains, self.grain.name, palette)
 
     def pick(self, name: str) -> None:
-        """Choose a library grain by name (the Grains dock and menu)."""
+        """Choose a library grain by name (the Grain stamps dock and menu)."""
         self.use(next(g for g in self.grains if g.name == name))
 
     def use(self, grain: GrainType) -> None:

@@ -192,12 +192,12 @@ class SpotTool(Tool):
     def _make_dock(self) -> None:
         window = self.window
         self.dock = SpotEditorDock(window)
-        # Under the canvas and the right-hand docks, not under the left column: the tool
-        # options stay tall, and the editor gets room for its drawing area and its settings.
+        # Under the canvas only: the left column keeps the tool options tall, and the right-hand
+        # docks keep their height (at 1280×800 an editor under them cut History to four rows).
         window.setCorner(QtCore.Qt.Corner.BottomLeftCorner,
                          QtCore.Qt.DockWidgetArea.LeftDockWidgetArea)
         window.setCorner(QtCore.Qt.Corner.BottomRightCorner,
-                         QtCore.Qt.DockWidgetArea.BottomDockWidgetArea)
+                         QtCore.Qt.DockWidgetArea.RightDockWidgetArea)
         window.addDockWidget(QtCore.Qt.DockWidgetArea.BottomDockWidgetArea, self.dock)
         self.dock.hide()
         if hasattr(window, "palette_dock"):

@@ -169,7 +169,7 @@ def test_saving_a_preset_keeps_it_in_the_user_folder(window, qtbot, user_data):
 # -- Grain -----------------------------------------------------------------------------------------
 
 def pick_grain(window, name):
-    """Click a grain in the Grains dock: it becomes the Grain tool's grain."""
+    """Click a grain in the Grain stamps dock: it becomes the Grain tool's grain."""
     dock = window.grain_dock
     dock.show()
     dock.raise_()
@@ -265,7 +265,7 @@ def test_the_grain_editor_draws_saves_and_uses_a_grain(window, qtbot, user_data)
 
 
 def test_the_grains_menu_lists_the_library_and_selects_a_grain(window, qtbot):
-    menu = next(a.menu() for a in window.menuBar().actions() if a.text() == "&Grains")
+    menu = next(a.menu() for a in window.menuBar().actions() if a.text() == "Grain &stamps")
     menu.aboutToShow.emit()
     entry = next(a for a in menu.actions() if a.text() == "Hexagon 8")
     entry.trigger()
