@@ -6,10 +6,15 @@ flushed to disk and renamed over the target, so a crash leaves either the old fi
 
 from __future__ import annotations
 
+import json
 import os
+import re
+import stat
 import tempfile
 from pathlib import Path
 from typing import Callable, BinaryIO
+
+import numpy as np
 
 from .errors import FormatError
 
@@ -64,19 +69,139 @@ def _fsync_folder(folder: Path) -> None:
         os.close(fd)
 
 
-def read_limited(path: str | os.PathLike, limit: int, what: str) -> bytes:
-    """Read a whole file, refusing one larger than ``limit`` bytes before reading it."""
+def describe_kind(mode: int) -> str:
+    """What a file that is not a regular file is, in words ("a FIFO", "a character device"…)."""
+    for test, words in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                        (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                        (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return words
+    return "not a regular file"
+
+
+def check_regular(path: str | os.PathLike, what: str, error=FormatError) -> os.stat_result:
+    """Refuse anything but an existing regular file (symbolic links followed) *before* it is
+    opened: a FIFO would block the reader forever, a device (``/dev/zero``) never ends, and
+    their ``st_size`` is 0, so no size check can bound them. Returns the file's stat."""
     path = Path(path)
     try:
-        size = path.stat().st_size
-        if size > limit:
-            raise FormatError(f"{path}: {what} is {size} bytes, more than the limit of {limit}")
-        return path.read_bytes()
+        st = os.stat(path)
     except FileNotFoundError:
-        raise FormatError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise FormatError(f"{path}: is a folder, not a {what}") from None
+        raise error(f"{path}: no such file") from None
     except PermissionError:
-        raise FormatError(f"{path}: permission denied") from None
+        raise error(f"{path}: permission denied") from None
+    except (OSError, ValueError) as exc:
+        raise error(f"{path}: cannot read ({getattr(exc, 'strerror', None) or exc})") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise error(f"{path}: is a folder, not a {what}")
+    if not stat.S_ISREG(st.st_mode):
+        raise error(f"{path}: is {describe_kind(st.st_mode)}, not a regular file: "
+                    f"not a {what}")
+    return st
+
+
+def read_limited(path: str | os.PathLike, limit: int, what: str, error=FormatError) -> bytes:
+    """Read a whole regular file of at most ``limit`` bytes.
+
+    Only regular files are read (see `check_regular`); the file is opened non-blocking and
+    checked again once open (it may have been swapped meanwhile), and never more than
+    ``limit`` + 1 bytes are read, whatever its size said (a file growing while read, a size
+    the file system reports wrongly)."""
+    path = Path(path)
+    check_regular(path, what, error)
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) \
+        | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_BINARY", 0)
+    try:
+        fd = os.open(path, flags)
+    except FileNotFoundError:
+        raise error(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise error(f"{path}: is a folder, not a {what}") from None
+    except PermissionError:
+        raise error(f"{path}: permission denied") from None
     except OSError as exc:
-        raise FormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
+        raise error(f"{path}: cannot read ({exc.strerror or exc})") from None
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise error(f"{path}: is {describe_kind(st.st_mode)}, not a regular file: "
+                        f"not a {what}")
+        if st.st_size > limit:
+            raise error(f"{path}: {what} is {st.st_size} bytes, more than the limit of {limit}")
+        chunks, size = [], 0
+        while size <= limit:
+            chunk = os.read(fd, min(2**24, limit + 1 - size))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+        if size > limit:
+            raise error(f"{path}: {what} is more than the limit of {limit} bytes")
+        return b"".join(chunks)
+    except OSError as exc:
+        raise error(f"{path}: cannot read ({exc.strerror or exc})") from None
+    finally:
+        os.close(fd)
+
+
+# -- bounded JSON ---------------------------------------------------------------------------------
+
+MAX_JSON_DEPTH = 64
+"""Deepest nesting of arrays and objects any JSON texeditor reads may have (its own files nest
+at most 6 deep). A text of nested empty arrays 1 MB long would otherwise expand to gigabytes of
+Python lists, or overflow the parser's recursion."""
+
+_JSON_STRING = re.compile(rb'"[^"\\]*(?:\\.[^"\\]*)*"', re.DOTALL)
+_NOT_BRACKETS = bytes(b for b in range(256) if b not in b"[]{}")
+_BRACKET_STEP = np.zeros(256, dtype=np.int8)
+_BRACKET_STEP[list(b"[{")] = 1
+_BRACKET_STEP[list(b"]}")] = -1
+
+
+def json_depth(data: bytes | str) -> int:
+    """The deepest nesting of ``[``/``{`` in a JSON text, brackets inside strings not counted.
+
+    A cheap scan (regular expressions and numpy, no Python loop per character) made before
+    parsing; for a text that is not valid JSON the figure is only an estimate, and the parse
+    that follows refuses the text anyway."""
+    if isinstance(data, str):
+        data = data.encode("utf-8", "surrogatepass")
+    brackets = _JSON_STRING.sub(b"", data).translate(None, _NOT_BRACKETS)
+    steps = _BRACKET_STEP[np.frombuffer(brackets, dtype=np.uint8)]
+    deepest, level = 0, 0
+    for start in range(0, len(steps), 2**20):
+        depth = np.cumsum(steps[start:start + 2**20], dtype=np.int64) + level
+        deepest = max(deepest, int(depth.max()))
+        level = int(depth[-1])
+    return deepest
+
+
+def load_json(data: bytes | str, what: str, *, limit: int, max_depth: int = MAX_JSON_DEPTH,
+              error=FormatError, constants: bool = False):
+    """Parse a JSON text (bytes are UTF-8) after bounding its size and its nesting depth.
+
+    Every JSON texeditor reads from outside (files, members of archives, bank cells, journal
+    lines, recipes, envelopes, libraries) goes through here: a text longer than ``limit``
+    bytes/characters or nesting deeper than ``max_depth`` is refused *before* it is parsed.
+    ``NaN``/``Infinity`` are refused unless ``constants``. Any defect is ``error`` (a
+    FormatError unless told) whose message starts with ``what``."""
+    if not isinstance(data, (bytes, bytearray, memoryview, str)):
+        raise error(f"{what} is not a JSON text")
+    if len(data) > limit:
+        raise error(f"{what} is {len(data)} bytes long, more than the limit of {limit}")
+    depth = json_depth(bytes(data) if not isinstance(data, str) else data)
+    if depth > max_depth:
+        raise error(f"{what} nests {depth} levels deep, more than the limit of {max_depth}")
+    try:
+        text = data if isinstance(data, str) else bytes(data).decode("utf-8")
+        if constants:
+            return json.loads(text)
+        return json.loads(text, parse_constant=_no_json_constant)
+    except UnicodeDecodeError:
+        raise error(f"{what} is not valid JSON (not UTF-8 text)") from None
+    except (ValueError, RecursionError) as exc:   # JSONDecodeError is a ValueError
+        raise error(f"{what} is not valid JSON ({str(exc).splitlines()[0][:120]})") from None
+
+
+def _no_json_constant(token):
+    raise ValueError(f"{token} is not allowed")
