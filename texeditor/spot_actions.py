@@ -188,13 +188,15 @@ class SpotAction(Action):
 
     # -- geometry -------------------------------------------------------------------------------
     def stamp(self, index: int, shape) -> Stamp:
-        """The points of spot ``index`` (cached: replays and the delete tool reuse them)."""
+        """The points of spot ``index`` (cached: replays and the delete tool reuse them); without
+        wrap only its part on the canvas (the rest can never be written)."""
         key = (self, index, tuple(shape))
         stamp = _STAMPS.get(key)
         if stamp is None:
             spot = self.spots(shape)[index]
+            clip = None if self.wrap else (0, 0, shape[0], shape[1])   # only what can land
             stamp = real_spot(self.envelope_model(), self.perturbation(), seed=spot.seed,
-                              placement=spot.placement)
+                              placement=spot.placement, clip=clip)
             stamp.mask.flags.writeable = False
             stamp.steps.flags.writeable = False
             _STAMPS.put(key, stamp)
@@ -255,11 +257,13 @@ class SpotAction(Action):
             else:
                 fill, offset = (doc.levels, spot.offset) if self.fill == "document" \
                     else (lower, (0, 0))
-            values = spot_levels(stamp, fill, shift=self.shift, num_levels=doc.num_levels,
-                                 offset=offset)
             for t, l, rs, cs in pieces(stamp, doc.shape, self.wrap):
+                part = Stamp(stamp.top + rs.start, stamp.left + cs.start, stamp.mask[rs, cs],
+                             stamp.steps[rs, cs])           # its levels: those of the whole
+                values = spot_levels(part, fill, shift=self.shift, num_levels=doc.num_levels,
+                                     offset=offset)
                 current = doc.levels[t:t + rs.stop - rs.start, l:l + cs.stop - cs.start]
-                new = blend(current, stamp.mask[rs, cs], values[rs, cs], self.blend)
+                new = blend(current, part.mask, values, self.blend)
                 if (new != current).any():
                     doc._write(t, l, new)
 

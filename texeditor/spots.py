@@ -36,6 +36,7 @@ MAX_MERIDIANS = 256
 MIN_GAP = 1e-6                  # two meridians closer than this along the equator are one place
 MIN_AREA = 1e-6                 # an envelope with less area (points²) has no width
 MAX_STAMP_SIDE = 16384
+MAX_RELIEF_POINTS = 2**24       # a relief is shaded from the whole spot: 4096² points at most
 
 
 # -- the envelope ----------------------------------------------------------------------------------
@@ -267,10 +268,9 @@ class Envelope:
 
     @classmethod
     def loads(cls, text: str) -> "Envelope":
-        try:
-            obj = json.loads(text)
-        except (ValueError, RecursionError):
-            raise InputError("the envelope is not valid JSON") from None
+        from .fileio import load_json      # size and nesting bounded before parsing
+        obj = load_json(text, "the envelope", limit=2**20, error=InputError,
+                        constants=True)
         return cls.from_json(obj)
 
 
@@ -610,12 +610,19 @@ def placed_outline(envelope: Envelope, perturbation: Perturbation | None = None,
 
 
 def real_spot(envelope: Envelope, perturbation: Perturbation | None = None, *, seed: int = 0,
-              placement: Placement | None = None) -> Stamp:
+              placement: Placement | None = None, clip=None) -> Stamp:
     """Rasterise a real spot: its perturbed outline (skimage.draw.polygon, point centres inside),
     kept within the envelope's own points, then the interior perturbation.
 
     An envelope without area is an InputError; a spot smaller than a point still marks the point
     nearest its centre, so a placement is never silently empty.
+
+    ``clip`` (top, left, bottom, right) on the plane: only the spot's points in that box are
+    rasterised (a placement's canvas), and the stamp covers only its part of the box (it may
+    then be empty). Those points are exactly the whole spot's points there: each point of the
+    outline mask and of the holes and patches depends on that point alone. A relief depends on
+    the whole spot (its distance to the edge), so it is rasterised whole, then cut, and refused
+    above MAX_RELIEF_POINTS.
     """
     perturbation = perturbation or Perturbation()
     placement = placement or Placement(tuple(envelope.centre))
@@ -633,26 +640,64 @@ def real_spot(envelope: Envelope, perturbation: Perturbation | None = None, *, s
         raise InputError(f"this spot would span {right - left}×{bottom - top} points, more "
                          f"than {MAX_STAMP_SIDE}: place it smaller")
     shape = (bottom - top, right - left)
-    mask = _polygon_mask(env_plane, top, left, shape)
+    relief = perturbation.interior == "relief" and perturbation.density > 0
+    if relief and shape[0] * shape[1] > MAX_RELIEF_POINTS:
+        raise InputError(f"a relief spot may span at most {MAX_RELIEF_POINTS:,} points; this "
+                         f"one spans {shape[1]}×{shape[0]}: place it smaller")
+    window = None
+    if clip is not None and not relief:
+        window = (clip[0] - top, clip[2] - top, clip[1] - left, clip[3] - left)
+    real = None
     if perturbation.contour or perturbation.fractal:
-        real = real_outline(envelope, perturbation, seed, step)
-        mask &= _polygon_mask(placement.apply(envelope, real), top, left, shape)
+        real = placement.apply(envelope, real_outline(envelope, perturbation, seed, step))
+    mask = _polygon_mask(env_plane, top, left, shape, window)
+    if real is not None:
+        mask &= _polygon_mask(real, top, left, shape, window)
+    r_off, c_off = (0, 0) if window is None else (max(window[0], 0), max(window[2], 0))
     if not mask.any():
         centre = polygon_centroid(env_plane)
         r, c = (int(np.clip(math.floor(v + 0.5) - o, 0, n - 1))
                 for v, o, n in zip(centre, (top, left), shape))
-        mask[r, c] = True
+        if 0 <= r - r_off < mask.shape[0] and 0 <= c - c_off < mask.shape[1] and \
+                (window is None or not _any_point(env_plane, real, top, left, shape)):
+            mask[r - r_off, c - c_off] = True
+    top, left = top + r_off, left + c_off
     steps = np.zeros(mask.shape, np.int8)
-    if perturbation.interior == "relief" and perturbation.density > 0:
+    if relief:
         steps = _relief(mask, perturbation.density)
-    elif perturbation.interior != "none" and perturbation.density > 0:
+    elif perturbation.interior != "none" and perturbation.density > 0 and mask.any():
         marked = _interior_marks(envelope, perturbation, seed, placement, env_local, top, left,
                                  mask)
         if perturbation.interior == "holes":
             mask &= ~marked
         else:
             steps[marked] = 1
-    return Stamp(top, left, mask, steps)
+    stamp = Stamp(top, left, mask, steps)
+    if clip is not None and relief:
+        stamp = _cut(stamp, clip)
+    return stamp
+
+
+def _any_point(env_plane, real, top: int, left: int, shape) -> bool:
+    """Whether the whole spot (envelope ∩ real outline) has a point, by bands of rows."""
+    band = max(1, (1 << 24) // max(shape[1], 1))
+    for a in range(0, shape[0], band):
+        window = (a, min(a + band, shape[0]), 0, shape[1])
+        mask = _polygon_mask(env_plane, top, left, shape, window)
+        if real is not None and mask.any():
+            mask &= _polygon_mask(real, top, left, shape, window)
+        if mask.any():
+            return True
+    return False
+
+
+def _cut(stamp: Stamp, clip) -> Stamp:
+    """The part of a stamp inside the box ``clip`` (top, left, bottom, right)."""
+    t, l = max(stamp.top, clip[0]), max(stamp.left, clip[1])
+    b = max(min(stamp.top + stamp.shape[0], clip[2]), t)
+    r = max(min(stamp.left + stamp.shape[1], clip[3]), l)
+    rs, cs = slice(t - stamp.top, b - stamp.top), slice(l - stamp.left, r - stamp.left)
+    return Stamp(t, l, stamp.mask[rs, cs].copy(), stamp.steps[rs, cs].copy())
 
 
 def _relief(mask: np.ndarray, density: float) -> np.ndarray:
@@ -671,11 +716,11 @@ def _relief(mask: np.ndarray, density: float) -> np.ndarray:
     return steps
 
 
-def _polygon_mask(pts: np.ndarray, top: int, left: int, shape) -> np.ndarray:
-    return polygon_mask(pts[:, 0] - top, pts[:, 1] - left, shape)
+def _polygon_mask(pts: np.ndarray, top: int, left: int, shape, window=None) -> np.ndarray:
+    return polygon_mask(pts[:, 0] - top, pts[:, 1] - left, shape, window)
 
 
-def polygon_mask(rows, cols, shape) -> np.ndarray:
+def polygon_mask(rows, cols, shape, window=None) -> np.ndarray:
     """The points (centres at integer coordinates) inside a closed polygon, even-odd rule.
 
     Same points as ``skimage.draw.polygon`` (away from the outline itself), by scanlines:
@@ -683,30 +728,45 @@ def polygon_mask(rows, cols, shape) -> np.ndarray:
     edges (0.4 s for a 500-point spot); here each edge only meets the rows it crosses. Rows and
     columns are half-open, [ceil(lo), ceil(hi)), as in GPU rasterisers: a vertex on a row counts
     once, a 10×10 square gives 100 points, and spots that share an edge share no point.
+
+    ``window`` (r0, r1, c0, c1) computes only ``full[r0:r1, c0:c1]`` of the full mask, with the
+    same arithmetic on the same coordinates, so the points are exactly those of the full mask
+    (a spot clipped to the canvas). Rows are done in bands, so the scratch memory stays a small
+    multiple of the mask's own (a mask of 16384² points no longer needs 3 GB of counters).
     """
     H, W = shape
+    r0, r1, c0, c1 = (0, H, 0, W) if window is None else window
+    r0, r1 = max(int(r0), 0), min(int(r1), H)
+    c0, c1 = max(int(c0), 0), min(int(c1), W)
+    mask = np.zeros((max(r1 - r0, 0), max(c1 - c0, 0)), dtype=bool)
+    if not mask.size:
+        return mask
     r, c = np.asarray(rows, dtype=float), np.asarray(cols, dtype=float)
     r2, c2 = np.roll(r, -1), np.roll(c, -1)
-    y0 = np.clip(np.ceil(np.minimum(r, r2)), 0, H).astype(np.int64)
-    y1 = np.clip(np.ceil(np.maximum(r, r2)), 0, H).astype(np.int64)
-    counts = y1 - y0
-    edges = np.repeat(np.arange(len(r)), counts)
-    mask = np.zeros((H, W), dtype=bool)
-    if not len(edges):
-        return mask
-    ys = y0[edges] + np.arange(len(edges)) - np.repeat(np.cumsum(counts) - counts, counts)
-    dr = r2[edges] - r[edges]
-    xs = c[edges] + (ys - r[edges]) * (c2[edges] - c[edges]) / dr
-    order = np.lexsort((xs, ys))
-    ys, xs = ys[order], xs[order]
-    row = ys[0::2]
-    start = np.clip(np.ceil(xs[0::2]), 0, W).astype(np.int64)
-    stop = np.clip(np.ceil(xs[1::2]), 0, W).astype(np.int64)
-    run = stop > start
-    diff = np.zeros((H, W + 1), dtype=np.int32)
-    np.add.at(diff, (row[run], start[run]), 1)
-    np.add.at(diff, (row[run], stop[run]), -1)
-    return np.cumsum(diff[:, :W], axis=1) > 0
+    lo_r, hi_r = np.ceil(np.minimum(r, r2)), np.ceil(np.maximum(r, r2))
+    band = max(1, (1 << 24) // max(c1 - c0 + 1, 1))
+    for a in range(r0, r1, band):
+        b = min(a + band, r1)
+        y0 = np.clip(lo_r, a, b).astype(np.int64)
+        y1 = np.clip(hi_r, a, b).astype(np.int64)
+        counts = y1 - y0
+        edges = np.repeat(np.arange(len(r)), counts)
+        if not len(edges):
+            continue
+        ys = y0[edges] + np.arange(len(edges)) - np.repeat(np.cumsum(counts) - counts, counts)
+        dr = r2[edges] - r[edges]
+        xs = c[edges] + (ys - r[edges]) * (c2[edges] - c[edges]) / dr
+        order = np.lexsort((xs, ys))
+        ys, xs = ys[order], xs[order]
+        row = ys[0::2] - a
+        start = np.clip(np.ceil(xs[0::2]), c0, c1).astype(np.int64) - c0
+        stop = np.clip(np.ceil(xs[1::2]), c0, c1).astype(np.int64) - c0
+        run = stop > start
+        diff = np.zeros((b - a, c1 - c0 + 1), dtype=np.int8)     # a row's runs are disjoint:
+        np.add.at(diff, (row[run], start[run]), 1)              # its sums are 0 or 1
+        np.add.at(diff, (row[run], stop[run]), -1)
+        mask[a - r0:b - r0] = np.cumsum(diff[:, :c1 - c0], axis=1, dtype=np.int8) > 0
+    return mask
 
 
 def _interior_marks(envelope, perturbation, seed, placement, env_local, top, left, mask):

@@ -1,0 +1,113 @@
+"""Actions that reach far beyond the canvas (issue 17, class 2): clipped exactly, bounded.
+
+Each crafted action runs in a child process with a timeout; its peak memory (getrusage) must stay
+small. Clipping must never change a result: on small cases the clipped spot equals the whole one.
+"""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from texeditor.actions import NewCanvas
+from texeditor.errors import InputError
+from texeditor.history import replay
+from texeditor.spot_actions import _STAMPS, PlaceSpot
+from texeditor.spots import Envelope, Perturbation, Placement, _cut, real_spot
+
+CHILD = r"""
+import json, resource, sys, time
+from texeditor.actions import action_from_json
+from texeditor.errors import TexeditorError
+from texeditor.history import replay
+actions = [action_from_json(a) for a in json.loads(sys.argv[1])]
+t = time.perf_counter()
+try:
+    doc = replay(actions, {})
+    outcome = "ok"
+except TexeditorError as exc:
+    outcome = "error: " + str(exc)
+print(json.dumps({"outcome": outcome, "seconds": time.perf_counter() - t,
+                  "peak_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+"""
+
+
+def run_child(actions, timeout=60):
+    out = subprocess.run([sys.executable, "-c", CHILD, json.dumps(actions)], capture_output=True,
+                         text=True, timeout=timeout)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+CANVAS = {"type": "new_canvas", "version": 1, "width": 64, "height": 64, "levels": 4,
+          "palette": None}
+
+
+@pytest.mark.parametrize("extra", [{}, {"fractal": 0.5, "contour": 0.3, "interior": "holes",
+                                        "density": 0.3}])
+def test_a_huge_spot_on_a_small_canvas_stays_small(extra):
+    spot = {"type": "place_spot", "version": 1, "envelope": Envelope.ellipse(16000, 16000).dumps(),
+            "row": 32, "col": 32, "level": 1, **extra}
+    report = run_child([CANVAS, spot])
+    assert report["outcome"] == "ok"
+    assert report["peak_mib"] < 600                         # was 5 GB
+    assert report["seconds"] < 20
+
+
+def test_a_relief_spot_too_big_to_shade_is_refused():
+    spot = {"type": "place_spot", "version": 1, "envelope": Envelope.ellipse(5000, 5000).dumps(),
+            "row": 32, "col": 32, "level": 1, "interior": "relief", "density": 0.5}
+    report = run_child([CANVAS, spot])
+    assert report["outcome"].startswith("error:") and "relief" in report["outcome"]
+    assert report["peak_mib"] < 600
+
+
+ENVELOPES = [Envelope.ellipse(30, 18), Envelope.ellipse(9, 3, kind="linear"),
+             Envelope.ellipse(0.6, 0.2), Envelope.ellipse(40, 1.2, kind="bezier")]
+PERTURBATIONS = [Perturbation(), Perturbation(contour=0.3, fractal=0.4),
+                 Perturbation(interior="holes", density=0.4, scale=3),
+                 Perturbation(interior="levels", density=0.3, fractal=0.2),
+                 Perturbation(interior="relief", density=0.4)]
+
+
+def test_a_clipped_spot_has_exactly_the_whole_spots_points_in_the_box():
+    rng = np.random.default_rng(5)
+    for k in range(120):
+        env = ENVELOPES[k % len(ENVELOPES)]
+        pert = PERTURBATIONS[k % len(PERTURBATIONS)]
+        placement = Placement(tuple(rng.uniform(-20, 40, 2)), float(rng.uniform(0, 360)),
+                              float(rng.uniform(0.3, 2.0)))
+        whole = real_spot(env, pert, seed=k, placement=placement)
+        top, left = (int(v) for v in rng.integers(-10, 30, 2))
+        box = (top, left, top + int(rng.integers(1, 30)), left + int(rng.integers(1, 30)))
+        clipped = real_spot(env, pert, seed=k, placement=placement, clip=box)
+        expected = _cut(whole, box)
+        assert (clipped.top, clipped.left) == (expected.top, expected.left) or \
+            not expected.mask.size
+        assert np.array_equal(clipped.mask, expected.mask), k
+        assert np.array_equal(clipped.steps, expected.steps), k
+
+
+def test_spots_partly_off_the_canvas_replay_as_before():
+    """The document a placement gives equals the one given by the whole stamp's pieces."""
+    from texeditor.spots import blend, pieces, spot_levels
+    rng = np.random.default_rng(8)
+    for k in range(30):
+        env = ENVELOPES[k % len(ENVELOPES)]
+        pert = PERTURBATIONS[k % len(PERTURBATIONS)]
+        row, col = (float(v) for v in rng.uniform(-30, 60, 2))
+        spot = PlaceSpot(env.dumps(), row, col, angle=float(rng.uniform(0, 90)),
+                         scale=float(rng.uniform(0.5, 3)), seed=k, level=2,
+                         contour=pert.contour, fractal=pert.fractal, interior=pert.interior,
+                         density=pert.density, grain=pert.scale)
+        _STAMPS.clear()
+        got = replay([NewCanvas(32, 24, 4), spot], {}).levels
+        whole = real_spot(env, pert, seed=k, placement=spot.spots((24, 32))[0].placement)
+        expected = np.zeros((24, 32), np.uint8)
+        values = spot_levels(whole, 2, shift=1, num_levels=4)
+        for t, l, rs, cs in pieces(whole, (24, 32)):
+            block = expected[t:t + rs.stop - rs.start, l:l + cs.stop - cs.start]
+            block[...] = blend(block, whole.mask[rs, cs], values[rs, cs], "over")
+        assert np.array_equal(got, expected), k
