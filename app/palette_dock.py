@@ -130,6 +130,9 @@ class PaletteDock(QtWidgets.QDockWidget):
         self.setObjectName("PaletteDock")
         self.palette_rgb = np.zeros((2, 3), np.uint8)
         self._value_labels: dict[QtWidgets.QSlider, QtWidgets.QLabel] = {}
+        # among contrasts that give the same greys (rounding), the one this palette was made or
+        # first shown with: the same palette always shows the same sliders (undo, redo)
+        self._contrast_of: dict[bytes, int] = {}
         body = QtWidgets.QWidget()
         layout = QtWidgets.QVBoxLayout(body)
         self.swatches = SwatchBar()
@@ -195,7 +198,10 @@ class PaletteDock(QtWidgets.QDockWidget):
         # kept from an earlier edit; a grey-scale edit still settling (keys, a drag) is left be
         if not (self._commit_timer.isActive()
                 or any(s.isSliderDown() for s in (self.darkest, self.lightest, self.contrast))):
-            values = fit_grey_scale(self.palette_rgb, self.contrast.value())
+            key = self.palette_rgb.tobytes()      # the contrast a palette was made with
+            values = fit_grey_scale(self.palette_rgb, self._contrast_of.get(
+                key, self.contrast.value()))
+            self._contrast_of.setdefault(key, values[2])
             for slider, value in zip((self.darkest, self.lightest, self.contrast), values):
                 slider.blockSignals(True)
                 slider.setValue(int(value))
@@ -250,8 +256,15 @@ class PaletteDock(QtWidgets.QDockWidget):
         if not any(s.isSliderDown() for s in (self.darkest, self.lightest, self.contrast)):
             self._commit_timer.start()    # keyboard or click steps: one action once they settle
 
+    def flush(self) -> None:
+        """Commit a grey-scale edit still settling, before the history goes back (undo, a
+        step clicked): landing after it, the edit would drop the steps just undone."""
+        if self._commit_timer.isActive():
+            self._commit_grey_scale()
+
     def _commit_grey_scale(self) -> None:
         self._commit_timer.stop()
         palette = self.grey_scale()
         if not np.array_equal(palette, self.palette_rgb):
+            self._contrast_of[palette.tobytes()] = self.contrast.value()
             self.committed.emit(palette)

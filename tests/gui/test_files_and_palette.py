@@ -9,6 +9,7 @@ from texeditor.actions import SetPalette
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 LEFT = QtCore.Qt.MouseButton.LeftButton
+SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier
 
 
 def choose(monkeypatch, name, path):
@@ -138,3 +139,50 @@ def test_screenshot_of_an_opened_file(tmp_path, qapp, window):
     assert run(["--screenshot", str(out), "--open", str(path)]) == 0
     assert out.exists()
     assert run(["--screenshot", str(out), "--open", str(tmp_path / "missing.texture")]) == 2
+
+
+def grey_sliders(dock):
+    return dock.darkest.value(), dock.lightest.value(), dock.contrast.value()
+
+
+def test_grey_scale_sliders_follow_undo_and_redo(qtbot, window):
+    """Issue 16: the controls show the document's palette after undo/redo, Contrast included."""
+    dock = window.palette_dock
+    original, palette0 = grey_sliders(dock), window.history.document.palette.copy()
+    steps = len(window.history.actions)
+    dock.contrast.setFocus()
+    for _ in range(4):
+        qtbot.keyClick(dock.contrast, QtCore.Qt.Key.Key_PageUp)
+    qtbot.waitUntil(lambda: len(window.history.actions) == steps + 1, timeout=3000)
+    after_contrast = grey_sliders(dock)
+    dock.darkest.setFocus()
+    for _ in range(3):
+        qtbot.keyClick(dock.darkest, QtCore.Qt.Key.Key_PageUp)
+    qtbot.waitUntil(lambda: len(window.history.actions) == steps + 2, timeout=3000)
+    changed = grey_sliders(dock)
+    assert changed[2] != original[2] and changed[0] != original[0]
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Z, CTRL)
+    assert grey_sliders(dock) == after_contrast
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Z, CTRL)
+    assert np.array_equal(window.history.document.palette, palette0)
+    assert grey_sliders(dock) == original
+    assert [dock._value_labels[s].text() for s in (dock.darkest, dock.lightest, dock.contrast)] \
+        == [str(v) for v in original]
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Z, CTRL | SHIFT)
+    assert grey_sliders(dock) == after_contrast
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Z, CTRL | SHIFT)
+    assert grey_sliders(dock) == changed
+
+
+def test_synthesis_dock_shows_the_size_and_seed_of_the_texture_after_undo(qtbot, window):
+    dock = window.synthesis_dock
+    assert dock.values() == (64, 48, 7)
+    dock.width_box.setValue(40)
+    dock.seed.set_value(99)
+    qtbot.mouseClick(dock.button, LEFT)
+    assert window.runner.wait(60_000)
+    assert window.document.shape == (48, 40)
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Z, CTRL)
+    assert window.document.shape == (48, 64) and dock.values() == (64, 48, 7)
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Z, CTRL | SHIFT)
+    assert dock.values() == (40, 48, 99)

@@ -237,3 +237,77 @@ def test_double_the_levels_from_the_photo(window, qtbot):
     assert doc.num_levels == 2 * g and np.array_equal(doc.levels // 2, before)
     window.act_undo.trigger()
     assert doc.num_levels == g and np.array_equal(doc.levels, before)
+
+
+# -- the output size, said before rendering; slow renders in the worker (issue 16) ----------------
+
+def test_output_size_is_said_live_before_rendering(window, dock, qtbot):
+    steps = len(window.history.actions)
+    dock.size_slider.slider.setFocus()
+    press_key(dock.size_slider.slider, QtCore.Qt.Key.Key_Right)
+    press_key(dock.size_slider.slider, QtCore.Qt.Key.Key_Right)
+    # said at once, while the setting waits for its pause: nothing rendered yet
+    assert len(window.history.actions) == steps and window.document.shape == (48, 64)
+    assert "Output <b>192×144</b> px: 3× the 64×48 texture (square grain 3 px)" in dock.info.text()
+    dock.explode_x.slider.setFocus()
+    for _ in range(9):
+        press_key(dock.explode_x.slider, QtCore.Qt.Key.Key_Right)
+    assert dock.explode_x.value() == pytest.approx(1.9)
+    assert "Output <b>384×144</b> px: 6×3 the 64×48 texture" in dock.info.text()
+    assert "explosion 1.9×1" in dock.info.text() and "Large" not in dock.info.text()
+    dock.size_slider.set_value(32)
+    dock.explode_x.set_value(2.5)
+    dock.explode_y.set_value(2.5)
+    assert "Output <b>5120×3840</b>" in dock.info.text()
+    assert "Large: 19 M pixels" in dock.info.text()              # a warning first
+    dock.explode_x.set_value(4)
+    dock.explode_y.set_value(4)
+    assert "Output <b>8192×6144</b>" in dock.info.text() and "Large: 48 M" in dock.info.text()
+
+
+@pytest.fixture
+def slow_renders(monkeypatch):
+    """Every render counts as slow, and each band of rows takes 30 ms."""
+    import time
+
+    from app import grain_dock
+    monkeypatch.setattr(grain_dock, "WORKER_COST", 0)
+    draw = gr._draw
+
+    def slow_draw(*args):
+        time.sleep(0.03)
+        return draw(*args)
+
+    monkeypatch.setattr(gr, "_draw", slow_draw)
+
+
+def test_a_slow_render_shows_progress_and_cancel_leaves_the_document(window, dock, qtbot,
+                                                                      slow_renders):
+    normal, steps = window.document.levels.copy(), len(window.history.actions)
+    slide(dock.size_slider, 6)
+    size = dock.size_slider.value()
+    assert window.runner.busy and window.cancel_button.isVisible()
+    assert "Rendering grains" in window.task_label.text()
+    qtbot.waitUntil(lambda: window.progress.maximum() > 0 and window.progress.value() > 0,
+                    timeout=5000)                               # progress moves
+    assert window.document.shape == (48, 64)                    # nothing applied meanwhile
+    qtbot.mouseClick(window.cancel_button, LEFT)
+    settled(window, qtbot)
+    assert np.array_equal(window.document.levels, normal)
+    assert len(window.history.actions) == steps
+    assert "cancelled" in window.statusBar().currentMessage()
+    qtbot.waitUntil(lambda: dock.size_slider.value() == 1, timeout=2000)   # back on the document
+
+    slide(dock.size_slider, 5)                                  # and this one runs to its end
+    size = dock.size_slider.value()
+    assert window.runner.busy
+    settled(window, qtbot)
+    assert len(window.history.actions) == steps + 1
+    assert np.array_equal(window.document.levels, gr.render(normal, "square", size))
+    assert "Grains rendered" in window.statusBar().currentMessage()
+
+
+def test_hexagons_of_a_512_texture_count_as_slow(window, dock):
+    action = RenderGrains("hexagon", 8, explosion_x=1.9)
+    assert dock.slow(action, (512, 512))
+    assert not dock.slow(RenderGrains("square", 4), (48, 64))
