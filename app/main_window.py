@@ -361,7 +361,9 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
     def undo(self) -> None:
         if self._replaying is not None:
             self.runner.cancel()       # undo the edit being replayed: as Krita cancels a stroke
-        elif self.can_undo():
+            return
+        self.palette_dock.flush()      # a grey-scale key step just made is undone, not kept
+        if self.can_undo():
             self._guarded(self.history.undo)
             if self.history.redoes_edit:
                 self.statusBar().showMessage("Edit undone: the step's old parameters and the "
@@ -377,6 +379,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
 
     def goto_step(self, steps: int) -> None:
         if not self.edits_locked():
+            self.palette_dock.flush()
             self._guarded(lambda: self.history.goto(max(1, steps)))
 
     def _guarded(self, fn) -> None:

@@ -83,8 +83,13 @@ class Recorder:
         import traceback
 
         from PySide6 import QtGui, QtWidgets
+        import pyqtgraph.debug
         sys.excepthook = lambda t, v, tb: self.exceptions.append(
             "".join(traceback.format_exception(t, v, tb)))
+        printed = pyqtgraph.debug.printExc      # pyqtgraph's scene catches a tool's exception
+        pyqtgraph.debug.printExc = lambda msg="", *a, **k: (   # in a mouse event and prints it
+            self.exceptions.append(f"{msg} (caught by pyqtgraph)\n{traceback.format_exc()}"),
+            printed(msg, *a, **k))
         box = QtWidgets.QMessageBox
         for name, answer in (("critical", box.StandardButton.Ok),
                              ("warning", box.StandardButton.Ok),

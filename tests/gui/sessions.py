@@ -189,6 +189,12 @@ def palette(s: Session) -> None:
     s.other_level((40, 34))
     s.expect(ra.Fill, hand.click, (40, 34))
     s.expect(SetPalette, hand.button, dock.reset_button)
+    before = state(win)
+    hand.key(QtCore.Qt.Key.Key_PageUp, widget=dock.darkest)
+    hand.undo()                  # at once: the key step is undone, never landed after the undo
+    QtTest.QTest.qWait(600)
+    assert same_document(state(win), before) and win.history.can_redo, \
+        "a grey-scale key step then Ctrl+Z: the edit landed after the undo and dropped redo"
     hand.swatch(0)
     hand.choose(BrushTool)
     s.expect(Stroke, hand.stroke, row(40))

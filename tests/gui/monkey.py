@@ -1,0 +1,232 @@
+"""A seeded monkey walk over the whole main window, run in a child process by ``session_runner``.
+
+Hundreds of random user events — every tool by its shortcut or its button, drags and clicks on
+the canvas (inside and off its edges), the wheel, the view keys, Space-drag, palette swatches,
+the Synthesise button, clicks in the History list, undo and redo, the Extract panel, the spot
+modes, and the non-modal dialogs (global operators, composition, DPJ editor) opened, used and
+closed. It fails on an exception that reaches Qt, on a crash (the parent sees the signal), or
+when Ctrl+Z back to step 1 does not give back the synthesised texture and its palette (and
+Ctrl+Shift+Z the document the walk ended on).
+"""
+
+from __future__ import annotations
+
+import random
+import sys
+import traceback
+
+from PySide6 import QtCore, QtTest
+
+from app.tools.regions import ExtractTool
+from app.tools.spot import SpotTool
+
+from .session_runner import Hand, Recorder, close_window, open_window, report, same_document, state
+
+Key, Mod = QtCore.Qt.Key, QtCore.Qt.KeyboardModifier
+VIEW_KEYS = {"0": Key.Key_0, "1": Key.Key_1, "W": Key.Key_W, "+": Key.Key_Plus,
+             "-": Key.Key_Minus, "[": Key.Key_BracketLeft, "]": Key.Key_BracketRight}
+
+
+class Walk:
+    """The random walk: each event is one user gesture, logged so a failure can be read."""
+
+    def __init__(self, hand: Hand, seed: int):
+        self.hand, self.win = hand, hand.win
+        self.rng = random.Random(seed)
+        self.log: list[str] = []
+        self.made = 0              # events that added a step
+
+    def cell(self, margin: int = 4):
+        """A random cell, sometimes just off the canvas (drags leave it, clicks miss it)."""
+        h, w = self.win.document.shape
+        return (self.rng.randrange(-margin, w + margin), self.rng.randrange(-margin, h + margin))
+
+    def path(self):
+        return [self.cell() for _ in range(self.rng.randint(2, 5))]
+
+    # -- the events --------------------------------------------------------------------------------
+    def tool(self):
+        tool = self.rng.choice(self.win.tools)
+        by_button = self.rng.random() < 0.3
+        self.hand.choose(type(tool), by_button=by_button)
+        return f"tool {tool.NAME} by {'button' if by_button else 'shortcut'}"
+
+    def drag(self):
+        cells = self.path()
+        shift = self.rng.random() < 0.15
+        self.hand.stroke(cells, Mod.ShiftModifier if shift else None, move_ms=12)
+        return f"drag {'shift ' if shift else ''}{cells}"
+
+    def middle_drag(self):
+        cells = self.path()
+        self.hand.stroke(cells, button=QtCore.Qt.MouseButton.MiddleButton, move_ms=12)
+        return f"middle-drag {cells}"
+
+    def space_drag(self):
+        canvas, cells = self.win.canvas, self.path()
+        QtTest.QTest.keyPress(canvas, Key.Key_Space)
+        self.hand.stroke(cells, move_ms=12)
+        QtTest.QTest.keyRelease(canvas, Key.Key_Space)
+        return f"space-drag {cells}"
+
+    def click(self):
+        cell = self.cell()
+        ctrl = self.rng.random() < 0.1
+        self.hand.click(cell, Mod.ControlModifier if ctrl else None)
+        return f"click {'ctrl ' if ctrl else ''}{cell}"
+
+    def wheel(self):
+        cell, notches = self.cell(0), self.rng.choice([-2, -1, 1, 2])
+        self.hand.wheel(cell, notches)
+        return f"wheel {notches} at {cell}"
+
+    def view_key(self):
+        name = self.rng.choice(sorted(VIEW_KEYS))
+        self.hand.key(VIEW_KEYS[name])
+        return f"key {name}"
+
+    def swatch(self):
+        level = self.rng.randrange(self.win.document.num_levels)
+        self.hand.swatch(level)
+        return f"swatch {level}"
+
+    def undo(self):
+        self.hand.undo()
+        return "Ctrl+Z"
+
+    def redo(self):
+        self.hand.redo()
+        return "Ctrl+Shift+Z"
+
+    def history_row(self):
+        step = self.rng.randrange(len(self.win.history.actions))
+        self.hand.history_row(step)
+        return f"history row {step + 1}"
+
+    def synthesise(self):
+        dock = self.win.synthesis_dock
+        seed = self.rng.randrange(1000)
+        dock.seed.set_value(seed)
+        self.hand.button(dock.button)
+        self.hand.wait_idle()
+        return f"Synthesise (seed {seed})"
+
+    def panel(self):
+        """A button of the Extract tool's selection panel (when it has a selection)."""
+        tool = self.win.tool
+        if not isinstance(tool, ExtractTool) or not tool.panel.isEnabled():
+            return self.click()
+        p = tool.panel
+        button = self.rng.choice([p.recolour, p.delete, p.flip_h, p.flip_v, p.rotate, p.scale,
+                                  p.duplicate])
+        self.hand.button(button)
+        return f"selection panel {button.text()}"
+
+    def spot_mode(self):
+        tool = self.win.tool
+        if not isinstance(tool, SpotTool):
+            return self.tool()
+        mode = self.rng.randrange(tool.opts.mode.count())
+        tool.opts.mode.setCurrentIndex(mode)
+        tool.opts.scale.setValue(self.rng.choice([0.2, 0.4, 0.8]))
+        tool.opts.count.setValue(self.rng.randint(1, 12))
+        return f"spot mode {tool.opts.mode.currentData()}"
+
+    def global_dialog(self):
+        """Ctrl+G, an operator, Apply; sometimes Close."""
+        self.hand.shortcut("Ctrl+G")
+        dialog = self.win._global_dialog
+        op = self.rng.randrange(dialog.operator.count())
+        dialog.operator.setCurrentIndex(op)
+        self.hand.button(dialog.apply_button)
+        closed = self.rng.random() < 0.5
+        if closed:
+            dialog.close()
+        return f"global operators {dialog.operator.currentData()} Apply{', Close' if closed else ''}"
+
+    def composition(self):
+        self.hand.shortcut("Ctrl+Shift+K")
+        dialog = self.win._composition_dialog
+        QtTest.QTest.qWait(20)
+        assert dialog.isVisible(), "Ctrl+Shift+K showed no composition dialog"
+        dialog.close()
+        return "composition open, close"
+
+    def dpj_editor(self):
+        self.hand.shortcut("Ctrl+J")
+        editor = self.win.dpj_editor
+        QtTest.QTest.qWait(20)
+        assert editor.isVisible(), "Ctrl+J showed no DPJ editor"
+        editor.close()
+        return "Edit DPJ open, close"
+
+    def slider(self):
+        dock = self.win.palette_dock
+        slider = self.rng.choice([dock.darkest, dock.lightest, dock.contrast])
+        key = self.rng.choice([Key.Key_PageUp, Key.Key_PageDown, Key.Key_Up])
+        self.hand.key(key, widget=slider)
+        return f"grey-scale slider {key.name}"
+
+    def step(self) -> None:
+        event = self.rng.choices(EVENTS, WEIGHTS)[0]
+        before = self.win.history.index
+        self.log.append(event(self))
+        self.hand.wait_idle()
+        self.made += self.win.history.index > before
+
+
+EVENT_WEIGHTS = {
+    Walk.tool: 12, Walk.drag: 24, Walk.click: 20, Walk.middle_drag: 2, Walk.space_drag: 2,
+    Walk.wheel: 4, Walk.view_key: 6, Walk.swatch: 6, Walk.undo: 5, Walk.redo: 3,
+    Walk.history_row: 2, Walk.synthesise: 1, Walk.panel: 6, Walk.spot_mode: 2,
+    Walk.global_dialog: 2, Walk.composition: 1, Walk.dpj_editor: 1, Walk.slider: 2,
+}
+EVENTS, WEIGHTS = list(EVENT_WEIGHTS), list(EVENT_WEIGHTS.values())
+
+
+def undo_all_redo_all(hand: Hand, start: dict) -> str | None:
+    """Ctrl+Z back to step 1 must give the starting document; Ctrl+Shift+Z the final one."""
+    win = hand.win
+    final = state(win)
+    for _ in range(len(win.history.actions) + 2):
+        hand.undo()
+    hand.wait_idle()
+    if not same_document(state(win), start):
+        now = state(win)
+        return (f"undo back to step 1 stopped at step {now['index']} with "
+                f"{int((now['levels'] != start['levels']).sum())} points and "
+                f"{'another' if (now['palette'] != start['palette']).any() else 'the same'} palette")
+    for _ in range(final["index"] - 1):
+        hand.redo()
+    if not same_document(state(win), final):
+        return "redo to the end did not give back the document the walk ended on"
+    return None
+
+
+def run_monkey(seed: int, events: int) -> int:
+    recorder = Recorder()
+    win = open_window(recorder)
+    hand = Hand(win)
+    start = state(win)
+    walk = Walk(hand, seed)
+    problem = None
+    try:
+        for _ in range(events):
+            walk.step()
+            if recorder.exceptions:
+                break
+        if not recorder.exceptions:
+            problem = undo_all_redo_all(hand, start)
+        close_window(win)
+    except AssertionError as exc:
+        problem = f"{exc}\n{traceback.format_exc()}"
+    if recorder.exceptions or problem:
+        print(f"monkey seed {seed}: {problem or 'an exception reached Qt'}", file=sys.stderr)
+        for text in recorder.exceptions:
+            print(f"EXCEPTION that reached Qt:\n{text}", file=sys.stderr)
+        print("last events:\n  " + "\n  ".join(walk.log[-25:]), file=sys.stderr)
+        return 1
+    report(seed=seed, events=len(walk.log), made=walk.made, steps=len(win.history.actions),
+           kinds=sorted({line.split()[0] for line in walk.log}),
+           dialogs=[text for _kind, text in recorder.dialogs])
+    return 0
