@@ -197,7 +197,7 @@ class Action:
         """The canvas shape after this action, from the shape before (for "canvas"/"reset")."""
         return shape
 
-    def target(self, levels) -> str | None:
+    def picked_region(self, levels) -> str | None:
         """A digest of the region this step picks from the levels before it (None: it picks
         none). An edit of an earlier step can change it: History then marks the step."""
         return None
@@ -418,8 +418,8 @@ class Synthesize(Action):
         _MEMO.discard(self._key())
 
     def _check_dpj(self, dpj) -> None:
-        from .document import dpj_ref
-        if dpj_ref(dpj) != self.dpj:
+        """The memo is keyed by reference: only the DPJ the reference names may fill it."""
+        if not dpj.has_ref(self.dpj):
             raise InputError(f"this DPJ is not {self.dpj}, the one the action refers to")
 
     def prepare(self, doc, progress=None, cancel=None) -> None:
@@ -438,6 +438,7 @@ class Synthesize(Action):
         dpj = doc.dpjs.get(self.dpj)
         if dpj is None:
             raise InputError(f"DPJ {self.dpj} is not part of this document: add it first")
+        self._check_dpj(dpj)
         return dpj
 
     def _synthesize(self, dpj, progress=None, cancel=None) -> np.ndarray:

@@ -306,7 +306,7 @@ class History:
     def _step(doc, action, k, records, costs, targets, replaying=None, progress=None,
               cancel=None) -> None:
         atoms: list = []
-        target = action.target(doc.levels)
+        target = action.picked_region(doc.levels)
         if target is not None:
             targets[k] = target
         doc._recorder = atoms

@@ -138,7 +138,7 @@ class RegionAction(Action):
                               scope=getattr(self, "scope", "region"),
                               connectivity=getattr(self, "connectivity", 4))
 
-    def target(self, levels) -> str | None:
+    def picked_region(self, levels) -> str | None:
         """The selection's points, as a digest (the whole texture: "texture")."""
         if self.point is None:
             return "texture"
