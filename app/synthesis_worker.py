@@ -47,21 +47,30 @@ class Job(QtCore.QRunnable):
         now = time.perf_counter()    # at most ~30 updates a second reach the event loop
         if fraction >= 1.0 or now - self._last_progress > 0.03:
             self._last_progress = now
-            self.signals.progress.emit(float(fraction))
+            self._emit(self.signals.progress, float(fraction))
 
     def run(self) -> None:
         try:
             result = self.work(self._progress, self.is_cancelled)
         except Cancelled:
-            self.signals.cancelled.emit()
+            self._emit(self.signals.cancelled)
             return
         except Exception as exc:  # reported to the user as a dialog, never a crash
-            self.signals.failed.emit(exc)
+            self._emit(self.signals.failed, exc)
             return
         if self.is_cancelled():
-            self.signals.cancelled.emit()
+            self._emit(self.signals.cancelled)
         else:
-            self.signals.done.emit(result)
+            self._emit(self.signals.done, result)
+
+    @staticmethod
+    def _emit(signal, *args) -> None:
+        """Report the outcome; when the window that asked has closed meanwhile (its signals
+        deleted), nobody is left to tell, and the pool thread must not raise."""
+        try:
+            signal.emit(*args)
+        except RuntimeError:
+            pass
 
 
 class TaskRunner(QtCore.QObject):

@@ -205,3 +205,23 @@ def test_close_asks_about_a_dirty_dpj_editor(qtbot, window, monkeypatch, tmp_pat
     assert editor.undo_stack.isClean() is (answer == "Save")
     assert path.exists() is (answer == "Save")
     editor.stop()
+
+
+def test_a_job_whose_window_closed_meanwhile_ends_quietly(qtbot):
+    """The DPJ editor closed while its preview job ran: the job's signals are gone when it
+    reports, and the pool thread must end without an exception (nobody is left to tell)."""
+    import shiboken6
+
+    from app.synthesis_worker import Job
+
+    for outcome in ("done", "failed", "cancelled"):
+        def work(progress, cancel, outcome=outcome):
+            progress(0.5)
+            if outcome == "failed":
+                raise ValueError("boom")
+            if outcome == "cancelled":
+                job.cancel()
+            return 1
+        job = Job(work)
+        shiboken6.delete(job.signals)
+        job.run()                   # raised "Signal source has been deleted" before
