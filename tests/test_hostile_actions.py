@@ -111,3 +111,101 @@ def test_spots_partly_off_the_canvas_replay_as_before():
             block = expected[t:t + rs.stop - rs.start, l:l + cs.stop - cs.start]
             block[...] = blend(block, whole.mask[rs, cs], values[rs, cs], "over")
         assert np.array_equal(got, expected), k
+
+
+# -- strokes and grain placements ------------------------------------------------------------------
+
+FAR = 2**20
+
+
+@pytest.mark.parametrize("action", [
+    {"type": "stroke", "version": 1, "points": [[-FAR, -FAR], [FAR, FAR]], "level": 1, "size": 1,
+     "spacing": 0.05},
+    {"type": "place_grains", "version": 1, "points": [[-FAR, -FAR], [FAR, FAR]], "level": 1,
+     "size": 3, "spacing": 0.5},
+    {"type": "place_grains", "version": 1, "points": [[0, 0], [40, 40]], "level": 1,
+     "size": 3, "spacing": 1e-6},
+])
+def test_a_path_with_too_many_dabs_is_refused_quickly(action):
+    report = run_child([CANVAS, action])
+    assert report["outcome"].startswith("error:") and "dabs" in report["outcome"]
+    assert report["peak_mib"] < 400 and report["seconds"] < 10      # was 2 GB, 19 s
+
+
+def test_a_stroke_mostly_off_the_canvas_is_cheap():
+    far = [[-FAR + k * 2000, (-1) ** k * 300] for k in range(400)] + [[10, 10], [50, 60]]
+    action = {"type": "stroke", "version": 1, "points": far, "level": 1, "size": 9,
+              "spacing": 0.2, "distribution": "cloud", "density": 0.3}
+    report = run_child([CANVAS, action])
+    assert report["outcome"] == "ok" and report["peak_mib"] < 400
+
+
+def _reference_stroke(brush, shape, points, level, choices, seed, wrap):
+    """The stroke as painted before clipping: every dab, then last wins."""
+    import math
+    from texeditor.brushes import PathWalker, last_wins, on_canvas
+    fp = brush.footprint()
+    rng = np.random.default_rng(seed)
+    walker = PathWalker(brush.step)
+    positions = [q for p in points for q in walker.add(p)] + walker.finish()
+    rows, cols, values = [np.zeros(0, np.int64)], [np.zeros(0, np.int64)], [np.zeros(0, np.uint8)]
+    for r, c in positions:
+        keep = slice(None) if fp.chance is None else rng.random(len(fp)) < fp.chance
+        rows.append(fp.rows[keep] + math.floor(r + 0.5))
+        cols.append(fp.cols[keep] + math.floor(c + 0.5))
+        n = len(rows[-1])
+        values.append(np.full(n, level, np.uint8) if choices is None else
+                      np.asarray(choices, np.uint8)[rng.integers(len(choices), size=n)])
+    r, c, v = on_canvas(np.concatenate(rows), np.concatenate(cols), np.concatenate(values),
+                        shape, wrap)
+    return last_wins(r, c, v, shape)
+
+
+def test_clipped_strokes_paint_what_unclipped_strokes_painted():
+    from texeditor import brushes
+    rng = np.random.default_rng(3)
+    for k in range(60):
+        brush = brushes.Brush(size=int(rng.integers(1, 12)),
+                              shape=["square", "disc", "diamond", "line"][k % 4],
+                              distribution=["solid", "cloud"][k % 2 if k % 3 else 1],
+                              density=0.4, spacing=float(rng.uniform(0.05, 1.0)))
+        points = [tuple(map(float, p)) for p in rng.uniform(-60, 90, (int(rng.integers(1, 8)), 2))]
+        choices = (1, 2, 2, 3) if k % 5 == 0 else None
+        wrap = k % 7 == 0
+        got = brushes.paint_stroke(brush, (30, 40), points, 1, choices=choices, seed=k, wrap=wrap)
+        want = _reference_stroke(brush, (30, 40), points, 1, choices, k, wrap)
+        for a, b in zip(got, want):
+            assert np.array_equal(a, b), k
+
+
+def test_the_painted_points_fold_exactly_onto_a_grid():
+    from texeditor import brushes
+    rng = np.random.default_rng(4)
+    painted, parts = brushes.Painted((20, 30)), []
+    painted.FOLD = 50
+    for _ in range(40):
+        n = int(rng.integers(0, 30))
+        part = (rng.integers(0, 20, n), rng.integers(0, 30, n),
+                rng.integers(0, 4, n).astype(np.uint8))
+        parts.append(part)
+        painted.add(*part)
+    want = brushes.last_wins(*(np.concatenate(a) for a in zip(*parts)), (20, 30))
+    for a, b in zip(painted.result(), want):
+        assert np.array_equal(a, b)
+
+
+def test_grains_clipped_as_before():
+    from texeditor.paint_actions import PlaceGrains
+    rng = np.random.default_rng(6)
+    for k in range(40):
+        points = tuple(tuple(map(int, p)) for p in rng.integers(-50, 80, (int(rng.integers(1, 6)), 2)))
+        action = PlaceGrains(points=points, level=2, size=int(rng.integers(1, 9)),
+                             spacing=float(rng.choice([0.0, 0.7, 3.0])), jitter=2.0, seed=k,
+                             wrap=k % 6 == 0)
+        doc = replay([NewCanvas(30, 20, 4), action], {})
+        painter = action.painter((20, 30))            # the preview's painter: every grain
+        want = np.zeros((20, 30), np.uint8)
+        for p in points:
+            rows, cols, values = painter.add(p)
+            want[rows, cols] = values
+        assert np.array_equal(doc.levels, want), k

@@ -29,6 +29,7 @@ DISTRIBUTIONS = ("solid", "cloud")
 MAX_BRUSH_SIZE = MAX_GRAIN_SIZE
 MAX_CONCENTRATION = 16.0
 MIN_SPACING, MAX_SPACING = 0.05, 10.0
+MAX_DABS = 2**20          # dabs (or grains) one stroke may place: refused beyond, never cut short
 MAX_LEVEL = 15
 PRESETS_FILE = "brushes.json"
 PRESETS_KIND = "texeditor-brushes"
@@ -181,27 +182,34 @@ class PathWalker:
     spaced however the pointer events fall (the tool framework thins them to ~100 per second).
     """
 
-    def __init__(self, step: float):
+    def __init__(self, step: float, limit: int | None = None):
         if not step > 0:
             raise InputError("the spacing along a stroke must be positive")
         self.step = float(step)
         self.last: tuple[float, float] | None = None
         self.to_next = 0.0
         self.on_last = False
+        self.limit = limit          # at most this many positions in all (InputError beyond)
+        self.count = 0
 
     def add(self, point) -> list[tuple[float, float]]:
         r, c = float(point[0]), float(point[1])
         if self.last is None:
             self.last, self.to_next, self.on_last = (r, c), self.step, True
+            self._count(1)
             return [(r, c)]
         r0, c0 = self.last
         length = math.hypot(r - r0, c - c0)
         if length == 0:
             return []
         out, t = [], self.to_next
+        if self.limit is not None and self.count + (length + 1e-9 - t) / self.step \
+                > self.limit + 2:
+            self._refuse()
         while t <= length + 1e-9:
             out.append((r0 + (r - r0) * t / length, c0 + (c - c0) * t / length))
             t += self.step
+        self._count(len(out))
         self.to_next = t - length
         self.on_last = bool(out) and abs(t - self.step - length) <= 1e-9
         self.last = (r, c)
@@ -209,7 +217,18 @@ class PathWalker:
 
     def finish(self) -> list[tuple[float, float]]:
         """The stroke's last point, when no position fell on it: strokes end where they end."""
-        return [] if self.last is None or self.on_last else [self.last]
+        out = [] if self.last is None or self.on_last else [self.last]
+        self._count(len(out))
+        return out
+
+    def _count(self, n: int) -> None:
+        self.count += n
+        if self.limit is not None and self.count > self.limit:
+            self._refuse()
+
+    def _refuse(self):
+        raise InputError(f"this path places more than {self.limit:,} dabs or grains: use a "
+                         f"larger spacing or a shorter path")
 
 
 class StrokePainter:
@@ -238,8 +257,15 @@ class StrokePainter:
 
     def _dab(self, positions):
         fp = self.footprint
+        if self.choices is None:
+            return self._dab_one_level(positions)
         rows, cols, values = [], [], []
-        for r, c in positions:
+        off = self._off_canvas(positions)
+        for k, (r, c) in enumerate(positions):
+            if off[k] and self.choices is None:       # nothing of it lands: only its draws
+                if fp.chance is not None:
+                    self.rng.random(len(fp))
+                continue
             keep = slice(None) if fp.chance is None else self.rng.random(len(fp)) < fp.chance
             rows.append(fp.rows[keep] + math.floor(r + 0.5))
             cols.append(fp.cols[keep] + math.floor(c + 0.5))
@@ -254,9 +280,88 @@ class StrokePainter:
         return on_canvas(np.concatenate(rows), np.concatenate(cols), np.concatenate(values),
                          self.shape, self.wrap)
 
+    def _dab_one_level(self, positions):
+        """_dab without random levels, all dabs at once: the same draws in the same order (a
+        cloud's chances, one row per dab, drawn also for the dabs off the canvas)."""
+        fp = self.footprint
+        self.dabs += len(positions)
+        if not len(positions):
+            return _EMPTY_I, _EMPTY_I, _EMPTY_U8
+        centres = np.floor(np.asarray(positions, float).reshape(-1, 2) + 0.5).astype(np.int64)
+        keep = None if fp.chance is None else \
+            self.rng.random((len(centres), len(fp))) < fp.chance
+        if not self.wrap and len(fp):
+            on = ~off_canvas(centres, fp.rows, fp.cols, self.shape)
+            centres = centres[on]
+            keep = None if keep is None else keep[on]
+        rows = (centres[:, :1] + fp.rows).ravel()
+        cols = (centres[:, 1:] + fp.cols).ravel()
+        if keep is not None:
+            rows, cols = rows[keep.ravel()], cols[keep.ravel()]
+        values = np.full(len(rows), self.level, np.uint8)
+        return on_canvas(rows, cols, values, self.shape, self.wrap)
+
+    def _off_canvas(self, positions) -> np.ndarray:
+        """Which dabs' footprints miss the canvas entirely (never, with wrap)."""
+        if self.wrap or not len(positions) or not len(self.footprint):
+            return np.zeros(len(positions), bool)
+        centres = np.floor(np.asarray(positions, float) + 0.5)
+        return off_canvas(centres, self.footprint.rows, self.footprint.cols, self.shape)
+
 
 _EMPTY_I = np.zeros(0, np.int64)
 _EMPTY_U8 = np.zeros(0, np.uint8)
+
+
+def off_canvas(centres, rows, cols, shape) -> np.ndarray:
+    """Which of the (n, 2) ``centres`` put no point of the footprint (offsets ``rows``, ``cols``)
+    on the canvas."""
+    h, w = shape
+    r, c = centres[:, 0], centres[:, 1]
+    return (r + rows.max() < 0) | (r + rows.min() >= h) | (c + cols.max() < 0) | \
+        (c + cols.min() >= w)
+
+
+class Painted:
+    """The points of a stroke or a grain placement, painted part after part, each canvas point
+    once with the value painted last (as `last_wins` of all the parts), in a bounded memory:
+    past a few million points the parts are folded onto two canvas-sized grids."""
+
+    FOLD = 1 << 22
+
+    def __init__(self, shape):
+        self.shape = tuple(shape)
+        self.parts, self.n = [], 0
+        self.grid = self.painted = None
+
+    def add(self, rows, cols, values) -> None:
+        if len(rows):
+            self.parts.append((rows, cols, values))
+            self.n += len(rows)
+            if self.n > self.FOLD:
+                self._fold()
+
+    def _fold(self) -> None:
+        if not self.parts:
+            return
+        rows, cols, values = last_wins(*(np.concatenate(a) for a in zip(*self.parts)),
+                                       self.shape)
+        self.parts, self.n = [], 0
+        if self.grid is None:
+            self.grid = np.zeros(self.shape, np.uint8)
+            self.painted = np.zeros(self.shape, bool)
+        self.grid[rows, cols] = values
+        self.painted[rows, cols] = True
+
+    def result(self):
+        """(rows, cols, values), each point once, in row-major order (as `last_wins`)."""
+        if self.grid is None:
+            if not self.parts:
+                return _EMPTY_I, _EMPTY_I, _EMPTY_U8
+            return last_wins(*(np.concatenate(a) for a in zip(*self.parts)), self.shape)
+        self._fold()
+        rows, cols = np.nonzero(self.painted)
+        return rows.astype(np.int64), cols.astype(np.int64), self.grid[rows, cols]
 
 
 def on_canvas(rows, cols, values, shape, wrap: bool):
@@ -289,9 +394,15 @@ def paint_stroke(brush: Brush, canvas_shape, points, level: int, *, choices=None
            [0, 0, 0, 0, 1]])
     """
     painter = StrokePainter(brush, canvas_shape, level, choices=choices, seed=seed, wrap=wrap)
-    parts = [painter.add(p) for p in points] + [painter.finish()]
-    rows, cols, values = (np.concatenate(a) for a in zip(*parts))
-    return last_wins(rows, cols, values, canvas_shape)
+    painter.walker.limit = MAX_DABS
+    painted = Painted(canvas_shape)
+    batch = max(1, (1 << 18) // max(len(painter.footprint), 1))
+    for p in points:
+        positions = painter.walker.add(p)
+        for k in range(0, len(positions), batch):
+            painted.add(*painter._dab(positions[k:k + batch]))
+    painted.add(*painter.finish())
+    return painted.result()
 
 
 # -- presets ---------------------------------------------------------------------------------------

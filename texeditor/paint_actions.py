@@ -208,7 +208,7 @@ class PlaceGrains(Action):
 
     def centres(self) -> np.ndarray:
         """(n, 2) int centres: the points, or positions along the path; then the jitter."""
-        painter = GrainPainter(self, (1, 1))
+        painter = GrainPainter(self, (1, 1), limit=brushes.MAX_DABS)
         return np.concatenate([painter.centres(p) for p in self.points])
 
     def painter(self, canvas_shape) -> "GrainPainter":
@@ -218,9 +218,11 @@ class PlaceGrains(Action):
     def apply(self, doc) -> None:
         grain = self.grain()
         _check_levels(doc, grain.max_level(self.level))
-        painter = self.painter(doc.shape)
-        rows, cols, values = (np.concatenate(a) for a in zip(*map(painter.add, self.points)))
-        commit_points(doc, *brushes.last_wins(rows, cols, values, doc.shape))
+        painter = GrainPainter(self, doc.shape, limit=brushes.MAX_DABS)
+        painted = brushes.Painted(doc.shape)
+        for p in self.points:
+            painter.add(p, painted)
+        commit_points(doc, *painted.result())
 
     def label(self) -> str:
         n = len(self.points)
@@ -236,7 +238,7 @@ class GrainPainter:
     gives the grains apply() gives.
     """
 
-    def __init__(self, action: PlaceGrains, canvas_shape):
+    def __init__(self, action: PlaceGrains, canvas_shape, limit: int | None = None):
         self.action, self.shape = action, tuple(canvas_shape)
         grain = action.grain()
         mask = grain.mask()
@@ -244,7 +246,7 @@ class GrainPainter:
         ay, ax = grains.anchor(mask)
         self.ys, self.xs = self.ys - ay, self.xs - ax
         self.values = grain.values(action.level)[mask]
-        self.walker = brushes.PathWalker(action.spacing) if action.spacing else None
+        self.walker = brushes.PathWalker(action.spacing, limit) if action.spacing else None
         self.rng = np.random.default_rng(action.seed)
 
     def centres(self, point) -> np.ndarray:
@@ -256,9 +258,19 @@ class GrainPainter:
             centres += self.rng.uniform(-j, j, size=centres.shape)
         return np.floor(centres + 0.5).astype(np.int64)
 
-    def add(self, point):
-        """(rows, cols, values) of the grains the next point brings, on the canvas."""
+    def add(self, point, painted: brushes.Painted | None = None):
+        """(rows, cols, values) of the grains the next point brings, on the canvas; or, given
+        ``painted``, added to it in parts (a long drag stays in a bounded memory)."""
         centres = self.centres(point)
+        if not self.action.wrap and len(centres) and len(self.ys):
+            centres = centres[~brushes.off_canvas(centres, self.ys, self.xs, self.shape)]
+        if painted is None:
+            return self._points(centres)
+        batch = max(1, (1 << 20) // max(len(self.ys), 1))
+        for k in range(0, len(centres), batch):
+            painted.add(*self._points(centres[k:k + batch]))
+
+    def _points(self, centres):
         rows = (centres[:, :1] + self.ys).ravel()
         cols = (centres[:, 1:] + self.xs).ravel()
         values = np.tile(self.values, len(centres))
