@@ -31,22 +31,24 @@ def add_parser(sub) -> None:
 
     p = bs.add_parser("search", parents=[common],
                       help="entries matching words (name, description, tags), tags, ranges")
-    p.add_argument("text", nargs="?", default="", help="words (prefixes); tag:x or #x for a tag")
-    p.add_argument("--tag", action="append", default=[], help="an exact tag (repeatable)")
+    p.add_argument("text", nargs="?", default="", type=text,
+                   help="words (prefixes); tag:x or #x for a tag")
+    p.add_argument("--tag", action="append", default=[], type=text,
+                   help="an exact tag (repeatable)")
     p.add_argument("--filter", action="append", default=[], metavar="ATTR=LO..HI",
                    help=f"an attribute range, either bound optional ({', '.join(attrs.NAMES)})")
-    p.add_argument("--like", type=int, metavar="ID", help="nearest to this entry first")
-    p.add_argument("--limit", type=int, help="at most this many entries")
+    p.add_argument("--like", type=entry_id, metavar="ID", help="nearest to this entry first")
+    p.add_argument("--limit", type=count, help="at most this many entries")
     p.add_argument("--trash", action="store_true", help="search the trash")
     p.set_defaults(func=_run(cmd_search))
 
     p = bs.add_parser("show", parents=[common], help="one entry: tags, attributes, its log")
-    p.add_argument("id", type=int)
+    p.add_argument("id", type=entry_id)
     p.set_defaults(func=_run(cmd_show))
 
     p = bs.add_parser("render", parents=[common], help="replay an entry (hash checked) to an "
                                                        "image or a level matrix")
-    p.add_argument("id", type=int)
+    p.add_argument("id", type=entry_id)
     p.add_argument("--scale", type=int, default=1, help="PNG upscale: each point as NxN pixels")
     p.add_argument("-o", "--output", required=True, help="OUT.png or OUT.npy")
     p.set_defaults(func=_run(cmd_render))
@@ -55,18 +57,49 @@ def add_parser(sub) -> None:
                        ("import", "import a .texture (named after the file)")):
         p = bs.add_parser(name, parents=[common], help=what)
         p.add_argument("texture")
-        p.add_argument("--name", help="the entry's name (default: from the file name)")
-        p.add_argument("--tags", help="comma-separated tags (default: the file's)")
-        p.add_argument("--description", help="default: the file's")
+        p.add_argument("--name", type=text,
+                       help="the entry's name (default: from the file name)")
+        p.add_argument("--tags", type=text, help="comma-separated tags (default: the file's)")
+        p.add_argument("--description", type=text, help="default: the file's")
         p.set_defaults(func=_run(cmd_add))
 
     p = bs.add_parser("export", parents=[common], help="write an entry as a .texture")
-    p.add_argument("id", type=int)
+    p.add_argument("id", type=entry_id)
     p.add_argument("-o", "--output", required=True, help="OUT.texture")
     p.set_defaults(func=_run(cmd_export))
 
     p = bs.add_parser("verify", parents=[common], help="replay every entry and check its hash")
     p.set_defaults(func=_run(cmd_verify))
+
+
+MAX_ID = 2**63 - 1          # SQLite's integers: a larger id could never name an entry
+
+
+def entry_id(value: str) -> int:
+    """An entry id (or a count) from the command line: a whole number 1..2^63-1."""
+    try:
+        n = int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {value!r}") from None
+    if not 1 <= n <= MAX_ID:
+        raise argparse.ArgumentTypeError(f"{value} is out of range 1..{MAX_ID}")
+    return n
+
+
+def count(value: str) -> int:
+    """A number of entries from the command line: 0..2^63-1."""
+    return 0 if value.strip() in ("0", "+0", "-0") else entry_id(value)
+
+
+def text(value: str) -> str:
+    """A word, name or tag from the command line: text that is valid Unicode (bytes that are not
+    UTF-8 reach Python as lone surrogates, which the bank cannot store or match)."""
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError:
+        raise argparse.ArgumentTypeError(
+            f"{ascii(value)} is not valid UTF-8 text") from None
+    return value
 
 
 def _run(command):
@@ -153,7 +186,12 @@ def cmd_render(bank, args) -> int:
 
 
 def cmd_add(bank, args) -> int:
-    entry_id = bank.import_texture(Path(args.texture), name=args.name, tags=args.tags,
+    from .bank import name_from_file
+    name = args.name
+    if not name:                # a file name that is not UTF-8: its bad bytes shown as �
+        shown = args.texture.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+        name = name_from_file(shown)
+    entry_id = bank.import_texture(Path(args.texture), name=name, tags=args.tags,
                                    description=args.description)
     e = bank.get(entry_id)
     print(f"entry {e.id}: {e.name} ({e.width}x{e.height}, {e.actions} actions, "

@@ -167,11 +167,11 @@ class _Parser:
         return self.text[self.pos] if self.pos < len(self.text) else ""
 
     def number(self) -> int:
-        if not self.peek().isdigit():
+        if not self.peek().isdecimal():     # what int() reads; isdigit() also takes "²"
             what = "the end" if not self.peek() else repr(self.peek())
             self.fail(f"a sub-region number was expected, found {what}")
         start = self.pos
-        while self.pos < len(self.text) and self.text[self.pos].isdigit():
+        while self.pos < len(self.text) and self.text[self.pos].isdecimal():
             self.pos += 1
         value = int(self.text[start:self.pos])
         if value < 1:
