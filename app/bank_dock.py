@@ -11,8 +11,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from texeditor import warmup
 from texeditor.bank import Bank, make_record
 from texeditor.errors import TexeditorError
 
@@ -21,6 +23,7 @@ from .bank_view import IdRole, RangeFilters, SaveToBankDialog, ThumbnailGrid
 SEARCH_DELAY_MS = 150
 WATCH_MS = 2000                   # how often the browser looks for changes made elsewhere
 START_ENTRY = "Gravel"            # the built-in the window opens on
+ENGINE_NOTE_MS = 1500             # the "Preparing the synthesis engine" note after this long
 TEXTURE_FILTER = "Textures (*.texture);;All files (*)"
 
 
@@ -253,8 +256,11 @@ class BankDock(QtWidgets.QDockWidget):
         return True
 
     def start(self) -> bool:
-        """At start-up: open the bank and put a built-in entry on the canvas (after preparing
-        the entries a first run installs). False when there is no bank or it is empty."""
+        """At start-up: open the bank and put a built-in entry on the canvas, then prepare the
+        entries a first run installs. The numba kernels compile meanwhile in a background
+        thread (a first start: tens of seconds), and the entry shows at once from its stored
+        picture (``Bank.open_stored``). False when there is no bank or it is empty."""
+        self._warm_up()
         if not self.load(prepare=False) or self.main.runner.busy:
             return False
         ids = [e.id for e in self.bank.search(START_ENTRY) if e.name == START_ENTRY] \
@@ -264,33 +270,110 @@ class BankDock(QtWidgets.QDockWidget):
         self._prepare(ids[0])
         return True
 
+    def _warm_up(self) -> None:
+        """Compile the kernels in the background; a note in the status bar while it lasts
+        (shown after ENGINE_NOTE_MS: a warm numba cache only loads them, in about a second)."""
+        from .mip import box_average           # the canvas's kernel (below 100 %), compiled first
+        warmup.start(first=[lambda: box_average(np.zeros((2, 2), np.uint8),
+                                                np.zeros((256, 3), np.uint8), 1)])
+        self._to_confirm: int | None = None      # an entry shown from its stored picture
+        self.engine_note = QtWidgets.QLabel("Preparing the synthesis engine… (first start only)")
+        self.engine_note.setToolTip("The synthesis kernels are compiled once, for this computer "
+                                    "(tens of seconds). Meanwhile the bank's stored pictures are "
+                                    "shown, and a synthesis or an edit that needs the kernels "
+                                    "waits for them with the busy bar.")
+        self.main.statusBar().insertPermanentWidget(0, self.engine_note)
+        self.engine_note.hide()
+        self._engine_timer = QtCore.QTimer(self)
+        self._engine_timer.setInterval(100)
+        self._engine_timer.timeout.connect(self._engine_tick)
+        self._engine_since = QtCore.QElapsedTimer()
+        self._engine_since.start()
+        self._engine_timer.start()
+
+    def _engine_tick(self) -> None:
+        if not warmup.ready():
+            if self._engine_since.elapsed() >= ENGINE_NOTE_MS:
+                self.engine_note.show()
+            return
+        if self.engine_note.isVisible():
+            self.engine_note.hide()
+            problem = warmup.error()
+            self.main.statusBar().showMessage(
+                f"The synthesis engine is ready (prepared in {warmup.seconds() or 0:.0f} s)."
+                if problem is None else f"The synthesis kernels could not be prepared ahead "
+                f"({problem}); they compile when first used.", 8000)
+        if self._to_confirm is None or self.bank is None:
+            self._engine_timer.stop()
+        elif not self.main.runner.busy:
+            self._engine_timer.stop()
+            self._confirm(self._to_confirm)
+
+    def _confirm(self, entry_id: int) -> None:
+        """Now that the kernels are ready: synthesise the entry shown from its stored picture
+        and compare (the picture matched its recorded hash; this checks the recipe too)."""
+        self._to_confirm = None
+        bank, name = self.bank, self.bank.get(entry_id).name
+
+        def done(same: bool) -> None:
+            if not same:
+                self.main.show_error(f"“{name}” is not what its recipe synthesises", RuntimeError(
+                    f"the stored picture of “{name}” matches its recorded SHA-256, but its log "
+                    "synthesises another texture: the bank entry is damaged (⋯ ▸ Verify the "
+                    "bank… lists it). Steps replayed from now on use the log's own result."))
+
+        self.main.runner.run(f"Checking “{name}” against its recipe…",
+                             lambda progress, cancel: bank.confirm_stored(entry_id, cancel=cancel),
+                             done, on_error=lambda exc: self.main.show_error(
+                                 f"“{name}” cannot be checked against its recipe", exc))
+
     def _prepare(self, open_id: int | None) -> None:
-        """In the worker: thumbnails and attributes of pending entries, then open one."""
-        bank = self.bank
+        """In the worker: open an entry — from its stored picture when it has one (no kernels
+        needed), else by replay — then prepare the pending entries (``_prepare_pending``)."""
+        if open_id is None:
+            self._prepare_pending()
+            return
+        bank, name = self.bank, self.bank.get(open_id).name
 
         def work(progress, cancel):
-            n = len(bank.pending())
-            share = 0.8 if n and open_id is not None else (1.0 if n else 0.0)
-            failed = bank.prepare_pending(progress=lambda f: progress(share * f), cancel=cancel)
-            history = None if open_id is None else bank.open(
-                open_id, progress=lambda f: progress(share + (1 - share) * f), cancel=cancel)
-            return failed, history
+            history = bank.open_stored(open_id)
+            if history is not None:
+                return history, True
+            return bank.open(open_id, progress=progress, cancel=cancel), False
 
         def done(result):
-            failed, history = result
+            history, stored = result
+            self._show_opened(open_id, history, stored=stored)
+            if stored:                        # checked by synthesis once the kernels are ready
+                self._to_confirm = open_id
+                self._engine_timer.start()
+            self._prepare_pending()
+
+        def failed(exc):
+            self.main.show_error(f"Cannot open “{name}”", exc)
+            self._prepare_pending()
+
+        self.main.runner.run(f"Opening “{name}” from the bank…", work, done, on_error=failed)
+
+    def _prepare_pending(self) -> None:
+        """In the worker: thumbnails and attributes of the pending entries (the built-ins from
+        their stored pictures; others are replayed, which waits for the kernels)."""
+        bank = self.bank
+        if bank is None or not bank.pending() or self.main.runner.busy:
+            return
+
+        def done(failed):
             self.model.forget()
             self.refresh()
             if failed:
                 self.status.setText(f"{len(failed)} entries do not replay to their recorded "
                                     "texture (⋯ ▸ Verify the bank… lists them).")
-            if history is not None:
-                self._show_opened(open_id, history)
 
-        label = ("Preparing the texture bank (a first start compiles the synthesis kernels: "
-                 "up to a minute)…" if bank.pending() else "Opening the texture bank…")
-        self.main.runner.run(label, work, done,
-                               on_error=lambda exc: self.main.show_error(
-                                   "The texture bank cannot be prepared", exc))
+        self.main.runner.run("Preparing the texture bank's thumbnails and attributes…",
+                             lambda progress, cancel: bank.prepare_pending(progress=progress,
+                                                                           cancel=cancel),
+                             done, on_error=lambda exc: self.main.show_error(
+                                 "The texture bank cannot be prepared", exc))
 
     def _set_enabled(self, on: bool) -> None:
         for w in (self.search, self.filter_button, self.menu_button, self.view, self.details,
@@ -433,15 +516,16 @@ class BankDock(QtWidgets.QDockWidget):
                        on_cancel=lambda: win.statusBar().showMessage("Opening cancelled.", 5000),
                        on_error=lambda exc: win.show_error(f"Cannot open “{name}”", exc))
 
-    def _show_opened(self, entry_id: int, history) -> None:
+    def _show_opened(self, entry_id: int, history, *, stored: bool = False) -> None:
         entry = self.bank.get(entry_id)
         self.main.set_history(history, name=f"“{entry.name}” from the bank")
         self.opened = (entry_id, history)
         self.select(entry_id)
         n = len(history.actions)
+        how = ("shown from its stored picture" if stored
+               else f"{n} step{'s' if n != 1 else ''} replayed")
         self.main.statusBar().showMessage(
-            f"Opened “{entry.name}” from the bank: {n} step{'s' if n != 1 else ''} replayed, "
-            "SHA-256 verified.", 8000)
+            f"Opened “{entry.name}” from the bank: {how}, SHA-256 verified.", 8000)
 
     def save_current(self) -> SaveToBankDialog | None:
         """File ▸ Save to bank…: ask for name, tags, description (window-modal), then save."""

@@ -15,6 +15,7 @@ import time
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from texeditor import warmup
 from texeditor.errors import TexeditorError
 from texeditor.grain_render import (LATTICES, MAX_COMPRESSION, MAX_EXPLOSION, OVERLAP_RULES,
                                     check_size)
@@ -355,6 +356,9 @@ class GrainDensityDock(QtWidgets.QDockWidget):
     def update_preview(self) -> None:
         action = self.action()
         if action is None or self.main_window.history is None:
+            return
+        if warmup.pending("gui"):           # a first start compiles the grain kernel: not here
+            self._preview_timer.start()
             return
         try:
             levels, palette = self.normalised()

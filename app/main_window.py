@@ -11,6 +11,7 @@ import time
 
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from texeditor import warmup
 from texeditor.actions import SetPalette, Synthesize
 from texeditor.errors import TexeditorError
 from texeditor.history import History
@@ -342,6 +343,8 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         would change nothing (a fill with the region's own level) adds no step, and says so."""
         if self.edits_locked():
             return False
+        if warmup.pending() and warmup.needs_kernels(action, self.history.document):
+            return self._after_warm_up(action)
         try:
             added = self.history.apply(action, if_changed=True)
         except TexeditorError as exc:
@@ -351,6 +354,22 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             self.statusBar().showMessage(f"{action.label()}: this changes nothing, so no step "
                                          "was added.", 5000)
         return True
+
+    def _after_warm_up(self, action) -> bool:
+        """A step that needs the kernels while a first start compiles them waits in the worker
+        (busy bar, Esc cancels it) and is applied when they are ready: the GUI never freezes.
+        False: not applied yet."""
+        if self.runner.busy:
+            self.statusBar().showMessage("Busy: wait for the current work or cancel it (Esc).",
+                                         5000)
+            return False
+        history = self.history
+        self.runner.run("Preparing the synthesis engine… (first start only)",
+                        lambda progress, cancel: warmup.wait(cancel=cancel),
+                        lambda _: history is self.history and self.submit(action),
+                        on_cancel=lambda: self.statusBar().showMessage(
+                            "Cancelled: the change was not made.", 5000))
+        return False
 
     def _palette_committed(self, palette) -> None:
         """A palette the document refused (while a replay runs, say) is not left on show."""

@@ -4,8 +4,9 @@ A new bank installs these on first run, so a newcomer sees what the product does
 from the bundled photos, DPJs drawn from a seed (§5.2.2), and edited textures whose logs use the
 region and global operators. Each file's stem is the entry's name ("gravel-acquired" → "Gravel
 acquired", a leading "NN-" is the entry's place among the built-ins); its tags and description
-come from the manifest. Logs are saved optimised, as the
-bank keeps them.
+come from the manifest. Logs are saved optimised, as the bank keeps them. Each entry's texture is
+also stored as a picture, bank/pictures/<SHA-256>.npz (``--pictures`` writes only these), so a
+first start shows and indexes the built-ins without waiting for the synthesis kernels.
 """
 
 from __future__ import annotations
@@ -23,7 +24,8 @@ from texeditor.dpj import DPJ  # noqa: E402
 from texeditor.history import History  # noqa: E402
 from texeditor.logopt import optimize  # noqa: E402
 from texeditor.region_actions import Copy, Fill, Identity, Isometry, Similarity  # noqa: E402
-from texeditor.texturefile import save_texture  # noqa: E402
+from texeditor.bank import write_picture  # noqa: E402
+from texeditor.texturefile import render_texture, save_texture  # noqa: E402
 
 SIZE = 256
 WARM = [(52, 36, 24), (128, 86, 52), (186, 140, 92), (232, 206, 160)]
@@ -111,7 +113,23 @@ def entries() -> dict:
     return out
 
 
+def write_pictures(folder: Path = HERE / "bank") -> None:
+    """Each built-in's texture as a stored picture, bank/pictures/<SHA-256>.npz: a first start
+    shows and indexes the built-ins from these while the synthesis kernels compile. Each one is
+    the file's own replay, checked against its recorded hash."""
+    pictures = folder / "pictures"
+    for old in pictures.glob("*.npz"):
+        old.unlink()
+    for path in sorted(folder.glob("*.texture")):
+        doc = render_texture(path)                   # replayed, hash checked
+        written = write_picture(pictures, doc.levels, doc.palette)
+        print(f"{path.name}: picture {written.name[:12]}… ({written.stat().st_size:,} bytes)")
+
+
 def main() -> None:
+    if sys.argv[1:] == ["--pictures"]:               # only the stored pictures
+        write_pictures()
+        return
     folder = HERE / "bank"
     folder.mkdir(exist_ok=True)
     for old in folder.glob("*.texture"):
@@ -126,6 +144,7 @@ def main() -> None:
         name = f"{k:02d}-{stem}.texture"
         save_texture(folder / name, check, tags=tags, description=description)
         print(f"{name}: {len(shorter)} actions")
+    write_pictures(folder)
 
 
 if __name__ == "__main__":

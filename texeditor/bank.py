@@ -8,6 +8,7 @@ replays its log and checks the result's SHA-256). Storage is SQLite in the user 
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import os
@@ -15,6 +16,7 @@ import re
 import sqlite3
 import threading
 import time
+import zipfile
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,11 +24,11 @@ from pathlib import Path
 import numpy as np
 
 from . import attributes as attrs
-from .actions import action_from_json, dpj_refs
-from .document import Document
+from .actions import Synthesize, action_from_json, dpj_refs
+from .document import Document, result_hash
 from .dpj import DPJ
 from .errors import Cancelled, FormatError, InputError, ReplayError, TexeditorError
-from .fileio import atomic_write
+from .fileio import atomic_write, atomic_write_bytes
 from .history import History, replay
 from .logopt import optimize
 from .resources import ROOT as RESOURCES
@@ -39,6 +41,9 @@ SCHEMA_VERSION = 2
 THUMB = 128                       # thumbnail side in pixels: a central crop shown 1:1 (or enlarged)
 MAX_NAME_CHARS, MAX_TAGS, MAX_TAG_CHARS = 200, 64, 64
 BUILTIN_DIR = RESOURCES / "bank"
+PICTURES_DIR = BUILTIN_DIR / "pictures"   # <SHA-256>.npz: the built-ins' textures, replay-free
+MAX_PICTURE_BYTES = 64 * 2**20
+_SHA256 = re.compile(r"^[0-9a-f]{64}$")
 GRAIN_TYPES = ("render_grains",)  # §5.3: grain shape, explosion, compression (texture_actions)
 _SEP = "\x1f"                     # joins tags in one SQL value (a character no tag may hold)
 
@@ -189,8 +194,10 @@ class Bank:
     ``builtins`` installs the entries of resources/bank when the file is new.
     """
 
-    def __init__(self, path=None, *, timeout: float = 5.0, builtins: bool = True):
+    def __init__(self, path=None, *, timeout: float = 5.0, builtins: bool = True,
+                 pictures=None):
         self.path = Path(path) if path is not None else default_path()
+        self.pictures = Path(pictures if pictures is not None else PICTURES_DIR)  # see stored_picture
         self.timeout = timeout
         self._lock = threading.RLock()
         self._feature_cache = None
@@ -580,6 +587,51 @@ class Bank:
             history.document._add_dpj(recipe.dpjs[recipe.main_dpj], recipe.main_dpj)
         return history
 
+    def stored_picture(self, entry: Entry):
+        """The entry's texture, (levels, palette), read from ``pictures``/<its SHA-256>.npz
+        without replaying anything, when that file is sound and *is* the recorded texture (its
+        result hash equal to the entry's SHA-256, as a replay's must be); else None."""
+        if not _SHA256.match(entry.sha256):
+            return None
+        return read_picture(self.pictures / f"{entry.sha256}.npz", entry.sha256,
+                            (entry.height, entry.width), entry.levels)
+
+    def open_stored(self, entry_id: int, **history_options) -> History | None:
+        """``open()`` without the synthesis kernels, for a first start while they compile: an
+        entry whose log is one Synthesize (then palette steps only) and that has a stored
+        picture opens at once, the picture standing for the synthesis's result (a real History:
+        its steps, undo and later replays are the log's). The picture is hash-checked, and so is
+        the History's texture; ``confirm_stored`` later synthesises for real and compares.
+        None when this cannot be done (then ``open()`` replays)."""
+        entry, recipe = self.get(entry_id), self.recipe(entry_id)
+        first, rest = (recipe.actions[0], recipe.actions[1:]) if recipe.actions else (None, ())
+        if (not isinstance(first, Synthesize) or first.dpj not in recipe.dpjs
+                or any(a.EFFECT != "palette" for a in rest)):
+            return None
+        picture = self.stored_picture(entry)
+        if picture is None:
+            return None
+        remembered = first.remember(picture[0])
+        try:
+            history = History.from_log(recipe.actions, recipe.dpjs, **history_options)
+            _check_result(history.document, entry.sha256, _what(entry))
+        except TexeditorError:
+            if remembered:
+                first.forget()          # never leave a wrong result where a synthesis looks
+            return None
+        if recipe.main_dpj is not None:
+            history.document._add_dpj(recipe.dpjs[recipe.main_dpj], recipe.main_dpj)
+        return history
+
+    def confirm_stored(self, entry_id: int, *, cancel=None) -> bool:
+        """Synthesise the first step of an entry ``open_stored`` opened, for real (this needs
+        the kernels), and compare it with the stored picture that stood for it. The synthesis's
+        own result is then the one later replays use, whatever the answer."""
+        entry, recipe = self.get(entry_id), self.recipe(entry_id)
+        first, picture = recipe.actions[0], self.stored_picture(entry)
+        fresh = first.render_result(recipe.dpjs[first.dpj], cancel=cancel).levels
+        return picture is not None and bool(np.array_equal(picture[0], fresh))
+
     def render(self, entry_id: int, *, progress=None, cancel=None) -> Document:
         """Replay an entry into a Document (hash checked), for export and verification."""
         entry, recipe = self.get(entry_id), self.recipe(entry_id)
@@ -638,15 +690,19 @@ class Bank:
 
     def prepare_pending(self, *, progress=None, cancel=None) -> list:
         """Replay each pending entry (checking its hash), then store its thumbnail and
-        attributes. Returns the Checks of the entries that failed (they stay pending)."""
+        attributes; an entry with a stored picture (the built-ins) is not replayed: the
+        picture, checked against its hash, is its texture. Returns the Checks of the entries
+        that failed (they stay pending)."""
         failed, ids = [], self.pending()
         for k, entry_id in enumerate(ids):
             if cancel is not None and cancel():
                 raise Cancelled("preparing the bank was cancelled")
             try:
-                doc = self.render(entry_id, cancel=cancel)
-                self._set_derived(entry_id, thumbnail_png(doc.levels, doc.palette),
-                                  attrs.compute(doc.levels, doc.palette))
+                picture = self.stored_picture(self.get(entry_id))    # a built-in: no replay
+                if picture is None:
+                    doc = self.render(entry_id, cancel=cancel)
+                    picture = doc.levels, doc.palette
+                self._set_derived(entry_id, thumbnail_png(*picture), attrs.compute(*picture))
             except Cancelled:
                 raise
             except BankError:
@@ -844,6 +900,49 @@ def thumbnail_png(levels: np.ndarray, palette, size: int = THUMB) -> bytes:
     if k > 1:
         image = np.repeat(np.repeat(image, k, axis=0), k, axis=1)
     return iio.imwrite("<bytes>", image, extension=".png")
+
+
+def picture_bytes(levels: np.ndarray, palette) -> bytes:
+    """A stored picture: an .npz of ``levels`` (H, W) and ``palette`` (G, 3), both uint8."""
+    out = io.BytesIO()
+    np.savez_compressed(out, levels=np.ascontiguousarray(levels, dtype=np.uint8),
+                        palette=np.ascontiguousarray(palette, dtype=np.uint8))
+    return out.getvalue()
+
+
+def write_picture(folder, levels: np.ndarray, palette) -> Path:
+    """Store a texture as ``folder``/<its result hash>.npz (atomic); returns the path."""
+    path = Path(folder) / f"{result_hash(levels, palette)}.npz"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_bytes(path, picture_bytes(levels, palette))
+    return path
+
+
+def read_picture(path, sha256: str, shape: tuple, levels: int):
+    """(levels, palette) from a stored picture, or None when the file is missing, damaged,
+    too large, not (H, W) = ``shape`` with G = ``levels``, or not the texture of ``sha256``.
+    Read without pickle, every size checked before anything is allocated."""
+    h, w = shape
+    limits = {"levels.npy": h * w + 4096, "palette.npy": 3 * levels + 4096}
+    try:
+        path = Path(path)
+        if not path.is_file() or path.stat().st_size > MAX_PICTURE_BYTES:
+            return None
+        with zipfile.ZipFile(path) as zf:
+            infos = {i.filename: i for i in zf.infolist()}
+            if set(infos) != set(limits) or any(infos[n].file_size > limits[n] for n in limits):
+                return None
+            arrays = {n[:-4]: np.load(io.BytesIO(zf.read(n)), allow_pickle=False)
+                      for n in limits}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zipfile.LargeZipFile):
+        return None
+    grid, palette = arrays["levels"], arrays["palette"]
+    if (grid.dtype != np.uint8 or grid.shape != (h, w) or palette.dtype != np.uint8
+            or palette.shape != (levels, 3) or (grid.size and int(grid.max()) >= levels)
+            or result_hash(grid, palette) != sha256):
+        return None
+    grid.flags.writeable = False
+    return grid, palette
 
 
 # -- text: names, tags, queries ----------------------------------------------------------------

@@ -1,0 +1,95 @@
+"""A first start (issue 16): the window shows the start entry's stored picture while the numba
+kernels compile in the background; steps that need them wait in the worker, then work."""
+
+import threading
+
+import numpy as np
+import pytest
+
+from texeditor import bank as bk
+from texeditor import warmup
+from texeditor.actions import _MEMO, Synthesize
+from texeditor.bank import Bank, picture_bytes
+
+
+@pytest.fixture
+def slow_compile(monkeypatch, tmp_path):
+    """A fresh bank, and a warm-up whose compile waits for ``gate`` (as a long first compile)."""
+    monkeypatch.setenv("TEXEDITOR_BANK", str(tmp_path / "first.sqlite"))
+    assert warmup.wait(timeout=120)
+    warmup._reset()
+    gate = threading.Event()
+    monkeypatch.setattr(warmup, "_compile", lambda: gate.wait(120))
+    _MEMO.clear()
+    yield gate
+    gate.set()
+    assert warmup.wait(timeout=30)
+
+
+def test_the_start_entry_shows_before_the_kernels_are_ready(window, qtbot, slow_compile,
+                                                            monkeypatch):
+    gate = slow_compile
+    monkeypatch.setattr(Bank, "open", lambda *a, **k: pytest.fail("the start entry was replayed"))
+    monkeypatch.setattr(Bank, "render", lambda *a, **k: pytest.fail("a built-in was replayed"))
+    window.start_default()
+    dock = window.bank_dock
+    qtbot.waitUntil(lambda: dock.opened is not None, timeout=10_000)
+    assert warmup.pending()
+    entry = dock.bank.get(dock.opened[0])
+    picture = dock.bank.stored_picture(entry)
+    assert entry.name == "Gravel" and picture is not None
+    assert np.array_equal(window.document.levels, picture[0])
+    assert np.array_equal(window.canvas.levels, picture[0])
+    assert window.document.result_hash() == entry.sha256
+    assert [a.TYPE for a in window.history.actions] == ["synthesize"]
+    assert "stored picture" in window.statusBar().currentMessage()
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=20_000)   # thumbnails, no replay
+    assert dock.bank.pending() == [] and warmup.pending()
+    qtbot.waitUntil(lambda: dock.engine_note.isVisible(), timeout=5000)
+    assert "first start only" in dock.engine_note.text()
+
+    # a step that needs the kernels waits in the worker, with the busy bar, and is not lost
+    ref = window.document.dpj_ref
+    assert not window.submit(Synthesize(ref, 40, 30, 5))
+    assert window.runner.busy and "synthesis engine" in window.task_label.text()
+    assert window.progress.isVisible() and window.history.index == 1
+    qtbot.wait(200)
+    assert window.runner.busy and window.history.index == 1            # still waiting
+    gate.set()
+    qtbot.waitUntil(lambda: window.history.index == 2, timeout=20_000)
+    assert window.document.shape == (30, 40)
+    qtbot.waitUntil(lambda: not dock.engine_note.isVisible() and not window.runner.busy,
+                    timeout=20_000)          # the note goes; the start entry is checked
+    assert dock._to_confirm is None and not window.errors
+
+    # synthesis works; undo goes back to the stored picture
+    window.synthesise(48, 32, 9)
+    assert window.runner.wait(60_000) and window.document.shape == (32, 48)
+    window.undo()
+    window.undo()
+    assert np.array_equal(window.document.levels, picture[0]) and window.history.index == 1
+    assert not window.errors
+
+
+def test_a_forged_picture_is_refused_and_the_entry_replayed(window, qtbot, tmp_path,
+                                                            monkeypatch):
+    """A picture that is not the recorded texture never shows: the entry is replayed."""
+    monkeypatch.setenv("TEXEDITOR_BANK", str(tmp_path / "forged.sqlite"))
+    forged = tmp_path / "pictures"
+    forged.mkdir()
+    for path in bk.PICTURES_DIR.glob("*.npz"):
+        with np.load(path, allow_pickle=False) as z:
+            levels, palette = z["levels"].copy(), z["palette"]
+        levels[0, 0] = (int(levels[0, 0]) + 1) % len(palette)
+        (forged / path.name).write_bytes(picture_bytes(levels, palette))
+    monkeypatch.setattr(bk, "PICTURES_DIR", forged)
+    opened, real_open = [], Bank.open
+    monkeypatch.setattr(Bank, "open", lambda self, i, **k: opened.append(i) or real_open(self, i, **k))
+    _MEMO.clear()
+    window.start_default()
+    assert window.runner.wait(120_000)
+    dock = window.bank_dock
+    entry = dock.bank.get(dock.opened[0])
+    assert entry.name == "Gravel" and window.document.result_hash() == entry.sha256
+    assert dock.bank.pending() == [] and not window.errors        # replayed, not refused
+    assert opened == [entry.id] and dock._to_confirm is None

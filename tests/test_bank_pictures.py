@@ -1,0 +1,246 @@
+"""Stored pictures (issue 16): a first start shows and indexes the built-ins without the synthesis
+kernels. A picture stands for a replay only when it is the recorded texture; anything else is
+refused and the entry is replayed as before. Also the kernels' background warm-up."""
+
+import io
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from texeditor import bank as bk
+from texeditor import synthesis, warmup
+from texeditor.actions import _MEMO, SetLevels, SetPalette, Synthesize
+from texeditor.bank import Bank, picture_bytes, read_picture, write_picture
+from texeditor.dpj import DPJ
+from texeditor.history import History
+from texeditor.texturefile import read_texture, render_texture
+
+BUILTINS = sorted(bk.BUILTIN_DIR.glob("*.texture"))
+
+
+def tiny_dpj(seed: int = 0) -> DPJ:
+    rng = np.random.default_rng(seed)
+    return DPJ.from_codes(np.arange(16), rng.dirichlet(np.ones(16)), 2, (2, 2))
+
+
+@pytest.fixture
+def no_synthesis(monkeypatch):
+    """Any synthesis fails the test: what is shown must come from a stored picture."""
+    def refuse(*args, **kwargs):
+        raise AssertionError("a synthesis ran")
+    monkeypatch.setattr(synthesis, "synthesize", refuse)
+    _MEMO.clear()
+    yield
+    _MEMO.clear()
+
+
+@pytest.fixture
+def builtin_bank(tmp_path):
+    with Bank(tmp_path / "bank.sqlite") as bank:
+        yield bank
+
+
+def gravel(bank) -> int:
+    return next(e.id for e in bank.search("gravel") if e.name == "Gravel")
+
+
+def forge(path: Path, levels, palette) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_bytes(picture_bytes(levels, palette))
+
+
+# -- the bundled pictures ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("path", BUILTINS, ids=[p.stem for p in BUILTINS])
+def test_every_builtin_has_a_stored_picture_equal_to_its_replay(path):
+    m = read_texture(path).manifest
+    picture = read_picture(bk.PICTURES_DIR / f"{m.result_sha256}.npz", m.result_sha256,
+                           (m.height, m.width), m.levels)
+    assert picture is not None, f"{path.name}: no sound picture (python resources/make_bank.py --pictures)"
+    doc = render_texture(path)                       # replayed, hash checked
+    assert np.array_equal(picture[0], doc.levels) and np.array_equal(picture[1], doc.palette)
+
+
+def test_a_first_start_needs_no_synthesis(builtin_bank, no_synthesis):
+    """Opening the start entry and preparing every built-in's thumbnail and attributes."""
+    bank = builtin_bank
+    assert len(bank.pending()) == len(BUILTINS)
+    history = bank.open_stored(gravel(bank))
+    entry = bank.get(gravel(bank))
+    assert history is not None and history.document.result_hash() == entry.sha256
+    assert np.array_equal(history.document.levels, bank.stored_picture(entry)[0])
+    assert [a.TYPE for a in history.actions] == ["synthesize"]
+    assert bank.prepare_pending() == [] and bank.pending() == []
+    assert all(bank.thumbnails([e.id]) for e in bank.entries())
+
+
+def test_the_history_from_a_picture_is_real(builtin_bank, no_synthesis):
+    """Its steps are the log's; edits undo back to the picture; its DPJ is there."""
+    history = builtin_bank.open_stored(gravel(builtin_bank))
+    shown = history.document.levels.copy()
+    history.apply(SetLevels(0, 0, 8, 8, 3))
+    assert history.document.levels[:8, :8].min() == 3
+    history.undo()
+    assert np.array_equal(history.document.levels, shown) and history.index == 1
+    assert history.document.dpj is not None
+
+
+def test_a_forged_picture_is_refused_and_the_entry_replayed(builtin_bank, tmp_path):
+    bank = Bank(builtin_bank.path, pictures=tmp_path / "pictures")
+    entry = bank.get(gravel(bank))
+    good = read_picture(bk.PICTURES_DIR / f"{entry.sha256}.npz", entry.sha256,
+                        (entry.height, entry.width), entry.levels)
+    levels, palette = good[0].copy(), good[1]
+    levels[5, 7] = (levels[5, 7] + 1) % entry.levels           # one point changed
+    forge(bank.pictures / f"{entry.sha256}.npz", levels, palette)
+    _MEMO.clear()
+    assert bank.stored_picture(entry) is None
+    assert bank.open_stored(entry.id) is None
+    assert _MEMO.get(bank.recipe(entry.id).actions[0]._key()) is None    # nothing left behind
+    assert bank.open(entry.id).document.result_hash() == entry.sha256     # replayed instead
+    bank.close()
+
+
+@pytest.mark.parametrize("damage", ["truncated", "extra member", "object array", "wrong shape",
+                                    "level too high", "not a zip", "bad name"])
+def test_a_damaged_picture_is_refused(tmp_path, damage):
+    levels = np.random.default_rng(1).integers(0, 3, (12, 10)).astype(np.uint8)
+    palette = np.array([[0, 0, 0], [128, 128, 128], [255, 255, 255]], np.uint8)
+    path = write_picture(tmp_path, levels, palette)
+    sha = path.stem
+    assert read_picture(path, sha, (12, 10), 3) is not None
+    data = path.read_bytes()
+    if damage == "truncated":
+        path.write_bytes(data[:len(data) // 2])
+    elif damage == "extra member":
+        with zipfile.ZipFile(path, "a") as zf:
+            zf.writestr("more.npy", b"x")
+    elif damage == "object array":
+        out = io.BytesIO()
+        with zipfile.ZipFile(out, "w") as zf:
+            for name, array in (("levels.npy", levels.astype(object)), ("palette.npy", palette)):
+                buf = io.BytesIO()
+                np.save(buf, array, allow_pickle=True)
+                zf.writestr(name, buf.getvalue())
+        path.write_bytes(out.getvalue())
+    elif damage == "wrong shape":
+        forge(path, levels[:, :9], palette)
+    elif damage == "level too high":
+        forge(path, np.where(levels == 2, 7, levels).astype(np.uint8), palette)
+    elif damage == "not a zip":
+        path.write_bytes(b"\x93NUMPY not a zip at all")
+    if damage == "bad name":                   # a recorded hash is never a path
+        with Bank(tmp_path / "b.sqlite", builtins=False, pictures=tmp_path / "sub") as bank:
+            entry = bank.get(bank.add(_synth(1), "x"))
+            assert bank.stored_picture(_with_sha(entry, "../" + sha)) is None
+        return
+    assert read_picture(path, sha, (12, 10), 3) is None
+
+
+def _synth(seed, dpj=None, size=(20, 16)) -> History:
+    history = History()
+    ref = history.add_dpj(dpj or tiny_dpj())
+    history.apply(Synthesize(ref, size[1], size[0], seed))
+    return history
+
+
+def _with_sha(entry, sha):
+    import dataclasses
+    return dataclasses.replace(entry, sha256=sha)
+
+
+def test_open_stored_only_stands_for_a_synthesis(tmp_path):
+    """A log whose later steps change the levels is replayed, picture or not; palette steps
+    may follow the synthesis."""
+    pictures = tmp_path / "pictures"
+    with Bank(tmp_path / "b.sqlite", builtins=False, pictures=pictures) as bank:
+        edited = _synth(3)
+        edited.apply(SetLevels(0, 0, 4, 4, 1))
+        coloured = _synth(4)
+        coloured.apply(SetPalette(((10, 20, 30), (200, 100, 0))))
+        ids = [bank.add(h, name) for h, name in ((edited, "edited"), (coloured, "coloured"))]
+        for h in (edited, coloured):
+            write_picture(pictures, h.document.levels, h.document.palette)
+        _MEMO.clear()
+        assert bank.open_stored(ids[0]) is None
+        history = bank.open_stored(ids[1])
+        assert history is not None and history.document.result_hash() == coloured.document.result_hash()
+        assert bank.confirm_stored(ids[1])
+
+
+def test_a_log_that_does_not_give_the_picture_leaves_no_result_behind(tmp_path):
+    """The picture is the recorded texture, but the stored log (damaged) gives another palette:
+    refused, and the synthesis result the picture stood for is forgotten."""
+    pictures = tmp_path / "pictures"
+    with Bank(tmp_path / "b.sqlite", builtins=False, pictures=pictures) as bank:
+        h = _synth(5)
+        h.apply(SetPalette(((10, 20, 30), (200, 100, 0))))
+        entry_id = bank.add(h, "coloured")
+        write_picture(pictures, h.document.levels, h.document.palette)
+        damaged = bk._log_json([h.actions[0], SetPalette(((0, 0, 0), (1, 1, 1)))])
+        with bank._write() as conn:
+            conn.execute("UPDATE logs SET actions = ? WHERE entry = ?", (damaged, entry_id))
+        _MEMO.clear()
+        assert bank.open_stored(entry_id) is None
+        assert _MEMO.get(h.actions[0]._key()) is None
+
+
+def test_confirm_stored_finds_a_picture_its_recipe_does_not_give(tmp_path, monkeypatch):
+    pictures = tmp_path / "pictures"
+    with Bank(tmp_path / "b.sqlite", builtins=False, pictures=pictures) as bank:
+        h = _synth(6)
+        entry_id = bank.add(h, "s")
+        write_picture(pictures, h.document.levels, h.document.palette)
+        assert bank.confirm_stored(entry_id)
+        other = synthesis.synthesize(tiny_dpj(), (20, 16), seed=99)
+        monkeypatch.setattr(Synthesize, "render_result", lambda self, dpj, **kw: other)
+        assert not bank.confirm_stored(entry_id)
+
+
+# -- the warm-up ------------------------------------------------------------------------------
+
+@pytest.fixture
+def fresh_warmup(monkeypatch):
+    warmup.wait(timeout=120)
+    warmup._reset()
+    yield
+    warmup.wait(timeout=120)
+    warmup._reset()
+    warmup.start()          # leave the process as an application leaves it: warmed up
+    warmup.wait(timeout=120)
+
+
+def test_the_warm_up_runs_once_in_the_background(fresh_warmup, monkeypatch):
+    import threading
+    gate, calls = threading.Event(), []
+    monkeypatch.setattr(warmup, "_compile", lambda: (calls.append(1), gate.wait(30)))
+    assert not warmup.pending() and not warmup.started()
+    assert warmup.start() and not warmup.start()
+    assert warmup.pending() and not warmup.wait(timeout=0.1)
+    gate.set()
+    assert warmup.wait(timeout=10) and warmup.ready() and not warmup.pending()
+    assert calls == [1] and warmup.error() is None and warmup.seconds() >= 0
+
+
+def test_a_failed_warm_up_is_kept_never_raised(fresh_warmup, monkeypatch):
+    def broken():
+        raise RuntimeError("no compiler")
+    monkeypatch.setattr(warmup, "_compile", broken)
+    warmup.warm_up()
+    assert warmup.ready() and "no compiler" in str(warmup.error())
+
+
+def test_which_steps_need_the_kernels():
+    from texeditor.document import Document
+    from texeditor.texture_actions import RenderGrains
+    doc = _synth(7).document
+    ref = doc.dpj_ref
+    _MEMO.clear()
+    assert warmup.needs_kernels(Synthesize(ref, 20, 16, 7), doc)           # not at hand
+    Synthesize(ref, 20, 16, 7).render(doc.dpj)
+    assert not warmup.needs_kernels(Synthesize(ref, 20, 16, 7), doc)       # at hand
+    assert not warmup.needs_kernels(SetLevels(0, 0, 2, 2, 1), doc)
+    assert not warmup.needs_kernels(SetPalette(((0, 0, 0), (9, 9, 9))), Document())
+    assert warmup.needs_kernels(RenderGrains(), doc)

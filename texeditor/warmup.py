@@ -1,0 +1,141 @@
+"""The numba kernels compiled ahead of need, in a background thread.
+
+A first start (an empty numba cache: a fresh install, a new numba or Python) compiles the
+synthesis kernels for ~15-40 s; with a warm cache, warming up only loads them (a fraction of a
+second). The GUI calls ``start()`` as soon as its window shows, and shows a stored picture meanwhile
+(`bank.Bank.open_stored`). Work in a worker thread that needs a kernel simply waits for numba's
+compiler lock; work on the GUI thread must not, so the GUI asks ``pending()`` and
+``needs_kernels(action, doc)`` and lets such a step wait in its worker for ``wait()``. The small
+kernels the GUI thread itself calls (grain rendering for a preview, the canvas's mip levels)
+compile first, in a second or two: ``pending("gui")`` says when they are not ready yet.
+
+Nothing here imports Qt. Process-wide state: compiled kernels are the process's.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from typing import Callable
+
+import numpy as np
+
+_lock = threading.Lock()
+_done = threading.Event()
+_gui_done = threading.Event()      # the first stage: kernels the GUI thread calls
+_first: list = []                  # more such kernels, from the application (no Qt here)
+_thread: threading.Thread | None = None
+_result: dict = {"seconds": None, "error": None}
+
+
+def _compile() -> None:
+    """Call every kernel once on tiny inputs of the types real work passes (so nothing compiles
+    again later). First the small ones the GUI thread may call, then the synthesis."""
+    from . import grain_render
+    from .dpj import DPJ
+    from .synthesis import synthesize
+
+    grain_render.render(np.ones((2, 2), np.uint8), "square", 2)
+    for kernel in _first:
+        kernel()
+    _gui_done.set()
+    dpj = DPJ.from_codes(np.arange(16), np.full(16, 1 / 16), 2, (2, 2))
+    synthesize(dpj, (8, 8), seed=0)
+
+
+def warm_up(then: Callable[[], None] | None = None) -> float:
+    """Compile (or load from numba's cache) every kernel; returns the seconds it took. A failure
+    is kept in ``error()`` and never raised: a kernel then compiles when first used. ``then()``
+    runs after the kernels are ready, in the same thread (its exceptions are kept too)."""
+    start = time.perf_counter()
+    try:
+        _compile()
+    except Exception as exc:          # noqa: BLE001 - reported, never fatal
+        _result["error"] = exc
+    finally:
+        _result["seconds"] = time.perf_counter() - start
+        _gui_done.set()
+        _done.set()
+    if then is not None:
+        try:
+            then()
+        except Exception as exc:      # noqa: BLE001
+            _result["error"] = exc
+    return _result["seconds"]
+
+
+def start(then: Callable[[], None] | None = None, first=()) -> bool:
+    """Warm up in a daemon thread (once per process; later calls do nothing and return False).
+    ``first``: more calls that compile kernels the GUI thread uses, made in the first stage."""
+    global _thread
+    with _lock:
+        if _thread is not None:
+            return False
+        _first[:] = list(first)
+        _thread = threading.Thread(target=warm_up, args=(then,), name="texeditor-warm-up",
+                                   daemon=True)
+        _thread.start()
+        return True
+
+
+def started() -> bool:
+    return _thread is not None
+
+
+def ready() -> bool:
+    """The warm-up has finished (kernels compiled, or its failure recorded)."""
+    return _done.is_set()
+
+
+def pending(stage: str | None = None) -> bool:
+    """A warm-up is under way: kernel work on the GUI thread would wait for it (``"gui"``: the
+    first stage, the GUI thread's own small kernels, is not done yet)."""
+    return _thread is not None and not (_gui_done if stage == "gui" else _done).is_set()
+
+
+def wait(timeout: float | None = None, cancel: Callable[[], bool] | None = None) -> bool:
+    """Block until the warm-up ends (or ``timeout`` seconds, or ``cancel()``); True when it has
+    (at once when none was started)."""
+    if _thread is None:
+        return True
+    deadline = None if timeout is None else time.perf_counter() + timeout
+    while not _done.wait(0.05):
+        if cancel is not None and cancel():
+            return False
+        if deadline is not None and time.perf_counter() > deadline:
+            return False
+    return True
+
+
+def seconds() -> float | None:
+    return _result["seconds"]
+
+
+def error() -> Exception | None:
+    return _result["error"]
+
+
+def needs_kernels(action, doc) -> bool:
+    """Whether applying ``action`` to ``doc`` may call a numba kernel: a synthesis whose result is
+    not at hand, a grain rendering, or any step naming one of the document's DPJs (a spot or
+    source texture drawn from it). Conservative: such a step only waits, never fails."""
+    from .actions import Synthesize, _MEMO, dpj_refs
+
+    if isinstance(action, Synthesize):
+        return _MEMO.get(action._key()) is None
+    if action.TYPE == "render_grains":
+        return True
+    return any(ref in doc.dpjs for ref in dpj_refs([action]))
+
+
+def _reset() -> None:
+    """Forget a finished warm-up (tests only: the kernels stay compiled)."""
+    global _thread
+    with _lock:
+        if _thread is not None and _thread.is_alive():
+            raise RuntimeError("a warm-up is still running")
+        _thread = None
+        _done.clear()
+        _gui_done.clear()
+        _first.clear()
+        _result.update(seconds=None, error=None)
