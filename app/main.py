@@ -70,11 +70,36 @@ def run(argv=None) -> int:
     app.processEvents()
     if args.open is not None and window.path is None:
         return 2                 # the reason was printed by the window
-    window.grab().save(str(args.screenshot))
+    png = _png_bytes(window.grab())
     window.mark_clean()
     window.close()
-    if not args.screenshot.exists():
-        print(f"texeditor: cannot write {args.screenshot}", file=sys.stderr)
+    return write_screenshot(args.screenshot, png)
+
+
+def _png_bytes(pixmap) -> bytes | None:
+    """The picture encoded as PNG in memory (None when Qt cannot encode it)."""
+    from PySide6 import QtCore
+    buffer = QtCore.QBuffer()
+    buffer.open(QtCore.QIODevice.OpenModeFlag.WriteOnly)
+    ok = pixmap.save(buffer, "PNG")
+    data = bytes(buffer.data())
+    buffer.close()
+    return data if ok and data else None
+
+
+def write_screenshot(path: Path, png: bytes | None) -> int:
+    """Write the screenshot atomically (texeditor.fileio): a full disk or a folder that cannot
+    be written leaves any existing file as it was and exits 2 naming the file."""
+    from texeditor.errors import TexeditorError
+    from texeditor.fileio import write_file
+    if png is None:
+        print(f"texeditor: error: {path}: cannot write (the window could not be encoded as PNG)",
+              file=sys.stderr)
+        return 2
+    try:
+        write_file(path, png)
+    except TexeditorError as exc:
+        print(f"texeditor: error: {exc}", file=sys.stderr)
         return 2
     return 0
 

@@ -618,7 +618,10 @@ def test_hostile_textures_are_refused_without_side_effects(bank, tmp_path):
 def test_a_forged_dpj_reference_cannot_replace_a_stored_dpj(bank):
     bank.add(synthesised(1), "genuine")
     history = History()
-    history.document._add_dpj(TINY_DPJS[1], REFS[0])   # TINY_DPJS[1] posing as REFS[0]
+    with pytest.raises(InputError, match="does not name this DPJ"):
+        history.document._add_dpj(TINY_DPJS[1], REFS[0])   # TINY_DPJS[1] posing as REFS[0]
+    history.document.dpjs[REFS[0]] = TINY_DPJS[1]          # forged behind the document's back
+    history.document._dpj_ref = REFS[0]
     history.apply(NewCanvas(4, 4, 3))
     with pytest.raises(FormatError, match="another DPJ"):
         bank.add(history, "forged")

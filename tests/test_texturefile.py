@@ -235,7 +235,7 @@ def test_too_many_members(saved, tmp_path):
     (b"[1, 2]", "must be a JSON object"),
     (b'{"format": "zip"}', "not a texture file"),
     (b"\xff\xfe", "not valid JSON"),
-    (b"[" * 100_000 + b"]" * 100_000, "not valid JSON|JSON object"),
+    (b"[" * 100_000 + b"]" * 100_000, "nests 100000 levels deep"),
 ], ids=["broken", "list", "format", "utf8", "deep"])
 def test_wrong_manifest_json(saved, tmp_path, manifest, message):
     path = replace_member(saved, tmp_path, "manifest.json", manifest)

@@ -28,7 +28,7 @@ from .actions import Synthesize, action_from_json, dpj_refs
 from .document import Document, result_hash
 from .dpj import DPJ
 from .errors import Cancelled, FormatError, InputError, ReplayError, TexeditorError
-from .fileio import atomic_write, atomic_write_bytes
+from .fileio import atomic_write, atomic_write_bytes, load_json
 from .history import History, replay
 from .logopt import optimize
 from .resources import ROOT as RESOURCES
@@ -214,7 +214,11 @@ class Bank:
             raise
 
     # -- opening ---------------------------------------------------------------------------------
+    read_only = False        # a bank file (or folder) this user may not write: opened read-only
+
     def _connect(self) -> sqlite3.Connection:
+        if _read_only(self.path):
+            return self._connect_read_only()
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             conn = sqlite3.connect(self.path, timeout=self.timeout, isolation_level=None,
@@ -229,10 +233,39 @@ class Bank:
             raise self._error(exc) from None
         return conn
 
+    def _connect_read_only(self) -> sqlite3.Connection:
+        """A bank this user cannot write (a shared or archived copy): listed, searched, opened
+        and verified, never changed (a change is refused by SQLite, reported as a BankError).
+        A WAL bank in a read-only folder has no shared-memory file SQLite could make: it is
+        then opened as immutable."""
+        self.read_only = True
+        uri = self.path.resolve().as_uri() + "?mode=ro"
+        for extra in ("", "&immutable=1"):
+            try:
+                conn = sqlite3.connect(uri + extra, uri=True, timeout=self.timeout,
+                                       isolation_level=None, check_same_thread=False)
+            except (OSError, sqlite3.Error) as exc:
+                raise BankError(f"{self.path}: cannot open the bank ({exc})") from None
+            try:
+                conn.execute("PRAGMA query_only = ON")
+                conn.execute("SELECT count(*) FROM sqlite_master").fetchone()
+                return conn
+            except sqlite3.Error as exc:
+                conn.close()
+                if extra or "unable to open" not in str(exc):
+                    raise self._error(exc) from None
+        raise AssertionError("unreachable")
+
     def _migrate(self) -> bool:
         """Bring the schema to SCHEMA_VERSION; True when the bank was just created. A file that
         is not a bank, or is newer, is refused before anything is written to it."""
         self._check_kind()
+        if self.read_only:
+            if self._version() != SCHEMA_VERSION:
+                raise BankError(f"{self.path}: this bank is read-only and of an older schema "
+                                f"({self._version()}); open it once where it can be written "
+                                "to bring it up to date")
+            return False
         try:
             self._conn.execute("PRAGMA journal_mode = WAL")     # readers never wait for writers
             self._conn.execute("PRAGMA synchronous = FULL")     # a commit survives a power cut
@@ -253,6 +286,9 @@ class Bank:
 
     def _check_kind(self) -> int:
         version = self._version()
+        if version < 0:
+            raise BankError(f"{self.path}: the bank's schema version {version} is invalid "
+                            "(a damaged or foreign file)")
         if version > SCHEMA_VERSION:
             raise BankError(f"{self.path}: this bank was made by a newer texeditor (schema "
                             f"{version}); this program reads up to {SCHEMA_VERSION}")
@@ -267,6 +303,10 @@ class Bank:
         if not self.fts:
             return
         exists = self._read("SELECT 1 FROM sqlite_master WHERE name = 'search'")
+        if self.read_only:        # nothing can be indexed: substring matching unless indexed
+            self.fts = bool(exists) and not self._read(
+                "SELECT 1 FROM meta WHERE key = 'fts' AND value = 'stale'")
+            return
         stale = self._read("SELECT value FROM meta WHERE key = 'fts'")
         if exists and not (stale and stale[0][0] == "stale"):
             return
@@ -385,6 +425,9 @@ class Bank:
     @staticmethod
     def _store_dpj(conn, ref: str, dpj: DPJ) -> None:
         """DPJs are shared between entries by reference; a reference never changes meaning."""
+        if not dpj.has_ref(ref):
+            raise FormatError(f"DPJ reference {ref} names another DPJ than the one given: "
+                              "refused (a forged or damaged recipe)")
         row = conn.execute("SELECT data FROM dpjs WHERE ref = ?", (ref,)).fetchone()
         if row is None:
             conn.execute("INSERT INTO dpjs (ref, data) VALUES (?, ?)", (ref, dpj.to_bytes()))
@@ -571,7 +614,7 @@ class Bank:
         dpjs = {}
         for ref, data in self._read("SELECT d.ref, d.data FROM entry_dpjs x JOIN dpjs d "
                                     "ON d.ref = x.ref WHERE x.entry = ?", (entry_id,)):
-            dpjs[ref] = DPJ.from_bytes(bytes(data), f"{what}: DPJ {ref}")
+            dpjs[ref] = DPJ.from_bytes(bytes(data), f"{what}: DPJ {ref}", ref=ref)  # hash checked
         if main is not None and main not in dpjs:
             raise FormatError(f"{what}: its current DPJ {main} is missing")
         return Recipe(actions, dpjs, main)
@@ -1040,6 +1083,16 @@ def parse_range(text: str) -> tuple[str, tuple]:
     return name, bounds
 
 
+def _read_only(path: Path) -> bool:
+    """An existing bank this user may not write: the file, or its folder (SQLite writes its
+    journal beside it)."""
+    try:
+        return path.is_file() and not (os.access(path, os.W_OK)
+                                       and os.access(path.parent, os.W_OK))
+    except OSError:
+        return False
+
+
 def name_from_file(path) -> str:
     """'fine-gravel_2.texture' → 'Fine gravel 2'."""
     stem = re.sub(r"[-_]+", " ", Path(path).stem).strip() or "Untitled"
@@ -1054,9 +1107,9 @@ def parse_log(text, what: str) -> tuple:
         raise FormatError(f"{what}: its action log is damaged (not a text of at most "
                           f"{MAX_ACTIONS_BYTES} bytes)")
     try:
-        obj = json.loads(text, parse_constant=_no_constant)
-    except (json.JSONDecodeError, RecursionError, ValueError) as exc:
-        raise FormatError(f"{what}: its action log is damaged ({str(exc)[:120]})") from None
+        obj = load_json(text, "JSON", limit=MAX_ACTIONS_BYTES)     # size and depth bounded
+    except FormatError as exc:
+        raise FormatError(f"{what}: its action log is damaged ({exc})") from None
     if (not isinstance(obj, dict) or set(obj) != {"actions"} or not isinstance(obj["actions"], list)
             or len(obj["actions"]) > MAX_ACTIONS):
         raise FormatError(f'{what}: its action log is damaged (not {{"actions": [...]}})')

@@ -12,7 +12,7 @@ import struct
 
 import numpy as np
 
-from .dpj import DPJ, check_palette, grey_ramp
+from .dpj import DPJ, bytes_ref, check_palette, grey_ramp  # noqa: F401 (bytes_ref)
 from .errors import InputError
 
 EMPTY_LEVELS = 2            # the palette of a document no action has touched yet
@@ -21,12 +21,9 @@ HASH_TAG = b"texeditor-levels-v1"
 
 
 def dpj_ref(dpj: DPJ) -> str:
-    """A DPJ's reference in logs and files: the first 16 hex digits of SHA-256 of its file bytes."""
-    return bytes_ref(dpj.to_bytes())
-
-
-def bytes_ref(data: bytes) -> str:
-    return hashlib.sha256(data).hexdigest()[:REF_LENGTH]
+    """A DPJ's reference in logs and files: the first 16 hex digits of SHA-256 of its file bytes
+    (the bytes it was read from, or its encoding; computed once per DPJ)."""
+    return dpj.ref
 
 
 def result_hash(levels: np.ndarray, palette: np.ndarray) -> str:
@@ -119,9 +116,15 @@ class Document:
         return ref
 
     def _add_dpj(self, dpj: DPJ, ref: str) -> None:
-        """Register under a known reference (a file's stored one; re-encoding may differ)."""
+        """Register under a known reference: the one a file stored it under, which names the
+        bytes it was read from (`DPJ.from_bytes` checked it; another machine's encoding of the
+        same arrays may differ). A reference that does not name the DPJ is refused: the
+        synthesis memo and every saved file trust a reference to name one content."""
         if not isinstance(dpj, DPJ):
             raise InputError("only a DPJ can be added to a document")
+        if not dpj.has_ref(ref):
+            raise InputError(f"DPJ reference {ref!r:.20} does not name this DPJ (its reference "
+                             f"is {dpj.ref})")
         self.dpjs.setdefault(ref, dpj)
         self._dpj_ref = ref
 

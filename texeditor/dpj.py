@@ -8,6 +8,7 @@ row by row, top-left most significant, in base G), so look-ups are binary search
 from __future__ import annotations
 
 import functools
+import hashlib
 import io
 import json
 import math
@@ -19,13 +20,15 @@ import numpy as np
 import scipy        # scipy.sparse loads on first use, not at start-up
 
 from .errors import FormatError, InputError
-from .fileio import atomic_write, read_limited
+from .fileio import load_json, read_limited, write_file
 
 MAX_LEVELS = 16
 MAX_SIDE = 6
 MAX_ENTRIES = 4_000_000
 MAX_FILE_BYTES = 512 * 2**20
 DPJ_FORMAT_VERSION = 1
+MAX_META_CHARS = 2**20     # the meta JSON text
+REF_LENGTH = 16            # hex digits of a DPJ reference
 _MEMBERS = {"configs.npy", "probs.npy", "meta.npy"}
 
 
@@ -325,8 +328,33 @@ class DPJ:
         return self._with(self._configs[keep], self._probs[keep]).normalized()
 
     # -- files ----------------------------------------------------------------------------------
+    _bytes: bytes | None = None      # this DPJ's file bytes, once read or encoded
+    _ref: str | None = None
+
     def to_bytes(self) -> bytes:
-        """The `.dpj` file content: an .npz of configs, probs and a JSON meta string."""
+        """The `.dpj` file content: an .npz of configs, probs and a JSON meta string.
+
+        A DPJ read from bytes gives back exactly those bytes (another numpy or zlib may encode
+        the same arrays differently, and the bytes are what its reference names); one made
+        here is encoded once and keeps its bytes (DPJs are immutable)."""
+        data = self._bytes
+        if data is None:
+            data = self._bytes = self._encode()
+        return data
+
+    @property
+    def ref(self) -> str:
+        """The DPJ's reference: the first 16 hex digits of the SHA-256 of its file bytes."""
+        ref = self._ref
+        if ref is None:
+            ref = self._ref = bytes_ref(self.to_bytes())
+        return ref
+
+    def has_ref(self, ref) -> bool:
+        """Whether ``ref`` names this DPJ's content (its bytes hash to it)."""
+        return isinstance(ref, str) and ref == self.ref
+
+    def _encode(self) -> bytes:
         meta = {**self.meta, "format_version": DPJ_FORMAT_VERSION, "levels": self._levels,
                 "window": list(self._window), "palette": self._palette.tolist()}
         buf = io.BytesIO()
@@ -336,14 +364,19 @@ class DPJ:
 
     def save(self, path) -> None:
         """Write a `.dpj` file atomically."""
-        data = self.to_bytes()
-        atomic_write(path, lambda f: f.write(data))
+        write_file(path, self.to_bytes())
 
     @classmethod
-    def from_bytes(cls, data: bytes, name: str = "DPJ") -> "DPJ":
-        """Parse and validate `.dpj` content; any defect is a :class:`FormatError`."""
+    def from_bytes(cls, data: bytes, name: str = "DPJ", ref: str | None = None) -> "DPJ":
+        """Parse and validate `.dpj` content; any defect is a :class:`FormatError`.
+
+        ``ref``: the reference the content is stored under (a `.texture` member, a bank row, a
+        journal record). It must name these bytes — or, for a file an earlier release re-saved
+        on a machine whose numpy/zlib encodes differently, this machine's encoding of the same
+        arrays — else the DPJ is refused as forged or damaged: a reference always names one
+        content, so every cache keyed by it is sound."""
         try:
-            return _parse_dpj(data, name)
+            dpj = _parse_dpj(data, name)
         except FormatError:
             raise
         except InputError as exc:
@@ -351,10 +384,24 @@ class DPJ:
         except Exception as exc:  # zipfile and numpy fail in many ways on hostile bytes
             raise FormatError(f"{name}: damaged DPJ file ({type(exc).__name__}: "
                               f"{_short(exc)})") from None
+        dpj._bytes = bytes(data)
+        if ref is not None and not dpj.has_ref(ref):
+            fresh = dpj._encode()
+            if bytes_ref(fresh) != ref:
+                raise FormatError(
+                    f"{name}: its content is not DPJ {ref!s:.{REF_LENGTH}} (the SHA-256 of its "
+                    f"bytes begins {dpj.ref}): a forged or damaged DPJ, refused")
+            dpj._bytes, dpj._ref = fresh, None
+        return dpj
 
     @classmethod
     def load(cls, path) -> "DPJ":
         return cls.from_bytes(read_limited(path, MAX_FILE_BYTES, "DPJ file"), str(path))
+
+
+def bytes_ref(data: bytes) -> str:
+    """The reference of `.dpj` bytes: the first 16 hex digits of their SHA-256."""
+    return hashlib.sha256(data).hexdigest()[:REF_LENGTH]
 
 
 def _residual(a: DPJ, b: DPJ) -> float:
@@ -441,10 +488,7 @@ def _check_npy_headers(zf: zipfile.ZipFile, name: str) -> None:
 def _parse_meta(raw: np.ndarray, name: str) -> dict:
     if raw.dtype.kind != "U" or raw.ndim != 0:
         raise FormatError(f"{name}: meta must be one JSON string")
-    try:
-        meta = json.loads(str(raw))
-    except (json.JSONDecodeError, RecursionError):
-        raise FormatError(f"{name}: meta is not valid JSON") from None
+    meta = load_json(str(raw), f"{name}: meta", limit=MAX_META_CHARS, constants=True)
     if not isinstance(meta, dict):
         raise FormatError(f"{name}: meta must be a JSON object")
     version = meta.get("format_version", DPJ_FORMAT_VERSION)

@@ -10,7 +10,7 @@ import io
 import numpy as np
 
 from .errors import InputError
-from .fileio import atomic_write_bytes
+from .fileio import write_file
 
 MAX_EXPORT_PIXELS = 2**28
 
@@ -34,11 +34,11 @@ def write_png(path, levels: np.ndarray, palette: np.ndarray, scale: int = 1) -> 
         rgb = rgb[:, :, 0]
     import imageio.v3 as iio  # scikit-image's own reader/writer; loaded only when exporting
 
-    atomic_write_bytes(path, iio.imwrite("<bytes>", rgb, extension=".png"))
+    write_file(path, iio.imwrite("<bytes>", rgb, extension=".png"), error=InputError)
 
 
 def write_npy(path, levels: np.ndarray) -> None:
     """Write the uint8 level matrix as a `.npy` (no pickle: a plain numeric array)."""
     buf = io.BytesIO()
     np.save(buf, np.ascontiguousarray(levels, dtype=np.uint8), allow_pickle=False)
-    atomic_write_bytes(path, buf.getvalue())
+    write_file(path, buf.getvalue(), error=InputError)

@@ -6,6 +6,7 @@ flushed to disk and renamed over the target, so a crash leaves either the old fi
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import re
@@ -20,8 +21,43 @@ from .errors import FormatError
 
 
 def atomic_write(path: str | os.PathLike, write: Callable[[BinaryIO], None]) -> None:
-    """Call ``write(f)`` on a temporary file, fsync it, then rename it to ``path``."""
+    """Call ``write(f)`` on a temporary file, fsync it, then rename it to ``path``.
+
+    Any failure (a full disk, a folder that cannot be written) leaves ``path`` as it was and no
+    temporary file; it raises an OSError whose ``filename`` is ``path`` — never the hidden
+    temporary file, which the user has never heard of."""
     path = Path(path)
+    try:
+        _atomic_write(path, write)
+    except OSError as exc:
+        raise _naming(exc, path) from None
+
+
+def _naming(exc: OSError, path: Path) -> OSError:
+    """``exc`` again, naming ``path`` (OSError(errno, …) picks the subclass: ENOSPC stays an
+    OSError, EACCES a PermissionError)."""
+    if exc.errno is None:
+        return OSError(errno.EIO, str(exc) or type(exc).__name__, os.fspath(path))
+    return OSError(exc.errno, exc.strerror or os.strerror(exc.errno), os.fspath(path))
+
+
+def write_file(path: str | os.PathLike, data: bytes, error=FormatError) -> None:
+    """Write ``data`` to ``path`` atomically; a failure is ``error`` naming ``path`` and why
+    ("…: cannot write (No space left on device)"), with ``path`` left as it was."""
+    try:
+        atomic_write(path, lambda f: f.write(data))
+    except OSError as exc:
+        raise error(f"{path}: cannot write ({exc.strerror or exc})") from None
+
+
+def _atomic_write(path: Path, write: Callable[[BinaryIO], None]) -> None:
+    try:
+        mode = os.stat(path).st_mode
+    except (FileNotFoundError, NotADirectoryError):
+        mode = None
+    if mode is not None and not stat.S_ISREG(mode):   # renaming over it would replace a
+        raise OSError(errno.EINVAL, f"it is {describe_kind(mode)}, not a regular file",
+                      os.fspath(path))             # device, a FIFO or a folder
     folder = path.parent if str(path.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=folder)
     try:
@@ -79,6 +115,10 @@ def describe_kind(mode: int) -> str:
     return "not a regular file"
 
 
+def _a(what: str) -> str:
+    return f"{'an' if what[:1].lower() in 'aeio' else 'a'} {what}"
+
+
 def check_regular(path: str | os.PathLike, what: str, error=FormatError) -> os.stat_result:
     """Refuse anything but an existing regular file (symbolic links followed) *before* it is
     opened: a FIFO would block the reader forever, a device (``/dev/zero``) never ends, and
@@ -93,10 +133,10 @@ def check_regular(path: str | os.PathLike, what: str, error=FormatError) -> os.s
     except (OSError, ValueError) as exc:
         raise error(f"{path}: cannot read ({getattr(exc, 'strerror', None) or exc})") from None
     if stat.S_ISDIR(st.st_mode):
-        raise error(f"{path}: is a folder, not a {what}")
+        raise error(f"{path}: is a folder, not {_a(what)}")
     if not stat.S_ISREG(st.st_mode):
         raise error(f"{path}: is {describe_kind(st.st_mode)}, not a regular file: "
-                    f"not a {what}")
+                    f"not {_a(what)}")
     return st
 
 
@@ -116,7 +156,7 @@ def read_limited(path: str | os.PathLike, limit: int, what: str, error=FormatErr
     except FileNotFoundError:
         raise error(f"{path}: no such file") from None
     except IsADirectoryError:
-        raise error(f"{path}: is a folder, not a {what}") from None
+        raise error(f"{path}: is a folder, not {_a(what)}") from None
     except PermissionError:
         raise error(f"{path}: permission denied") from None
     except OSError as exc:
@@ -125,7 +165,7 @@ def read_limited(path: str | os.PathLike, limit: int, what: str, error=FormatErr
         st = os.fstat(fd)
         if not stat.S_ISREG(st.st_mode):
             raise error(f"{path}: is {describe_kind(st.st_mode)}, not a regular file: "
-                        f"not a {what}")
+                        f"not {_a(what)}")
         if st.st_size > limit:
             raise error(f"{path}: {what} is {st.st_size} bytes, more than the limit of {limit}")
         chunks, size = [], 0

@@ -24,6 +24,7 @@ from pathlib import Path
 from .actions import action_from_json
 from .dpj import DPJ
 from .errors import FormatError, TexeditorError
+from .fileio import load_json, read_limited
 from .userdata import data_dir
 
 try:
@@ -120,7 +121,9 @@ def _alive(path: Path) -> bool:
     if fcntl is None:
         return time.time() - path.stat().st_mtime < 5
     try:
-        with open(path, "rb") as f:
+        if not path.is_file():
+            return False     # a FIFO or a device named like a journal: nobody's lock
+        with open(path, "rb", opener=_nonblocking) as f:
             try:
                 fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError:
@@ -131,17 +134,20 @@ def _alive(path: Path) -> bool:
         return True      # gone meanwhile: not ours to recover
 
 
+def _nonblocking(path, flags):
+    return os.open(path, flags | getattr(os, "O_NONBLOCK", 0))
+
+
 def recover(path: Path) -> Recovered:
     """Rebuild the log a journal describes, up to its last complete record."""
     path = Path(path)
-    if path.stat().st_size > MAX_JOURNAL_BYTES:
-        raise FormatError(f"{path}: journal larger than {MAX_JOURNAL_BYTES} bytes")
-    lines = path.read_bytes().split(b"\n")
+    lines = read_limited(path, MAX_JOURNAL_BYTES, "journal").split(b"\n")   # regular, bounded
     records = []
     for line in lines:
         try:
-            records.append(json.loads(line))
-        except (ValueError, RecursionError):
+            records.append(load_json(line, "a journal record", limit=MAX_JOURNAL_BYTES,
+                                     constants=True))
+        except FormatError:
             break            # the line the crash cut short (and anything after it)
     if not records or not isinstance(records[0], dict) or records[0].get("kind") != "start" \
             or records[0].get("format") != FORMAT:
@@ -162,12 +168,13 @@ def recover(path: Path) -> Recovered:
 def _apply(record, actions: list, dpjs: dict) -> None:
     kind = record["kind"]
     if kind == "dpj":
-        # the reference is the DPJ's name in the log (as in .texture files): not re-derived from
-        # the bytes, which another numpy or zlib could encode differently
+        # the reference is the DPJ's name in the log (as in .texture files); its bytes must hash
+        # to it (DPJ.from_bytes checks), else the record is damaged and recovery stops here
         ref = record["ref"]
         if not isinstance(ref, str) or len(ref) > 64:
             raise FormatError("a journal DPJ has no valid reference")
-        dpjs[ref] = DPJ.from_bytes(base64.b64decode(record["data"], validate=True), "journal DPJ")
+        dpjs[ref] = DPJ.from_bytes(base64.b64decode(record["data"], validate=True),
+                                   f"journal DPJ {ref}", ref=ref)      # the bytes must be ref
     elif kind == "log":
         keep = record["keep"]
         if isinstance(keep, bool) or not isinstance(keep, int) or not 0 <= keep <= len(actions):

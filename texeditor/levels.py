@@ -16,6 +16,7 @@ from PIL import Image
 import skimage as ski     # its subpackages load on first use, not at start-up
 
 from .errors import ImageError, InputError
+from .fileio import check_regular
 
 MIN_LEVELS = 2
 MAX_LEVELS = 16
@@ -55,19 +56,30 @@ def load_image(path) -> np.ndarray:
         image = _decode_cmyk(path) if mode == "CMYK" else _decode(path)
     if pages > 1 and image.ndim >= 3 and size is not None and image.shape[1:3] == size:
         image = image[0]
+    image = _interleaved(image, size, mode)
     return _check_decoded(image, path)
 
 
-def _check_file(path: Path) -> None:
+def _interleaved(image: np.ndarray, size, mode) -> np.ndarray:
+    """A planar-configuration TIFF (one plane per channel) comes back from tifffile as
+    (C, H, W); the header's size and mode say so: make it (H, W, C) like every other picture."""
+    if image.ndim != 3 or size is None or mode is None:
+        return image
     try:
-        if path.is_dir():
-            raise ImageError(f"{path}: is a folder, not an image")
-        if not path.exists():
-            raise ImageError(f"{path}: no such file")
-        if path.stat().st_size == 0:
-            raise ImageError(f"{path}: the file is empty (0 bytes), not an image")
-    except OSError as exc:
-        raise ImageError(f"{path}: cannot read ({exc.strerror or exc})") from None
+        bands = Image.getmodebands(mode)
+    except (KeyError, ValueError):
+        return image
+    if image.shape == (bands, *size) and image.shape != (*size, bands):
+        return np.moveaxis(image, 0, -1)
+    return image
+
+
+def _check_file(path: Path) -> None:
+    """A regular file with something in it: a FIFO would block the decoder forever and a
+    device (``/dev/zero``) never ends; both say 0 bytes, which is not what they are."""
+    st = check_regular(path, "image", error=ImageError)
+    if st.st_size == 0:
+        raise ImageError(f"{path}: the file is empty (0 bytes), not an image")
 
 
 def _declared_size(path: Path) -> tuple[tuple[int, int] | None, int, str | None]:

@@ -52,6 +52,7 @@ from . import grain_render as gr
 from .actions import Action, dpj_refs, param, register
 from .document import dpj_ref
 from .errors import FormatError, InputError
+from .fileio import load_json
 
 MAX_RECIPE_CHARS = 2**24       # a recipe's text, the recipes nested in it included
 MAX_RECIPE_ACTIONS = 100_000
@@ -132,10 +133,7 @@ def _parse_recipe(text: str) -> tuple[Action, ...]:
     if not isinstance(text, str) or len(text) > MAX_RECIPE_CHARS:
         raise InputError(f"a texture recipe is a JSON text of at most {MAX_RECIPE_CHARS} "
                          "characters, the recipes nested in it included")
-    try:
-        obj = json.loads(text, parse_constant=_no_constant)
-    except (json.JSONDecodeError, RecursionError, ValueError) as exc:
-        raise InputError(f"the texture recipe is not valid JSON ({str(exc)[:80]})") from None
+    obj = load_json(text, "the texture recipe", limit=MAX_RECIPE_CHARS, error=InputError)
     if not isinstance(obj, dict) or set(obj) != {"actions"} or not isinstance(obj["actions"], list):
         raise InputError('a texture recipe is {"actions": [...]}, the log that rebuilds it')
     if not 0 < len(obj["actions"]) <= MAX_RECIPE_ACTIONS:
@@ -144,10 +142,6 @@ def _parse_recipe(text: str) -> tuple[Action, ...]:
         return tuple(action_from_json(a) for a in obj["actions"])
     except (FormatError, RecursionError) as exc:
         raise InputError(f"the texture recipe: {exc}") from None
-
-
-def _no_constant(token):
-    raise ValueError(f"{token} is not allowed")
 
 
 def check_recipe(text: str, refs: tuple, what: str) -> None:
@@ -171,6 +165,9 @@ def render_recipe(text: str, dpjs: dict, progress=None, cancel=None) -> tuple[np
     """(levels, G) of a recipe replayed on an empty document with ``dpjs`` (reference → DPJ, a
     reference naming its DPJ's content); memoised."""
     from .history import replay
+    wrong = sorted(r for r, d in dpjs.items() if not d.has_ref(r))
+    if wrong:      # the memo is keyed by references: each must name its DPJ
+        raise InputError(f"DPJ {', '.join(wrong)} of a texture recipe is another DPJ's content")
     hit = _RECIPES.get(_recipe_key(text, dpjs))
     if hit is not None:
         return hit

@@ -22,7 +22,7 @@ from .actions import (MAX_CANVAS_SIDE, Action, Synthesize, _palette, action_from
 from .document import Document, REF_LENGTH
 from .dpj import DPJ, MAX_FILE_BYTES as MAX_DPJ_BYTES, MAX_LEVELS
 from .errors import FormatError, InputError, ReplayError
-from .fileio import atomic_write, read_limited
+from .fileio import load_json, read_limited, write_file
 from .history import History, replay
 from .logopt import optimize
 
@@ -86,10 +86,7 @@ def save_texture(path, source: History | Document, *, tags=(), description: str 
     """
     doc, actions = _recipe(source)
     data, manifest = texture_bytes(doc, actions, tags=tags, description=description)
-    try:
-        atomic_write(path, lambda f: f.write(data))
-    except OSError as exc:
-        raise FormatError(f"{path}: cannot write ({exc.strerror or exc})") from None
+    write_file(path, data)
     return manifest
 
 
@@ -259,15 +256,9 @@ def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, name: str) -> bytes
 
 
 def _read_json(zf, info, name):
+    """A JSON member, its size and nesting depth bounded before it is parsed."""
     raw = _read_member(zf, info, name)
-    try:
-        return json.loads(raw.decode("utf-8"), parse_constant=_no_constant)
-    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError, ValueError) as exc:
-        raise FormatError(f"{name}: {info.filename} is not valid JSON ({_short(exc)})") from None
-
-
-def _no_constant(token):
-    raise ValueError(f"{token} is not allowed")
+    return load_json(raw, f"{name}: {info.filename}", limit=_member_limit(info.filename))
 
 
 def _check_manifest(obj, name: str = "texture") -> Manifest:
@@ -351,12 +342,13 @@ def _read_dpjs(zf, infos, manifest: Manifest, name: str) -> dict[str, DPJ]:
         raise FormatError(f"{name}: the DPJ members do not match the manifest's dpj and dpjs")
     members = {manifest.dpj: "dpj.npz"} if manifest.dpj else {}
     members.update({ref: f"dpjs/{ref}.npz" for ref in manifest.dpjs})
-    return {ref: _parse_dpj(_read_member(zf, infos[m], name), f"{name}: {m}")
+    return {ref: _parse_dpj(_read_member(zf, infos[m], name), f"{name}: {m}", ref)
             for ref, m in members.items()}
 
 
-def _parse_dpj(data: bytes, name: str) -> DPJ:
-    return DPJ.from_bytes(data, name)
+def _parse_dpj(data: bytes, name: str, ref: str) -> DPJ:
+    """A DPJ member; its bytes must hash to the reference it is stored under."""
+    return DPJ.from_bytes(data, name, ref=ref)
 
 
 def _short(exc: Exception) -> str:

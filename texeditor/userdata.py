@@ -6,12 +6,11 @@ overrides it, as tests do). Files are written atomically and every read is valid
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 
 from .errors import FormatError
-from .fileio import atomic_write_bytes, read_limited
+from .fileio import load_json, read_limited, write_file
 
 ENV_VAR = "TEXEDITOR_DATA"
 MAX_LIBRARY_BYTES = 4 * 2**20
@@ -34,12 +33,12 @@ def read_library(path: Path, kind: str, version: int = 1) -> list[dict]:
     names the file, so the caller can say so and carry on with the standard items.
     """
     path = Path(path)
-    if not path.exists():
+    if not os.path.lexists(path):
         return []
-    data = read_limited(path, MAX_LIBRARY_BYTES, f"{kind} library")
+    data = read_limited(path, MAX_LIBRARY_BYTES, f"{kind} library")   # a regular file only
     try:
-        obj = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        obj = load_json(data, "the file", limit=MAX_LIBRARY_BYTES)     # size and depth bounded
+    except FormatError as exc:
         raise FormatError(f"{path}: not a {kind} library ({exc})") from None
     if not isinstance(obj, dict) or obj.get("format") != kind:
         raise FormatError(f"{path}: not a {kind} library (its format is not {kind!r})")
@@ -60,6 +59,10 @@ def write_library(path: Path, kind: str, items: list[dict], version: int = 1) ->
     path = Path(path)
     if len(items) > MAX_ITEMS:
         raise FormatError(f"a library holds at most {MAX_ITEMS} items")
-    path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise FormatError(f"{path}: cannot write ({exc.strerror or exc})") from None
+    import json
     text = json.dumps({"format": kind, "version": version, "items": items}, indent=1)
-    atomic_write_bytes(path, text.encode("utf-8"))
+    write_file(path, text.encode("utf-8"))
