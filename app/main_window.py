@@ -398,7 +398,8 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
 
     def goto_step(self, steps: int) -> None:
         if not self.edits_locked():
-            self.palette_dock.flush()
+            if steps < self.history.index:      # back: as undo (forward: as redo, no flush)
+                self.palette_dock.flush()
             self._guarded(lambda: self.history.goto(max(1, steps)))
 
     def _guarded(self, fn) -> None:

@@ -215,7 +215,10 @@ def run_monkey(seed: int, events: int) -> int:
             walk.step()
             if recorder.exceptions:
                 break
-        if not recorder.exceptions:
+        lost = [text for _kind, text in recorder.dialogs if text.startswith("Cannot go to")]
+        if lost:                                  # the History refused a step it listed
+            problem = f"history navigation failed: {lost}"
+        elif not recorder.exceptions:
             problem = undo_all_redo_all(hand, start)
         close_window(win)
     except AssertionError as exc:
