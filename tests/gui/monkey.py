@@ -142,7 +142,8 @@ class Walk:
         closed = self.rng.random() < 0.5
         if closed:
             dialog.close()
-        return f"global operators {dialog.operator.currentData()} Apply{', Close' if closed else ''}"
+        closing = ", Close" if closed else ""
+        return f"global operators {dialog.operator.currentData()} Apply{closing}"
 
     def composition(self):
         self.hand.shortcut("Ctrl+Shift+K")
@@ -193,9 +194,10 @@ def undo_all_redo_all(hand: Hand, start: dict) -> str | None:
     hand.wait_idle()
     if not same_document(state(win), start):
         now = state(win)
+        palette = "another" if (now["palette"] != start["palette"]).any() else "the same"
         return (f"undo back to step 1 stopped at step {now['index']} with "
-                f"{int((now['levels'] != start['levels']).sum())} points and "
-                f"{'another' if (now['palette'] != start['palette']).any() else 'the same'} palette")
+                f"{int((now['levels'] != start['levels']).sum())} points changed and {palette} "
+                "palette")
     for _ in range(final["index"] - 1):
         hand.redo()
     if not same_document(state(win), final):

@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[2]
 CHILD_TIMEOUT = 240          # seconds: a hung child is a failure too, never a hung test run
 
 
-# -- the parent's side --------------------------------------------------------------------------------
+# -- the parent's side -----------------------------------------------------------------------------
 
 def run_child(args: list[str], tmp: Path, timeout: float = CHILD_TIMEOUT) -> dict:
     """Run the runner in a child process with isolated user data; return its report, or fail
@@ -59,7 +59,7 @@ def _tail(text, lines: int = 40) -> str:
     return "\n".join((text or "").splitlines()[-lines:])
 
 
-# -- the child's side: a window with its recorders -----------------------------------------------------
+# -- the child's side: a window with its recorders -------------------------------------------------
 
 def isolate() -> None:
     """Settings in a temporary INI file (never the user's); Qt offscreen."""
@@ -173,7 +173,7 @@ class Hand:
         self.win = win
         self.canvas = win.canvas
 
-    # -- keyboard -----------------------------------------------------------------------------------
+    # -- keyboard ----------------------------------------------------------------------------------
     def key(self, key, modifiers=None, widget=None) -> None:
         """A key press in the main window (made active first, as a click on it would)."""
         from PySide6 import QtCore, QtTest, QtWidgets
@@ -206,7 +206,7 @@ class Hand:
             self.shortcut(tool.SHORTCUT)
         assert self.win.tool is tool, f"{tool.NAME} was not selected"
 
-    # -- the canvas ---------------------------------------------------------------------------------
+    # -- the canvas --------------------------------------------------------------------------------
     def pos(self, cell):
         from .events import cell_pos
         return cell_pos(self.canvas, *cell)
@@ -248,7 +248,7 @@ class Hand:
         x, y = cell
         return int(self.win.document.levels[y, x])
 
-    # -- docks and dialogs --------------------------------------------------------------------------
+    # -- docks and dialogs -------------------------------------------------------------------------
     def button(self, widget) -> None:
         from PySide6 import QtCore, QtTest
         assert widget.isVisible() and widget.isEnabled(), f"{widget.text()!r} cannot be clicked"

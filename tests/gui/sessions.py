@@ -48,7 +48,8 @@ class Session:
         assert history.index == index + 1, \
             f"{name} {kind.__name__}: {history.index - index} new steps instead of one"
         action = history.actions[history.index - 1]
-        assert isinstance(action, kind), f"{name}: made {type(action).__name__}, not {kind.__name__}"
+        assert isinstance(action, kind), \
+            f"{name}: made {type(action).__name__}, not {kind.__name__}"
         if changes:
             after = state(self.win)
             assert not same_document({**before, "index": 0}, {**after, "index": 0}), \
@@ -63,7 +64,7 @@ class Session:
         return level
 
 
-# -- the sessions --------------------------------------------------------------------------------------
+# -- the sessions ----------------------------------------------------------------------------------
 
 def paint(s: Session) -> None:
     """Brush twice, a click with the brush, a Fill click after a stroke, Spray, Grain, Brush."""
@@ -270,7 +271,7 @@ def mixed(s: Session) -> None:
 SESSIONS = {f.__name__: f for f in (paint, regions, spots, zones, palette, global_ops, mixed)}
 
 
-# -- running one --------------------------------------------------------------------------------------
+# -- running one -----------------------------------------------------------------------------------
 
 def undo_redo(hand: Hand, start: dict, final: dict, steps: int) -> None:
     """Ctrl+Z back to the synthesised texture, Ctrl+Shift+Z forward to the final document."""
