@@ -228,7 +228,8 @@ def load_json(data: bytes | str, what: str, *, limit: int, max_depth: int = MAX_
     if not isinstance(data, (bytes, bytearray, memoryview, str)):
         raise error(f"{what} is not a JSON text")
     if len(data) > limit:
-        raise error(f"{what} is {len(data)} bytes long, more than the limit of {limit}")
+        unit = "characters" if isinstance(data, str) else "bytes"
+        raise error(f"{what} is {len(data)} {unit} long, more than the limit of {limit}")
     depth = json_depth(bytes(data) if not isinstance(data, str) else data)
     if depth > max_depth:
         raise error(f"{what} nests {depth} levels deep, more than the limit of {max_depth}")
