@@ -289,6 +289,9 @@ def test_json_depth_ignores_brackets_inside_strings():
         fileio.load_json(bomb(65), "x", limit=10**6)
     with pytest.raises(FormatError, match="x is 11 bytes long, more than the limit of 10"):
         fileio.load_json(b"[" * 11, "x", limit=10)
+    with pytest.raises(FormatError, match="x holds 5000 arrays and objects, more than the "
+                                          "limit of 4096"):
+        fileio.load_json(b"[" + b",".join([b"[]"] * 4999) + b"]", "x", limit=15_000)
     with pytest.raises(FormatError, match="NaN is not allowed"):
         fileio.load_json(b"[NaN]", "x", limit=10)
 

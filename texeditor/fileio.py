@@ -199,7 +199,13 @@ _BRACKET_STEP[list(b"]}")] = -1
 
 
 def json_depth(data: bytes | str) -> int:
-    """The deepest nesting of ``[``/``{`` in a JSON text, brackets inside strings not counted.
+    """The deepest nesting of ``[``/``{`` in a JSON text, brackets inside strings not counted."""
+    return json_shape(data)[0]
+
+
+def json_shape(data: bytes | str) -> tuple[int, int]:
+    """(deepest nesting, number of arrays and objects) of a JSON text, brackets inside strings
+    not counted.
 
     A cheap scan (regular expressions and numpy, no Python loop per character) made before
     parsing; for a text that is not valid JSON the figure is only an estimate, and the parse
@@ -208,21 +214,25 @@ def json_depth(data: bytes | str) -> int:
         data = data.encode("utf-8", "surrogatepass")
     brackets = _JSON_STRING.sub(b"", data).translate(None, _NOT_BRACKETS)
     steps = _BRACKET_STEP[np.frombuffer(brackets, dtype=np.uint8)]
+    containers = int(np.count_nonzero(steps > 0))
     deepest, level = 0, 0
     for start in range(0, len(steps), 2**20):
         depth = np.cumsum(steps[start:start + 2**20], dtype=np.int64) + level
         deepest = max(deepest, int(depth.max()))
         level = int(depth[-1])
-    return deepest
+    return deepest, containers
 
 
 def load_json(data: bytes | str, what: str, *, limit: int, max_depth: int = MAX_JSON_DEPTH,
-              error=FormatError, constants: bool = False):
+              max_containers: int | None = None, error=FormatError, constants: bool = False):
     """Parse a JSON text (bytes are UTF-8) after bounding its size and its nesting depth.
 
     Every JSON texeditor reads from outside (files, members of archives, bank cells, journal
     lines, recipes, envelopes, libraries) goes through here: a text longer than ``limit``
-    bytes/characters or nesting deeper than ``max_depth`` is refused *before* it is parsed.
+    bytes/characters, nesting deeper than ``max_depth``, or holding more than
+    ``max_containers`` arrays and objects (default: one per 8 bytes of ``limit``, so that a
+    text at the limit made only of ``[]`` parses in well under 1 GiB) is refused *before* it
+    is parsed.
     ``NaN``/``Infinity`` are refused unless ``constants``. Any defect is ``error`` (a
     FormatError unless told) whose message starts with ``what``."""
     if not isinstance(data, (bytes, bytearray, memoryview, str)):
@@ -230,9 +240,14 @@ def load_json(data: bytes | str, what: str, *, limit: int, max_depth: int = MAX_
     if len(data) > limit:
         unit = "characters" if isinstance(data, str) else "bytes"
         raise error(f"{what} is {len(data)} {unit} long, more than the limit of {limit}")
-    depth = json_depth(bytes(data) if not isinstance(data, str) else data)
+    depth, containers = json_shape(bytes(data) if not isinstance(data, str) else data)
     if depth > max_depth:
         raise error(f"{what} nests {depth} levels deep, more than the limit of {max_depth}")
+    if max_containers is None:
+        max_containers = max(limit // 8, 4096)
+    if containers > max_containers:
+        raise error(f"{what} holds {containers} arrays and objects, more than the limit of "
+                    f"{max_containers}")
     try:
         text = data if isinstance(data, str) else bytes(data).decode("utf-8")
         if constants:
