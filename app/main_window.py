@@ -67,8 +67,8 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self._build_actions()
         self._build_menus()
         self._build_tools()
-        install_paint_ui(self)       # brush dock, [ and ], Grains menu, Peano sub-regions
-        install_texture_ui(self)     # Grain & density dock, Image ▸ Composition…, Double the levels…
+        install_paint_ui(self)       # brush dock, [ and ], Grain stamps menu, Peano sub-regions
+        install_texture_ui(self)     # Grain rendering dock, Composition…, Double the levels…
         self._connect()
         if history is not None:
             self.set_history(history, path)
