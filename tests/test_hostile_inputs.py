@@ -458,3 +458,14 @@ def test_a_read_only_bank_is_listed_searched_and_opened(tmp_path, monkeypatch, c
     finally:
         os.chmod(folder, 0o755)
         os.chmod(path, 0o644)
+
+
+def test_a_screenshot_on_a_full_disk_exits_2_and_keeps_the_old_file(tmp_path, full_disk, capsys):
+    from app.main import write_screenshot
+    target = tmp_path / "window.png"
+    target.write_bytes(b"old picture")
+    assert write_screenshot(target, b"\x89PNG new") == 2
+    err = capsys.readouterr().err
+    assert f"{target}: cannot write (No space left on device)" in err and ".part" not in err
+    assert target.read_bytes() == b"old picture" and len(list(tmp_path.iterdir())) == 1
+    assert write_screenshot(target, None) == 2 and target.read_bytes() == b"old picture"
