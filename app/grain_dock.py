@@ -324,6 +324,12 @@ class GrainDensityDock(QtWidgets.QDockWidget):
                     self.size_slider, self.angle, self.aspect, self.explode_x, self.explode_y,
                     self.compression)))
 
+    def drop_pending(self) -> None:
+        """Forget settings still waiting for their pause, before the history goes back (undo, a
+        step clicked): committed after it, they would drop the steps just undone (as Krita
+        drops a stroke in progress on undo)."""
+        self._commit_timer.stop()
+
     def refresh(self) -> None:
         """After any change of the history (and after a task ends, a cancelled one included):
         the controls show the document's grain step — derived from the log every time, never

@@ -381,7 +381,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         if self._replaying is not None:
             self.runner.cancel()       # undo the edit being replayed: as Krita cancels a stroke
             return
-        self.palette_dock.flush()      # a grey-scale key step just made is undone, not kept
+        self._settle_pending()
         if self.can_undo():
             self._guarded(self.history.undo)
             if self.history.redoes_edit:
@@ -399,8 +399,14 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
     def goto_step(self, steps: int) -> None:
         if not self.edits_locked():
             if steps < self.history.index:      # back: as undo (forward: as redo, no flush)
-                self.palette_dock.flush()
+                self._settle_pending()
             self._guarded(lambda: self.history.goto(max(1, steps)))
+
+    def _settle_pending(self) -> None:
+        """Before the history goes back: a grey-scale key step just made lands first (and is
+        undone); grain settings still waiting for their pause are dropped."""
+        self.palette_dock.flush()
+        self.density_dock.drop_pending()
 
     def _guarded(self, fn) -> None:
         try:

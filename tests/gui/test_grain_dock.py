@@ -311,3 +311,24 @@ def test_hexagons_of_a_512_texture_count_as_slow(window, dock):
     action = RenderGrains("hexagon", 8, explosion_x=1.9)
     assert dock.slow(action, (512, 512))
     assert not dock.slow(RenderGrains("square", 4), (48, 64))
+
+
+def test_undo_right_after_a_key_step_drops_the_setting_and_keeps_the_redo(window, dock, qtbot):
+    """A setting still waiting for its pause when Ctrl+Z comes is dropped: committed after the
+    undo, it would have replaced the step just undone and lost its redo."""
+    from app.grain_dock import COMMIT_DELAY_MS
+
+    steps = window.history.index
+    slide(dock.size_slider, 6)
+    settled(window, qtbot)
+    rendered = window.document.levels.copy()
+    assert window.history.index == steps + 1
+    dock.compression.slider.setFocus()
+    press_key(dock.compression.slider, QtCore.Qt.Key.Key_Right)   # waits for its pause...
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Z, QtCore.Qt.KeyboardModifier.ControlModifier)
+    qtbot.wait(COMMIT_DELAY_MS + 200)                              # ...which never comes
+    settled(window, qtbot)
+    assert window.history.index == steps and window.history.can_redo
+    assert dock.size_slider.value() == 1 and dock.compression.value() == 0.0
+    window.act_redo.trigger()
+    assert np.array_equal(window.document.levels, rendered)
