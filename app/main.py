@@ -42,8 +42,10 @@ def run(argv=None) -> int:
     app.setOrganizationName("texeditor")
 
     from .main_window import MainWindow
-    from .recovery import offer_recovery
+    from .recovery import offer_recovery, report_problems
+    from texeditor.userdata import check_libraries
 
+    problems = check_libraries()           # a bad library is set aside before any dock reads it
     window = MainWindow()
     window.headless = args.screenshot is not None
     if args.screenshot is not None:
@@ -61,8 +63,9 @@ def run(argv=None) -> int:
     if args.open is not None:
         window.open_file(args.open)
         window.bank_dock.load(prepare=False)      # the bank is listed beside the file
-    elif args.screenshot is not None or not offer_recovery(window, another_window):
+    elif args.screenshot is not None or not offer_recovery(window, another_window, problems):
         window.start_default()
+    report_problems(window, problems)      # one message naming every file set aside
     if args.screenshot is None:
         return app.exec()
 

@@ -22,7 +22,7 @@ import numpy as np
 
 from .errors import FormatError, InputError
 from .grains import MAX_GRAIN_SIZE, anchor, grain_mask, parse_bitmap, format_bitmap
-from .userdata import data_dir, read_library, write_library
+from .userdata import ITEM_ERRORS, data_dir, read_library, write_library
 
 BRUSH_SHAPES = ("square", "disc", "diamond", "line", "bitmap")
 DISTRIBUTIONS = ("solid", "cloud")
@@ -439,7 +439,7 @@ class BrushLibrary:
         for k, item in enumerate(read_library(self.path, PRESETS_KIND)):
             try:
                 brushes.append(Brush.from_json(item))
-            except (InputError, TypeError) as exc:
+            except ITEM_ERRORS as exc:
                 raise FormatError(f"{self.path}: brush {k + 1}: {exc}") from None
         return brushes
 

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import FormatError, InputError
-from .userdata import data_dir, read_library, write_library
+from .userdata import ITEM_ERRORS, data_dir, read_library, write_library
 
 SHAPES = ("square", "rectangle", "circle", "diamond", "hexagon", "polygon", "line", "bitmap")
 MAX_GRAIN_SIZE = 256
@@ -409,7 +409,7 @@ class GrainLibrary:
         for k, item in enumerate(read_library(self.path, LIBRARY_KIND)):
             try:
                 grains.append(GrainType.from_json(item))
-            except (InputError, TypeError) as exc:
+            except ITEM_ERRORS as exc:
                 raise FormatError(f"{self.path}: grain {k + 1}: {exc}") from None
         return grains
 

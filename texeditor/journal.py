@@ -35,6 +35,7 @@ except ImportError:          # not POSIX: journals still work, orphans are told 
 FORMAT = 1
 SUFFIX = ".journal"
 MAX_JOURNAL_BYTES = 512 * 2**20
+MAX_START_TIME = 253402300799       # 9999-12-31 23:59:59 UTC: any later "time" is damage
 
 
 def journal_dir() -> Path:
@@ -114,15 +115,23 @@ def orphans(folder: Path | None = None) -> list[Path]:
     if not folder.is_dir():
         return []
     found = [p for p in folder.glob(f"*{SUFFIX}") if not _alive(p)]
-    return sorted(found, key=lambda p: p.stat().st_mtime, reverse=True)
+    return sorted(found, key=_mtime, reverse=True)
+
+
+def _mtime(path: Path) -> float:
+    """When a journal last changed; a name that is no file (a dangling link) sorts last."""
+    try:
+        return path.lstat().st_mtime
+    except OSError:
+        return 0.0
 
 
 def _alive(path: Path) -> bool:
+    if not path.is_file():
+        return False         # a folder, a FIFO, a device or a dangling link: nobody's journal
     if fcntl is None:
-        return time.time() - path.stat().st_mtime < 5
+        return time.time() - _mtime(path) < 5
     try:
-        if not path.is_file():
-            return False     # a FIFO or a device named like a journal: nobody's lock
         with open(path, "rb", opener=_nonblocking) as f:
             try:
                 fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -132,6 +141,8 @@ def _alive(path: Path) -> bool:
             return False
     except FileNotFoundError:
         return True      # gone meanwhile: not ours to recover
+    except OSError:
+        return False     # cannot be opened: recover() says why, and it is set aside
 
 
 def _nonblocking(path, flags):
@@ -156,13 +167,25 @@ def recover(path: Path) -> Recovered:
     for record in records[1:]:
         try:
             _apply(record, actions, dpjs)
-        except (TexeditorError, KeyError, TypeError, ValueError):
+        except (TexeditorError, KeyError, TypeError, ValueError, AttributeError,
+                ArithmeticError):
             break            # keep what was complete before a damaged record
         logs += isinstance(record, dict) and record.get("kind") == "log"
     start = records[0]
     source = start.get("source") if isinstance(start.get("source"), str) else None
-    started = start.get("time") if isinstance(start.get("time"), (int, float)) else 0.0
-    return Recovered(path, tuple(actions), dpjs, source, float(started), max(0, logs - 1))
+    return Recovered(path, tuple(actions), dpjs, source, _start_time(start.get("time")),
+                     max(0, logs - 1))
+
+
+def _start_time(value) -> float:
+    """The start record's time, or 0.0 when it is not a plausible time (10**400 does not even
+    convert to a float; NaN, infinities and years past 9999 cannot be shown as a date)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return 0.0
+    if isinstance(value, int) and not 0 <= value <= MAX_START_TIME:
+        return 0.0
+    value = float(value)
+    return value if 0.0 <= value <= MAX_START_TIME else 0.0     # False for NaN
 
 
 def _apply(record, actions: list, dpjs: dict) -> None:

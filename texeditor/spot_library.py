@@ -16,7 +16,7 @@ from pathlib import Path
 
 from .errors import FormatError, InputError
 from .spots import Envelope, Meridian, Parallel, Perturbation
-from .userdata import MAX_ITEMS, data_dir, read_library, write_library
+from .userdata import ITEM_ERRORS, MAX_ITEMS, data_dir, read_library, write_library
 
 FILE_NAME = "spots.json"
 KIND = "spots"
@@ -160,7 +160,7 @@ class SpotLibrary:
         for k, item in enumerate(read_library(self.path, KIND, VERSION)):
             try:
                 entry = LibrarySpot.from_json(item)
-            except InputError as exc:
+            except ITEM_ERRORS as exc:
                 self.problems.append(f"{self.path}: entry {k + 1} skipped: {exc}")
                 continue
             out = [e for e in out if e.name != entry.name] + [entry]

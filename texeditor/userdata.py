@@ -7,14 +7,18 @@ overrides it, as tests do). Files are written atomically and every read is valid
 from __future__ import annotations
 
 import os
+import time
 from pathlib import Path
 
-from .errors import FormatError
+from .errors import FormatError, InputError
 from .fileio import load_json, read_limited, write_file
 
 ENV_VAR = "TEXEDITOR_DATA"
 MAX_LIBRARY_BYTES = 4 * 2**20
 MAX_ITEMS = 1000
+ITEM_ERRORS = (InputError, TypeError, ValueError, KeyError, AttributeError, ArithmeticError)
+"""What reading one library item (``from_json``) may raise on a hostile item: each is reported
+as the item's defect, never a traceback."""
 
 
 def data_dir() -> Path:
@@ -52,6 +56,67 @@ def read_library(path: Path, kind: str, version: int = 1) -> list[dict]:
     if not all(isinstance(item, dict) for item in items):
         raise FormatError(f"{path}: every library item must be a JSON object")
     return items
+
+
+def set_aside(path: str | os.PathLike) -> Path:
+    """Rename a bad file of the user data folder out of the way, never deleting it:
+    ``<name>.bad-<UTC time>`` beside it (``-2``, ``-3``… when that name is taken). Returns the
+    new path. Works for anything with a name: a folder, a FIFO, a dangling link."""
+    path = Path(path)
+    stamp = time.strftime("%Y%m%dT%H%M%SZ", time.gmtime())
+    target = path.with_name(f"{path.name}.bad-{stamp}")
+    n = 1
+    while os.path.lexists(target):
+        n += 1
+        target = path.with_name(f"{path.name}.bad-{stamp}-{n}")
+    os.rename(path, target)
+    return target
+
+
+def check_libraries(folder: str | os.PathLike | None = None) -> list[str]:
+    """Read every library of the user data folder as the application will at start-up (grains,
+    brush presets, spots); each one that cannot be read — not a regular file, too big, not JSON,
+    nested too deep, foreign, an item that is not valid — is set aside (`set_aside`) so that the
+    application starts with its standard items. Returns one line per file set aside, naming it
+    and its new name (empty: all is well)."""
+    from .brushes import BrushLibrary
+    from .grains import GrainLibrary
+    from .spot_library import SpotLibrary
+    folder = Path(folder) if folder is not None else data_dir()
+    problems = []
+    for make, read in ((GrainLibrary, lambda lib: lib.user()),
+                       (BrushLibrary, lambda lib: lib.user()),
+                       (SpotLibrary, _spot_problems)):
+        lib = make(folder)
+        if not os.path.lexists(lib.path):
+            continue
+        try:
+            read(lib)
+            continue
+        except RecursionError:
+            reason = f"{lib.path}: nested too deep"
+        except Exception as exc:        # any defect of the file: it must not stop the start
+            reason = str(exc) or type(exc).__name__
+        problems.append(set_aside_line(lib.path, reason))
+    return problems
+
+
+def _spot_problems(lib) -> None:
+    """The spot library skips a bad entry and keeps the others (it says so in its editor): only
+    a file that cannot be read as a whole is set aside."""
+    from .spot_library import KIND, VERSION
+    read_library(lib.path, KIND, VERSION)
+    lib.reload()
+
+
+def set_aside_line(path: Path, reason: str) -> str:
+    """Set ``path`` aside and say so in one line naming it, its new name and ``reason``."""
+    reason = reason.removeprefix(f"{path}: ")
+    try:
+        moved = set_aside(path)
+    except OSError as exc:
+        return f"{path} cannot be read and cannot be set aside ({exc.strerror or exc}): {reason}"
+    return f"{path} cannot be read, set aside as {moved.name}: {reason}"
 
 
 def write_library(path: Path, kind: str, items: list[dict], version: int = 1) -> None:
