@@ -201,8 +201,10 @@ class Bank:
         self.timeout = timeout
         self._lock = threading.RLock()
         self._feature_cache = None
+        self.skipped: list[str] = []     # damaged rows `entries` left out (see BadRow)
         self._data_version = None
         self._conn = self._connect()
+        self._conn.text_factory = _text      # a TEXT cell that is not UTF-8: a damaged cell
         try:
             self.fts = _has_fts5(self._conn)
             fresh = self._migrate()
@@ -547,6 +549,8 @@ class Bank:
                           "WHERE attributes_version = ? AND "
                           f"{' AND '.join(f'{c} IS NOT NULL' for c in _ATTR_COLUMNS)} "
                           f"{condition} ORDER BY id", (attrs.VERSION, *params))
+        rows = [r for r in rows if all(isinstance(v, (int, float)) and math.isfinite(v)
+                                       for v in r)]      # a damaged cell: not comparable
         return np.array(rows, dtype=float).reshape(-1, len(_ATTR_COLUMNS) + 1)
 
     def search(self, text: str = "", **options) -> list:
@@ -557,8 +561,10 @@ class Bank:
         """The k entries nearest to ``entry_id`` in attribute space ("more like this")."""
         return self.search(like=entry_id, limit=k)
 
-    def entries(self, ids=None) -> list:
-        """Entries by id, in the order given (None: every live entry, newest first)."""
+    def entries(self, ids=None, *, strict: bool = False) -> list:
+        """Entries by id, in the order given (None: every live entry, newest first). A row
+        whose cells are damaged is left out and its defect added to ``skipped`` (``strict``:
+        raised as a BadRow)."""
         if ids is None:
             ids = self.find()
         found = {}
@@ -567,11 +573,18 @@ class Bank:
             chunk = ids[start:start + 500]
             rows = self._read(f"SELECT {_ENTRY_COLUMNS} FROM entries e WHERE e.id IN "
                               f"({', '.join('?' * len(chunk))})", chunk)
-            found.update((row[0], _entry(row)) for row in rows)
+            for row in rows:
+                try:
+                    found[row[0]] = _entry(row)
+                except BadRow as exc:
+                    if strict:
+                        raise
+                    self.skipped.append(str(exc))   # listed without it; verify reports it
         return [found[i] for i in ids if i in found]
 
     def get(self, entry_id: int) -> Entry:
-        rows = self.entries([entry_id])
+        """One entry; a row whose cells are damaged is a BadRow (a FormatError) naming it."""
+        rows = self.entries([entry_id], strict=True)
         if not rows:
             raise BankError(f"the bank has no entry {entry_id}")
         return rows[0]
@@ -584,7 +597,8 @@ class Bank:
         rows = self._read(f"SELECT e.id, e.name, (SELECT group_concat(tag, '{_SEP}') FROM tags t "
                           f"WHERE t.entry = e.id) FROM entries e WHERE e.id IN "
                           f"({', '.join('?' * len(ids))})", ids)
-        return {r[0]: (r[1], _split_tags(r[2])) for r in rows}
+        return {r[0]: (r[1], _split_tags(r[2])) for r in rows
+                if isinstance(r[1], str) and isinstance(r[2], (str, type(None)))}
 
     def thumbnails(self, ids) -> dict:
         """id → PNG bytes (or None while pending), for the rows a browser is about to show."""
@@ -593,13 +607,14 @@ class Bank:
             return {}
         found = dict(self._read(f"SELECT entry, png FROM thumbnails WHERE entry IN "
                                 f"({', '.join('?' * len(ids))})", ids))
-        return {i: (bytes(found[i]) if i in found else None) for i in ids}
+        return {i: (bytes(found[i]) if isinstance(found.get(i), bytes) else None) for i in ids}
 
     def all_tags(self) -> list:
         """(tag, number of live entries) by decreasing use."""
         return [tuple(r) for r in self._read(
             "SELECT tag, count(*) FROM tags JOIN entries e ON e.id = tags.entry "
-            "WHERE e.trashed IS NULL GROUP BY tag ORDER BY count(*) DESC, tag")]
+            "WHERE e.trashed IS NULL AND typeof(tag) = 'text' GROUP BY tag "
+            "ORDER BY count(*) DESC, tag")]
 
     # -- opening ---------------------------------------------------------------------------------
     def recipe(self, entry_id: int) -> Recipe:
@@ -609,12 +624,18 @@ class Bank:
         if not rows:
             raise BankError(f"the bank has no entry {entry_id}")
         name, log, main = rows[0]
-        what = f"bank entry {entry_id} “{name}”"
+        what = f"bank entry {entry_id} “{name}”" if isinstance(name, str) else \
+            f"bank entry {entry_id}"
         actions = parse_log(log, what)
         dpjs = {}
         for ref, data in self._read("SELECT d.ref, d.data FROM entry_dpjs x JOIN dpjs d "
                                     "ON d.ref = x.ref WHERE x.entry = ?", (entry_id,)):
+            if not isinstance(ref, str) or not isinstance(data, bytes):
+                raise FormatError(f"{what}: a DPJ row is damaged (its reference must be a "
+                                  "TEXT and its data a BLOB)")
             dpjs[ref] = DPJ.from_bytes(bytes(data), f"{what}: DPJ {ref}", ref=ref)  # hash checked
+        if main is not None and not isinstance(main, str):
+            raise FormatError(f"{what}: its current DPJ is damaged (not a TEXT)")
         if main is not None and main not in dpjs:
             raise FormatError(f"{what}: its current DPJ {main} is missing")
         return Recipe(actions, dpjs, main)
@@ -715,7 +736,10 @@ class Bank:
         return checks
 
     def _check(self, entry_id: int, cancel=None) -> Check:
-        name = self.get(entry_id).name
+        try:
+            name = self.get(entry_id).name
+        except BadRow as exc:
+            return Check(entry_id, f"entry {entry_id}", False, str(exc))
         try:
             self.render(entry_id, cancel=cancel)
         except Cancelled:
@@ -728,7 +752,8 @@ class Bank:
         """Entries whose thumbnail or attributes are missing or out of date."""
         return [r[0] for r in self._read(
             "SELECT id FROM entries e WHERE attributes_version < ? OR NOT EXISTS "
-            "(SELECT 1 FROM thumbnails t WHERE t.entry = e.id) ORDER BY builtin DESC, id",
+            "(SELECT 1 FROM thumbnails t WHERE t.entry = e.id AND typeof(t.png) = 'blob') "
+            "ORDER BY builtin DESC, id",
             (attrs.VERSION,))]
 
     def prepare_pending(self, *, progress=None, cancel=None) -> list:
@@ -750,6 +775,8 @@ class Bank:
                 raise
             except BankError:
                 raise
+            except BadRow as exc:
+                failed.append(Check(entry_id, f"entry {entry_id}", False, str(exc)))
             except TexeditorError as exc:
                 failed.append(Check(entry_id, self.get(entry_id).name, False, str(exc)))
             if progress is not None:
@@ -1131,15 +1158,68 @@ def _log_json(actions) -> str:
                       allow_nan=False, separators=(",", ":"))
 
 
+MAX_GRAIN_CELL = 64 * 2**10        # the grain column's JSON (a few parameters: ~200 bytes)
+
+
+class BadRow(FormatError):
+    """A bank row whose cells are not of their column's type (a file edited by another
+    program, or damaged): ``verify`` reports it, ``list`` and ``search`` skip it."""
+
+
+def _cell(value, kinds, entry_id, column: str, *, null: bool = False):
+    """``value`` if it is of one of ``kinds`` (None too when ``null``; a float must be finite),
+    else a BadRow naming the entry, the column and what was found."""
+    if value is None and null:
+        return value
+    if isinstance(value, kinds) and not (isinstance(value, float) and not math.isfinite(value)):
+        return value
+    found = {bytes: "a BLOB", BadText: "a TEXT that is not UTF-8", str: "a TEXT", int: "an INTEGER", float: "a REAL",
+             type(None): "NULL"}.get(type(value), type(value).__name__)
+    if isinstance(value, float):
+        found = f"{value}"
+    raise BadRow(f"bank entry {entry_id}: its {column} is damaged ({found} where "
+                 f"{' or '.join(k.__name__ for k in kinds)} belongs)")
+
+
+class BadText(bytes):
+    """A TEXT cell whose bytes are not UTF-8 (written by another program): never a str, so
+    every check of a cell's type finds it damaged, instead of SQLite's decoding error failing
+    the whole query."""
+
+
+def _text(data: bytes):
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return BadText(data)
+
+
 def _entry(row) -> Entry:
+    """An Entry from a row of ``_ENTRY_COLUMNS``, every cell checked (a BadRow if one is not
+    of its column's type: SQLite stores whatever it is given)."""
     (entry_id, name, description, width, height, levels, count, sha, builtin, parent, created,
      modified, trashed, grain, version), rest = row[:15], row[15:]
     values, tags = rest[:len(_ATTR_COLUMNS)], rest[len(_ATTR_COLUMNS)]
+    i, n = int, (int, float)
+    for value, kinds, column, null in (
+            (name, str, "name", False), (description, str, "description", False),
+            (width, i, "width", False), (height, i, "height", False),
+            (levels, i, "levels", False), (count, i, "action count", False),
+            (sha, str, "SHA-256", False), (builtin, i, "built-in mark", False),
+            (parent, i, "parent", True), (created, n, "creation time", False),
+            (modified, n, "modification time", False), (trashed, n, "trash time", True),
+            (grain, str, "grain parameters", True), (version, i, "attributes version", False),
+            (tags, str, "tags", True),
+            *((v, n, c, True) for v, c in zip(values, _ATTR_COLUMNS))):
+        _cell(value, kinds if isinstance(kinds, tuple) else (kinds,), entry_id, column,
+              null=null)
     known = version == attrs.VERSION and None not in values
     try:
-        grain = json.loads(grain) if grain else {}
-    except (json.JSONDecodeError, TypeError):
-        grain = {}
+        grain = load_json(grain, "JSON", limit=MAX_GRAIN_CELL) if grain else {}
+    except FormatError as exc:
+        raise BadRow(f"bank entry {entry_id}: its grain parameters are damaged ({exc})") from None
+    if not isinstance(grain, dict):
+        raise BadRow(f"bank entry {entry_id}: its grain parameters are damaged (not an object)")
     return Entry(id=entry_id, name=name, description=description, tags=_split_tags(tags),
                  width=width, height=height, levels=levels, actions=count, sha256=sha,
                  attributes=attrs.Attributes(*values) if known else None, builtin=bool(builtin),

@@ -125,7 +125,15 @@ def _ready(bank) -> None:
 
 def cmd_list(bank, args) -> int:
     _print_table(bank.entries(bank.find(trash=args.trash)))
+    _skipped(bank)
     return 0
+
+
+def _skipped(bank) -> None:
+    """Name the damaged rows a listing left out (``texeditor bank verify`` lists them all)."""
+    for message in bank.skipped:
+        print(f"texeditor: skipped: {message}", file=sys.stderr)
+    bank.skipped.clear()
 
 
 def cmd_search(bank, args) -> int:
@@ -140,6 +148,7 @@ def cmd_search(bank, args) -> int:
     if args.text and not bank.fts:
         print(f"texeditor: note: {bank.search_mode}", file=sys.stderr)
     _print_table(found)
+    _skipped(bank)
     return 0
 
 
