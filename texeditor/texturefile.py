@@ -209,7 +209,7 @@ def _check_members(zf: zipfile.ZipFile, name: str) -> dict[str, zipfile.ZipInfo]
                 or ":" in member or "\\" in member):
             raise FormatError(f"{name}: unsafe member name {member!r} (path traversal)")
         if member not in ("manifest.json", "actions.json", "dpj.npz") \
-                and not _OTHER_DPJ.match(member):
+                and not _OTHER_DPJ.fullmatch(member):
             raise FormatError(f"{name}: unexpected member {member!r}")
         if member in seen:
             raise FormatError(f"{name}: member {member!r} appears twice")
@@ -309,7 +309,7 @@ def _count(value, what, high, low=0) -> int:
 
 def _text(value, what, max_chars, pattern=None) -> str:
     if not isinstance(value, str) or len(value) > max_chars or (
-            pattern and not re.match(pattern, value)):
+            pattern and not re.fullmatch(pattern, value)):
         raise InputError(f"{what} must be a text of at most {max_chars} characters"
                          + (f" matching {pattern}" if pattern else "") + f", got {value!r:.80}")
     return value
@@ -337,7 +337,7 @@ def _read_actions(obj, name: str) -> tuple[Action, ...]:
 
 def _read_dpjs(zf, infos, manifest: Manifest, name: str) -> dict[str, DPJ]:
     """dpj.npz is the manifest's ``dpj``; dpjs/<ref>.npz are the other references."""
-    stored = {_OTHER_DPJ.match(m).group(1) for m in infos if _OTHER_DPJ.match(m)}
+    stored = {_OTHER_DPJ.fullmatch(m).group(1) for m in infos if _OTHER_DPJ.fullmatch(m)}
     if ("dpj.npz" in infos) != (manifest.dpj is not None) or stored != set(manifest.dpjs):
         raise FormatError(f"{name}: the DPJ members do not match the manifest's dpj and dpjs")
     members = {manifest.dpj: "dpj.npz"} if manifest.dpj else {}
