@@ -114,8 +114,8 @@ class HistoryDock(QtWidgets.QDockWidget):
         splitter.setChildrenCollapsible(False)
         splitter.addWidget(self.view)
         splitter.addWidget(self.group)
-        splitter.setStretchFactor(0, 3)
-        splitter.setStretchFactor(1, 1)
+        splitter.setStretchFactor(0, 1)     # the list keeps its rows; the form shows its fields
+        splitter.setStretchFactor(1, 2)
         layout.addWidget(splitter)
         self.setWidget(body)
         self.selected_step: int | None = None
