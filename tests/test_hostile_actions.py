@@ -1,6 +1,7 @@
 """Actions that reach far beyond the canvas (issue 17, class 2): clipped exactly, bounded.
 
-Each crafted action runs in a child process with a timeout; its peak memory (getrusage) must stay
+Each crafted action runs in a child process with a timeout; its peak memory (VmHWM: getrusage's
+maxrss survives exec, so it would count the forked pytest's own size) must stay
 small. Clipping must never change a result: on small cases the clipped spot equals the whole one.
 """
 
@@ -18,7 +19,7 @@ from texeditor.spot_actions import _STAMPS, PlaceSpot
 from texeditor.spots import Envelope, Perturbation, Placement, _cut, real_spot
 
 CHILD = r"""
-import json, resource, sys, time
+import json, re, sys, time
 from texeditor.actions import action_from_json
 from texeditor.errors import TexeditorError
 from texeditor.history import replay
@@ -30,7 +31,8 @@ try:
 except TexeditorError as exc:
     outcome = "error: " + str(exc)
 print(json.dumps({"outcome": outcome, "seconds": time.perf_counter() - t,
-                  "peak_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+                  "peak_mib": int(re.search(r"VmHWM:\s+(\d+)",
+                                            open("/proc/self/status").read())[1]) / 1024}))
 """
 
 
