@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -16,9 +17,25 @@ def parse_args(argv):
     parser.add_argument("--open", metavar="FILE", type=Path, help="a .texture file to open")
     parser.add_argument("--screenshot", metavar="OUT.png", type=Path,
                         help="render the window offscreen to a PNG and exit")
-    parser.add_argument("--size", metavar="WxH", default="1280x800",
-                        help="window size for --screenshot (default 1280x800)")
+    parser.add_argument("--size", metavar="WxH", default="1280x800", type=window_size,
+                        help="window size for --screenshot (default 1280x800; at most "
+                             f"{MAX_SIZE[0]}x{MAX_SIZE[1]})")
     return parser.parse_args(argv)
+
+
+MIN_SIZE, MAX_SIZE = (320, 240), (7680, 4320)     # an 8K screen: ~130 MB of window picture
+
+
+def window_size(text: str) -> tuple[int, int]:
+    """'WxH' within MIN_SIZE..MAX_SIZE (Qt cannot paint a 99999×99999 window: it crashes)."""
+    match = re.fullmatch(r"(\d{1,6})x(\d{1,6})", text.strip())
+    if match is None:
+        raise argparse.ArgumentTypeError(f"{text!r} is not WIDTHxHEIGHT, e.g. 1280x800")
+    size = int(match[1]), int(match[2])
+    if not all(lo <= v <= hi for v, lo, hi in zip(size, MIN_SIZE, MAX_SIZE)):
+        raise argparse.ArgumentTypeError(
+            f"{text} is outside {MIN_SIZE[0]}x{MIN_SIZE[1]}..{MAX_SIZE[0]}x{MAX_SIZE[1]}")
+    return size
 
 
 def run(argv=None) -> int:
@@ -49,8 +66,7 @@ def run(argv=None) -> int:
     window = MainWindow()
     window.headless = args.screenshot is not None
     if args.screenshot is not None:
-        width, _, height = args.size.partition("x")
-        window.resize(int(width), int(height))
+        window.resize(*args.size)
     window.show()
     extra_windows = []                     # more documents restored after a crash
 

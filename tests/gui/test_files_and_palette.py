@@ -1,11 +1,19 @@
 """Files (save, reopen, recent, export, errors) and the palette dock, through the real widgets."""
 
+import os
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
+import pytest
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from app.files import recent_files
 from app.main import run
 from texeditor.actions import SetPalette
+
+ROOT = Path(__file__).resolve().parents[2]
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 LEFT = QtCore.Qt.MouseButton.LeftButton
@@ -130,6 +138,19 @@ def test_screenshot_entry_point(tmp_path, qapp):
     assert run(["--screenshot", str(out), "--size", "900x600"]) == 0
     image = QtGui.QImage(str(out))
     assert (image.width(), image.height()) == (900, 600)
+
+
+@pytest.mark.parametrize("size", ["abc", "99999x99999", "0x0", "1280x", "1e3x800", "80x60"])
+def test_a_screenshot_size_out_of_bounds_is_one_clear_error(tmp_path, size):
+    """A size Qt cannot paint (99999² crashed it) or cannot read exits 2 and names it, in a
+    child process so that a crash would fail the test instead of pytest."""
+    out = tmp_path / "shot.png"
+    done = subprocess.run([sys.executable, "-m", "app.main", "--screenshot", str(out), "--size",
+                           size], capture_output=True, text=True, timeout=120, cwd=ROOT,
+                          env={**os.environ, "QT_QPA_PLATFORM": "offscreen"})
+    assert done.returncode == 2, done.stderr[-800:]
+    assert "argument --size" in done.stderr and size in done.stderr
+    assert not out.exists()
 
 
 def test_screenshot_of_an_opened_file(tmp_path, qapp, window):
