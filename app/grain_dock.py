@@ -144,10 +144,10 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         layout.setContentsMargins(6, 6, 6, 6)
         grain = QtWidgets.QGroupBox("Grain (§5.3.1)")
         form = QtWidgets.QFormLayout(grain)
-        self.shape = QtWidgets.QComboBox()
+        self.shape_box = QtWidgets.QComboBox()
         for text, value in SHAPES:
-            self.shape.addItem(text, value)
-        self.shape.setToolTip("The shape every point of the normalised texture is drawn with; "
+            self.shape_box.addItem(text, value)
+        self.shape_box.setToolTip("The shape every point of the normalised texture is drawn with; "
                               "hexagons sit on a honeycomb, continuous in both directions")
         self.size_slider = ValueSlider(1, 32, suffix=" px")
         self.size_slider.setToolTip("Grain diameter in pixels")
@@ -162,7 +162,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self.from_tool = QtWidgets.QPushButton("Use the Grain tool's grain")
         self.from_tool.setToolTip("Copy the shape, size, orientation (and drawing) of the grain "
                                   "chosen in the Grain stamps dock")
-        form.addRow("Shape", self.shape)
+        form.addRow("Shape", self.shape_box)
         form.addRow("Size", self.size_slider)
         form.addRow("Orientation", self.angle)
         form.addRow("Aspect", self.aspect)
@@ -213,7 +213,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
                        self.compression):
             slider.changed.connect(self._edited)
             slider.released.connect(self.commit)
-        for combo in (self.shape, self.overlap, self.lattice):
+        for combo in (self.shape_box, self.overlap, self.lattice):
             combo.currentIndexChanged.connect(self._edited_now)
         self.sides.valueChanged.connect(self._edited)
         self.from_tool.clicked.connect(self.use_tool_grain)
@@ -229,7 +229,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
 
     # -- the settings ------------------------------------------------------------------------------
     def params(self) -> dict:
-        shape = self.shape.currentData()
+        shape = self.shape_box.currentData()
         return {"shape": shape, "size": self.size_slider.value(), "aspect": self.aspect.value(),
                 "sides": self.sides.value(), "angle": float(self.angle.value()),
                 "explosion_x": self.explode_x.value(), "explosion_y": self.explode_y.value(),
@@ -251,7 +251,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         action = action or RenderGrains("square", 1)
         self._loading = True
         try:
-            self.shape.setCurrentIndex(max(0, self.shape.findData(action.shape)))
+            self.shape_box.setCurrentIndex(max(0, self.shape_box.findData(action.shape)))
             self.size_slider.set_value(min(action.size, 32))
             self.angle.set_value(max(-90.0, min(90.0, action.angle)))
             self.aspect.set_value(action.aspect)
@@ -267,11 +267,11 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self._enable_fields()
 
     def _enable_fields(self) -> None:
-        shape = self.shape.currentData()
+        shape = self.shape_box.currentData()
         self.aspect.setEnabled(shape in ("rectangle", "circle", "polygon", "hexagon", "diamond"))
         self.sides.setEnabled(shape == "polygon")
         bitmap_ok = shape != "bitmap" or self._bitmap is not None
-        self.shape.setToolTip("" if bitmap_ok else "Draw or choose a grain in the Grain stamps dock, "
+        self.shape_box.setToolTip("" if bitmap_ok else "Draw or choose a grain in the Grain stamps dock, "
                               "then press “Use the Grain tool's grain”")
 
     def _edited(self) -> None:

@@ -184,10 +184,10 @@ class GrainEditor(QtWidgets.QDialog):
         form = QtWidgets.QFormLayout()
         self.name = QtWidgets.QLineEdit()
         form.addRow("Name", self.name)
-        self.shape = QtWidgets.QComboBox()
+        self.shape_box = QtWidgets.QComboBox()
         for text, value in SHAPES:
-            self.shape.addItem(text, value)
-        form.addRow("Shape", self.shape)
+            self.shape_box.addItem(text, value)
+        form.addRow("Shape", self.shape_box)
         self.size_box = self._spin(1, grains.MAX_GRAIN_SIZE, " pt", "Diameter in points")
         form.addRow("Size", self.size_box)
         self.aspect = self._spin(7, 1600, " %", "Height as a share of the width "
@@ -242,7 +242,7 @@ class GrainEditor(QtWidgets.QDialog):
 
         for w in (self.size_box, self.aspect, self.sides, self.angle, self.fixed_level):
             w.valueChanged.connect(self.refresh)
-        self.shape.currentIndexChanged.connect(self._shape_changed)
+        self.shape_box.currentIndexChanged.connect(self._shape_changed)
         self.level_mode.currentIndexChanged.connect(self.refresh)
         self.pen_level.valueChanged.connect(lambda v: setattr(self.view, "draw_level", v))
         self.grid_size.valueChanged.connect(self._resize_drawing)
@@ -261,7 +261,7 @@ class GrainEditor(QtWidgets.QDialog):
     def set_grain(self, grain: GrainType) -> None:
         self._loading = True
         self.name.setText(grain.name)
-        self.shape.setCurrentIndex(self.shape.findData(grain.shape))
+        self.shape_box.setCurrentIndex(self.shape_box.findData(grain.shape))
         self.size_box.setValue(grain.size)
         self.aspect.setValue(round(grain.aspect * 100))
         self.sides.setValue(grain.sides)
@@ -277,7 +277,7 @@ class GrainEditor(QtWidgets.QDialog):
 
     def grain(self) -> GrainType:
         """The grain the form describes (InputError when it describes none)."""
-        shape, mode = self.shape.currentData(), self.level_mode.currentData()
+        shape, mode = self.shape_box.currentData(), self.level_mode.currentData()
         bitmap = grains.format_bitmap(self.drawing) if shape == "bitmap" else None
         size = max(grains.parse_bitmap(bitmap).shape) if bitmap else self.size_box.value()
         return GrainType(self.name.text().strip() or "My grain", shape, size,
@@ -289,7 +289,7 @@ class GrainEditor(QtWidgets.QDialog):
     def refresh(self) -> None:
         if self._loading:
             return
-        shape = self.shape.currentData()
+        shape = self.shape_box.currentData()
         drawn = shape == "bitmap"
         for w in (self.aspect,):
             w.setEnabled(shape in ("rectangle", "circle", "diamond", "hexagon", "polygon"))
@@ -326,7 +326,7 @@ class GrainEditor(QtWidgets.QDialog):
     def _shape_changed(self) -> None:
         if self._loading:
             return
-        shape = self.shape.currentData()
+        shape = self.shape_box.currentData()
         if shape != "bitmap":
             self._geometric = shape
         elif not self.drawing.any():

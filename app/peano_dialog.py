@@ -35,7 +35,7 @@ class ScanView(QtWidgets.QWidget):
         self.setSizePolicy(QtWidgets.QSizePolicy.Policy.Expanding,
                            QtWidgets.QSizePolicy.Policy.Expanding)
         self.image: QtGui.QImage | None = None
-        self.shape = (1, 1)
+        self.grid_shape = (1, 1)
         self.cell, self.top, self.left = 8, 0, 0
         self.order = np.zeros((0, 2), int)
         self.total = 0
@@ -46,7 +46,7 @@ class ScanView(QtWidgets.QWidget):
         rgb = np.ascontiguousarray(colourize(levels, palette))
         h, w = levels.shape
         self.image = QtGui.QImage(rgb.data, w, h, 3 * w, QtGui.QImage.Format.Format_RGB888).copy()
-        self.shape = (h, w)
+        self.grid_shape = (h, w)
         self.palette_rgb = np.asarray(palette, np.uint8)
 
     def set_scan(self, cell, top, left, order, total, assigned) -> None:
@@ -55,7 +55,7 @@ class ScanView(QtWidgets.QWidget):
         self.update()
 
     def _frame(self) -> tuple[float, float, float]:
-        h, w = self.shape
+        h, w = self.grid_shape
         scale = min((self.width() - 8) / w, (self.height() - 8) / h)
         return scale, (self.width() - w * scale) / 2, (self.height() - h * scale) / 2
 
@@ -65,7 +65,7 @@ class ScanView(QtWidgets.QWidget):
         if self.image is None:
             return
         scale, x0, y0 = self._frame()
-        h, w = self.shape
+        h, w = self.grid_shape
         p.drawImage(QtCore.QRectF(x0, y0, w * scale, h * scale), self.image)
         if self.assigned:                                  # a veil: the named cells stand out
             p.fillRect(QtCore.QRectF(x0, y0, w * scale, h * scale), QtGui.QColor(0, 0, 0, 120))

@@ -103,13 +103,13 @@ class LivePreview(LatestWins):
 
     def __init__(self, parent=None, size: int = PREVIEW_SIZE, delay_ms: int = DEBOUNCE_MS):
         super().__init__(parent, delay_ms)
-        self.size = size
+        self.preview_size = size
         self.done.connect(lambda out: self.ready.emit(*out))
         self.failed.connect(lambda exc: self.unusable.emit(
             str(exc) if isinstance(exc, TexeditorError) else repr(exc)))
 
     def request_dpj(self, dpj, seed: int) -> None:
-        size = self.size
+        size = self.preview_size
 
         def work(progress, cancel):
             t0 = time.perf_counter()
@@ -163,7 +163,7 @@ class PreviewPanel(QtWidgets.QWidget):
     def _show(self, levels, palette, seconds: float, repairs: int) -> None:
         self.levels = levels
         self.image.setPixmap(pixmap(colourize(levels, palette), SHOWN))
-        n = self.preview.size
+        n = self.preview.preview_size
         self.status.setText(f"{n}×{n} in {seconds * 1000:.0f} ms"
                             + (f", {repairs:,} repairs (dead ends)" if repairs else ""))
 

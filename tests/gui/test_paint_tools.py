@@ -240,7 +240,7 @@ def test_the_grain_editor_draws_saves_and_uses_a_grain(window, qtbot, user_data)
     QtTest.QTest.mouseClick(window.grain_dock.edit_button, LEFT)
     editor = grains.editor
     qtbot.waitExposed(editor)
-    editor.shape.setCurrentIndex(editor.shape.findData("bitmap"))
+    editor.shape_box.setCurrentIndex(editor.shape_box.findData("bitmap"))
     editor.clear_drawing()
     view = editor.view
     editor.pen_level.setValue(3)
