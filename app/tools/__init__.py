@@ -1,6 +1,7 @@
 """Canvas tools: each turns mouse gestures on the canvas into Actions.
 
-A tool never touches arrays: it builds an Action and calls ``window.submit(action)``. Gestures
+A tool never touches arrays: it builds an Action and calls ``main_window.submit(action)`` (not
+``window``: QWidget.window() is a method Qt may call on widgets that carry the name). Gestures
 follow napari's pattern: ``drag`` is a generator that does the press's work, then receives each
 later cell with ``send`` and ends when the button is released (``close``). Previews (a ghost,
 a selection tint) go to the canvas overlay, never into the document.
@@ -27,7 +28,7 @@ class Tool:
     PANS = False        # a left drag pans the view (the hand tool)
 
     def __init__(self, window):
-        self.window = window
+        self.main_window = window
         self._options: QtWidgets.QWidget | None = None
 
     # -- what the main window asks ----------------------------------------------------------------
@@ -44,11 +45,11 @@ class Tool:
         """Called when the tool becomes current."""
 
     def deactivate(self) -> None:
-        self.window.canvas.set_overlay(None)
+        self.main_window.canvas.set_overlay(None)
         if getattr(self, "_own_dock", None) is not None:
             self._own_dock.hide()
             self._own_dock = None
-            bank = getattr(self.window, "bank_dock", None)
+            bank = getattr(self.main_window, "bank_dock", None)
             if bank is not None and bank.toggleViewAction().isChecked():
                 bank.raise_()                    # the column's first tab comes back, not another
 
@@ -56,7 +57,7 @@ class Tool:
         """Show the window's dock ``name`` (the Brushes, the Grain stamps) while this tool is
         current, as Krita and GIMP show presets only with the tools that use them: one the tool
         opened closes when another tool is chosen; one the user had open stays open."""
-        dock = getattr(self.window, name, None)
+        dock = getattr(self.main_window, name, None)
         if dock is None:
             return
         if not dock.toggleViewAction().isChecked():
@@ -78,7 +79,7 @@ class Tool:
     # -- helpers for subclasses -----------------------------------------------------------------------
     @property
     def document(self):
-        return self.window.document
+        return self.main_window.document
 
     def inside(self, cell: Cell) -> bool:
         h, w = self.document.shape

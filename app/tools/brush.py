@@ -157,12 +157,12 @@ class BrushOptions(QtWidgets.QWidget):
         self.size_box = QtWidgets.QSpinBox()
         self.size_box.setRange(1, brushes.MAX_BRUSH_SIZE)
         self.size_box.setToolTip("Diameter in points ([ smaller, ] bigger)")
-        self.shape = QtWidgets.QComboBox()
+        self.shape_box = QtWidgets.QComboBox()
         for text, value in SHAPE_NAMES:
-            self.shape.addItem(text, value)
-        self.shape.addItem("Drawn", "bitmap")
-        self.shape.setToolTip("Shape of the brush (a drawn one comes from a preset)")
-        self._row(grid, 1, "Size", self.size_box, "Shape", self.shape)
+            self.shape_box.addItem(text, value)
+        self.shape_box.addItem("Drawn", "bitmap")
+        self.shape_box.setToolTip("Shape of the brush (a drawn one comes from a preset)")
+        self._row(grid, 1, "Size", self.size_box, "Shape", self.shape_box)
         self.angle = QtWidgets.QSpinBox()
         self.angle.setRange(-180, 180)
         self.angle.setSuffix("°")
@@ -200,7 +200,7 @@ class BrushOptions(QtWidgets.QWidget):
         for w in (self.size_box, self.angle, self.density, self.spacing):
             w.valueChanged.connect(self.changed)
         self.concentration.valueChanged.connect(self.changed)
-        self.shape.currentIndexChanged.connect(self.changed)
+        self.shape_box.currentIndexChanged.connect(self.changed)
 
     @staticmethod
     def _row(grid, row, label1, widget1, label2, widget2) -> None:
@@ -214,14 +214,14 @@ class BrushOptions(QtWidgets.QWidget):
         self.preset.setText(f"Preset: {brush.name}")
         self._name = brush.name
         self.size_box.setValue(brush.size)
-        self.shape.setCurrentIndex(max(0, self.shape.findData(brush.shape)))
+        self.shape_box.setCurrentIndex(max(0, self.shape_box.findData(brush.shape)))
         self.angle.setValue(round(brush.angle))
         self.density.setValue(round(brush.density * 100))
         self.concentration.setValue(brush.concentration)
         self.spacing.setValue(round(brush.spacing * 100))
 
     def brush(self) -> Brush:
-        shape = self.shape.currentData()
+        shape = self.shape_box.currentData()
         return Brush(self._name, self.size_box.value(), shape, float(self.angle.value()),
                      self._bitmap if shape == "bitmap" else None,
                      "cloud" if self.cloud else "solid", self.density.value() / 100,
@@ -266,27 +266,28 @@ class BrushTool(Tool):
         size = self.brush.size
         step = max(1, round(size * 0.1))
         self.opts.size_box.setValue(size + step if bigger else size - step)
-        self.window.statusBar().showMessage(f"{self.NAME} size {self.opts.size_box.value()}", 2000)
+        self.main_window.statusBar().showMessage(
+            f"{self.NAME} size {self.opts.size_box.value()}", 2000)
 
     def stroke(self, points, seed: int) -> Stroke:
-        return Stroke.from_brush(self.brush, points, self.window.current_level,
+        return Stroke.from_brush(self.brush, points, self.main_window.current_level,
                                  level_choices=self.opts.level_choices(), seed=seed,
-                                 wrap=self.opts.wrap.isChecked() or self.window.canvas.tiled)
+                                 wrap=self.opts.wrap.isChecked() or self.main_window.canvas.tiled)
 
     def click(self, cell, modifiers):
         x, y = cell
-        self.window.submit(self.stroke([(y, x)], new_seed()))
+        self.main_window.submit(self.stroke([(y, x)], new_seed()))
 
     def drag(self, cell, modifiers):
         try:
             template = self.stroke([unfold(cell, None, self.document.shape, False)], new_seed())
         except TexeditorError as exc:
-            self.window.show_error("Cannot paint with this brush", exc)
+            self.main_window.show_error("Cannot paint with this brush", exc)
             return
-        shape, tiled = self.document.shape, self.window.canvas.tiled
+        shape, tiled = self.document.shape, self.main_window.canvas.tiled
         painter = template.painter(shape)
         colours = palette_argb(self.document.palette)
-        preview = preview_for(self.window)
+        preview = preview_for(self.main_window)
         points = [template.points[0]]
         self._show(preview, painter.add(points[0]), colours)
         try:
@@ -296,7 +297,7 @@ class BrushTool(Tool):
                     points.append(point)
                     self._show(preview, painter.add(point), colours)
         except GeneratorExit:
-            self.window.submit(replace_params(template, points=tuple(points)))
+            self.main_window.submit(replace_params(template, points=tuple(points)))
             preview.clear()
             raise
 

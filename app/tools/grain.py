@@ -101,7 +101,7 @@ class GrainTool(Tool):
             self.grains = self.library.all()
         except TexeditorError as exc:
             self.grains = self.library.standard()
-            self.window.show_error("Your grain library cannot be read", exc)
+            self.main_window.show_error("Your grain library cannot be read", exc)
         if self.grain.name not in [g.name for g in self.grains]:
             self.grains.append(self.grain)
         self._show()
@@ -109,9 +109,9 @@ class GrainTool(Tool):
     def _show(self) -> None:
         if self.opts is not None:
             self.opts.show_grain(self.grain)
-        dock = getattr(self.window, "grain_dock", None)
+        dock = getattr(self.main_window, "grain_dock", None)
         if dock is not None:
-            palette = None if self.window.history is None else self.document.palette
+            palette = None if self.main_window.history is None else self.document.palette
             dock.fill(self.grains, self.grain.name, palette)
 
     def pick(self, name: str) -> None:
@@ -127,15 +127,15 @@ class GrainTool(Tool):
         else:
             self.grains.append(grain)
         self._show()
-        if self.window.tool is not self:
-            self.window.set_tool(self)
-        self.window.statusBar().showMessage(describe(grain), 4000)
+        if self.main_window.tool is not self:
+            self.main_window.set_tool(self)
+        self.main_window.statusBar().showMessage(describe(grain), 4000)
 
     def edit(self) -> GrainEditor:
         """Open the grain editor (one per tool, not modal) on the current grain."""
         if self.editor is None:
             self.editor = GrainEditor(self.library, self.grain, self.document.palette,
-                                      self.window.current_level, self.window)
+                                      self.main_window.current_level, self.main_window)
             self.editor.chosen.connect(self.use)
             self.editor.libraryChanged.connect(self.reload)
         else:
@@ -153,24 +153,24 @@ class GrainTool(Tool):
         size = max(1, min(self.grain.size + (1 if bigger else -1), 256))
         self.grain = self.grain.replace(size=size)
         self._show()
-        self.window.statusBar().showMessage(describe(self.grain), 2000)
+        self.main_window.statusBar().showMessage(describe(self.grain), 2000)
 
     # -- gestures ----------------------------------------------------------------------------------
     def action(self, points, **options) -> PlaceGrains:
         self.options()
-        return PlaceGrains.from_grain(self.grain, points, self.window.current_level,
-                                      wrap=self.opts.wrap.isChecked() or self.window.canvas.tiled,
-                                      **options)
+        wrap = self.opts.wrap.isChecked() or self.main_window.canvas.tiled
+        return PlaceGrains.from_grain(self.grain, points, self.main_window.current_level,
+                                      wrap=wrap, **options)
 
     def click(self, cell, modifiers):
         x, y = cell
-        self.window.canvas.set_overlay(None)
-        self.window.submit(self.action([(y, x)]))
+        self.main_window.canvas.set_overlay(None)
+        self.main_window.submit(self.action([(y, x)]))
 
     def hover(self, cell):
         """A ghost of the grain under the pointer: where a click puts it."""
         if cell is None:
-            self.window.canvas.set_overlay(None)
+            self.main_window.canvas.set_overlay(None)
             return
         self.ghost(cell)
 
@@ -181,7 +181,7 @@ class GrainTool(Tool):
         except TexeditorError:
             return
         if not len(rows):
-            self.window.canvas.set_overlay(None)
+            self.main_window.canvas.set_overlay(None)
             return
         t, l = rows.min(), cols.min()
         inside = np.zeros((rows.max() - t + 3, cols.max() - l + 3), bool)
@@ -193,7 +193,7 @@ class GrainTool(Tool):
         rgba[rows - t + 1, cols - l + 1, :3] = pal[np.minimum(values, len(pal) - 1)]
         rgba[inside, 3] = GHOST_ALPHA
         rgba[edge] = (*GHOST_EDGE, 255)          # an outline shows it on any texture
-        self.window.canvas.set_overlay(rgba[1:-1, 1:-1], (int(l), int(t)))
+        self.main_window.canvas.set_overlay(rgba[1:-1, 1:-1], (int(l), int(t)))
 
     def drag(self, cell, modifiers):
         if modifiers & QtCore.Qt.KeyboardModifier.ShiftModifier:
@@ -205,24 +205,24 @@ class GrainTool(Tool):
                 last = yield
                 self.ghost(last)
         except GeneratorExit:
-            self.window.canvas.set_overlay(None)
-            self.window.submit(self.action([(last[1], last[0])]))
+            self.main_window.canvas.set_overlay(None)
+            self.main_window.submit(self.action([(last[1], last[0])]))
             raise
 
     def _along(self, cell):
         """Shift+drag: grains along the path, previewed as they fall."""
-        self.window.canvas.set_overlay(None)
-        shape, tiled = self.document.shape, self.window.canvas.tiled
+        self.main_window.canvas.set_overlay(None)
+        shape, tiled = self.document.shape, self.main_window.canvas.tiled
         points = [unfold(cell, None, shape, False)]
         try:
             template = self.action(points, spacing=float(self.opts.spacing.value()),
                                    jitter=float(self.opts.jitter.value()), seed=new_seed())
         except TexeditorError as exc:
-            self.window.show_error("Cannot place this grain", exc)
+            self.main_window.show_error("Cannot place this grain", exc)
             return
         painter = template.painter(shape)
         colours = palette_argb(self.document.palette)
-        preview = preview_for(self.window)
+        preview = preview_for(self.main_window)
         rows, cols, values = painter.add(points[0])
         preview.draw(rows, cols, colours[values])
         try:
@@ -233,6 +233,6 @@ class GrainTool(Tool):
                     rows, cols, values = painter.add(point)
                     preview.draw(rows, cols, colours[values])
         except GeneratorExit:
-            self.window.submit(replace_params(template, points=tuple(points)))
+            self.main_window.submit(replace_params(template, points=tuple(points)))
             preview.clear()
             raise

@@ -109,7 +109,8 @@ class FillTool(Tool):
         self.options()
         if self.inside(cell):
             x, y = cell
-            self.window.submit(ra.Fill(y, x, self.window.current_level, **self.opts.recipe()))
+            self.main_window.submit(ra.Fill(y, x, self.main_window.current_level,
+                                            **self.opts.recipe()))
 
 
 class TranslateTool(Tool):
@@ -133,7 +134,7 @@ class TranslateTool(Tool):
         try:
             mask = regions.select(self.document.levels, (y0, x0), **recipe)
         except TexeditorError as exc:
-            self.window.show_error("Nothing to move here", exc)
+            self.main_window.show_error("Nothing to move here", exc)
             return
         colour = self.document.palette[self.document.levels[y0, x0]]
         wrap = self.opts.wrap.isChecked()
@@ -143,11 +144,11 @@ class TranslateTool(Tool):
                 x, y = yield
                 ghost = regions.shift_mask(mask, (y - y0, x - x0), wrap=wrap)
                 rgba, origin = mask_overlay(ghost, colour, alpha=170)
-                self.window.canvas.set_overlay(rgba, origin or (0, 0))
+                self.main_window.canvas.set_overlay(rgba, origin or (0, 0))
         except GeneratorExit:
-            self.window.canvas.set_overlay(None)
+            self.main_window.canvas.set_overlay(None)
             if (x, y) != (x0, y0):
-                self.window.submit(self.action(y0, x0, y, x, recipe, wrap))
+                self.main_window.submit(self.action(y0, x0, y, x, recipe, wrap))
             raise
 
     def action(self, row, col, to_row, to_col, recipe, wrap):
@@ -203,7 +204,7 @@ class ExtractTool(Tool):
         self.options()
         if self.frame is None:
             self.frame = self._build_frame()
-        self._unsubscribe = self.window.history.subscribe(self.refresh)
+        self._unsubscribe = self.main_window.history.subscribe(self.refresh)
         self.refresh()
 
     def deactivate(self):
@@ -221,7 +222,7 @@ class ExtractTool(Tool):
         frame.changing.connect(self.preview)
         frame.finished.connect(self.transform)
         frame.cancelled.connect(self.refresh)
-        self.window.canvas.view.addItem(frame, ignoreBounds=True)
+        self.main_window.canvas.view.addItem(frame, ignoreBounds=True)
         return frame
 
     def click(self, cell, modifiers):
@@ -251,11 +252,11 @@ class ExtractTool(Tool):
     def refresh(self) -> None:
         """Redraw the selection over the current document (after any change, undo included)."""
         self._forget_ghost()
-        if self.window.tool is not self:
+        if self.main_window.tool is not self:
             return
         mask = self._mask = self.mask()
         rgba, origin = (None, None) if mask is None else mask_overlay(mask, SELECTION_TINT)
-        self.window.canvas.set_overlay(rgba, origin or (0, 0))
+        self.main_window.canvas.set_overlay(rgba, origin or (0, 0))
         box = None if mask is None else transforms.bbox(mask)
         self.frame.set_box(None if box is None else
                            QtCore.QRectF(box[1], box[0], box[3] - box[1], box[2] - box[0]))
@@ -279,20 +280,20 @@ class ExtractTool(Tool):
     def submit(self, action_type, **params) -> None:
         """Apply a selection Action built from the recipe (and the wrap option)."""
         if self.selection is not None:
-            self.window.submit(self.build(action_type, **params))
+            self.main_window.submit(self.build(action_type, **params))
 
     # -- the transform handles --------------------------------------------------------------------
     def preview(self, change: Change) -> None:
         """Show where a handle drag takes the selection, over the untouched document: while the
         pointer moves, the selection's picture carried by Qt with the frame (instant at any
         size); once it rests, the engine's own result (wrap-around included)."""
-        overlay = self.window.canvas.overlay
+        overlay = self.main_window.canvas.overlay
         if self._ghost is None:
             carried = np.where(self._mask, self.document.levels + 1, 0).astype(np.uint8)
             self._ghost = (carried, ghost_overlay(carried, self.document.palette))
         if self._placed is None:               # a new drag, or the engine's picture shown
             rgba, origin = self._ghost[1]
-            self.window.canvas.set_overlay(rgba, origin or (0, 0))
+            self.main_window.canvas.set_overlay(rgba, origin or (0, 0))
             self._placed = overlay.transform()
         overlay.setTransform(self._placed * change.qtransform(self.frame.box.center()))
         self._latest = change
@@ -305,7 +306,7 @@ class ExtractTool(Tool):
             return
         rgba, origin = ghost_overlay(self._carry(self._latest, self._ghost[0]),
                                      self.document.palette)
-        self.window.canvas.set_overlay(rgba, origin or (0, 0))
+        self.main_window.canvas.set_overlay(rgba, origin or (0, 0))
         self._placed = None
 
     def _forget_ghost(self) -> None:
@@ -320,7 +321,7 @@ class ExtractTool(Tool):
             return
         action, before = self._action(change), self.selection
         self.selection = self._followed(change)    # before the history redraws it
-        if not self.window.submit(action):
+        if not self.main_window.submit(action):
             self.selection = before
             self.refresh()
             return
@@ -401,7 +402,7 @@ class SelectionPanel(QtWidgets.QGroupBox):
         row += 1
         self.factor = spin_box(0.05, 16, 2.0, decimals=2, suffix="×")
         grid.addWidget(self.factor, row, 0)
-        self.scale = button("Scale", "Zoom the selection about its centre",
+        self.scale_button = button("Scale", "Zoom the selection about its centre",
                             lambda: tool.submit(ra.ScaleSelection, factor=self.factor.value()), 1)
         row += 1
         grid.addWidget(QtWidgets.QLabel("Duplicate"), row, 0, 1, 2)
@@ -422,7 +423,7 @@ class SelectionPanel(QtWidgets.QGroupBox):
                                 "copies", self.do_duplicate, 0, 2)
 
     def do_recolour(self):
-        self.tool.submit(ra.ChangeLevel, value=self.tool.window.current_level)
+        self.tool.submit(ra.ChangeLevel, value=self.tool.main_window.current_level)
 
     def do_delete(self):
         self.tool.submit(ra.DeleteSelection)

@@ -47,7 +47,7 @@ class SpotOptions(QtWidgets.QWidget):
         form = QtWidgets.QFormLayout(self)
         form.setContentsMargins(0, 0, 0, 0)
         self.mode = _combo(MODES, "Place one spot, scatter many, or delete one")
-        self.scale = _double(0.05, 16.0, 1.0, 0.1, "×", "Size (1: as drawn in the editor)")
+        self.scale_box = _double(0.05, 16.0, 1.0, 0.1, "×", "Size (1: as drawn in the editor)")
         self.angle = QtWidgets.QSpinBox()
         self.angle.setRange(-180, 180)
         self.angle.setSuffix("°")
@@ -70,7 +70,7 @@ class SpotOptions(QtWidgets.QWidget):
         self.wrap = QtWidgets.QCheckBox("Wrap around the edges")
         self.wrap.setToolTip("A spot crossing an edge comes back on the other side")
         form.addRow("Mode", self.mode)
-        form.addRow("Size", self.scale)
+        form.addRow("Size", self.scale_box)
         form.addRow("Turn", self.angle)
         form.addRow("Fill", self.fill)
         form.addRow("Texture", self.texture_row)
@@ -190,7 +190,7 @@ class SpotTool(Tool):
         return self.dock
 
     def _make_dock(self) -> None:
-        window = self.window
+        window = self.main_window
         self.dock = SpotEditorDock(window)
         # Under the canvas only: the left column keeps the tool options tall, and the right-hand
         # docks keep their height (at 1280×800 an editor under them cut History to four rows).
@@ -223,14 +223,14 @@ class SpotTool(Tool):
         if self.ghost is None:
             self.ghost = QtWidgets.QGraphicsPathItem()
             self.ghost.setZValue(20)
-            self.window.canvas.view.addItem(self.ghost)
-        self._unsubscribe = self.window.history.subscribe(self._sync_colours)
+            self.main_window.canvas.view.addItem(self.ghost)
+        self._unsubscribe = self.main_window.history.subscribe(self._sync_colours)
         self._sync_colours()
 
     def deactivate(self) -> None:
         super().deactivate()
         if self.ghost is not None:
-            self.window.canvas.view.removeItem(self.ghost)
+            self.main_window.canvas.view.removeItem(self.ghost)
             self.ghost = None
         if self._unsubscribe is not None:
             self._unsubscribe()
@@ -247,8 +247,8 @@ class SpotTool(Tool):
 
     def _size_dock(self) -> None:
         """A third of the window under the canvas (once the layout has taken the new dock)."""
-        height = max(260, min(330, self.window.height() * 2 // 5))
-        self.window.resizeDocks([self.dock], [height], QtCore.Qt.Orientation.Vertical)
+        height = max(260, min(330, self.main_window.height() * 2 // 5))
+        self.main_window.resizeDocks([self.dock], [height], QtCore.Qt.Orientation.Vertical)
 
     # -- gestures -----------------------------------------------------------------------------
     def click(self, cell, modifiers):
@@ -292,7 +292,7 @@ class SpotTool(Tool):
             return
         x, y = cell
         if self.mode == "place":
-            self._show_spot(y, x, self.opts.angle.value(), self.opts.scale.value())
+            self._show_spot(y, x, self.opts.angle.value(), self.opts.scale_box.value())
         elif self.mode == "delete":
             self._show_doomed(y, x)
         else:
@@ -303,7 +303,7 @@ class SpotTool(Tool):
         that puts b at its tip (a short drag keeps the options' turn and size)."""
         env = self.editor.envelope
         if env is None or math.hypot(dy, dx) < MIN_DRAG:
-            return float(self.opts.angle.value()), float(self.opts.scale.value())
+            return float(self.opts.angle.value()), float(self.opts.scale_box.value())
         d = np.subtract(env.b, env.a)
         own = math.degrees(math.atan2(-d[0], d[1]))
         angle = (math.degrees(math.atan2(-dy, dx)) - own + 180) % 360 - 180
@@ -323,8 +323,8 @@ class SpotTool(Tool):
     def choose_texture(self) -> None:
         """Open the bank picker; the chosen entry is read in the worker. Cancelled, or the entry
         failing to load, with no texture yet: the fill goes back to the one chosen before."""
-        self.picker = choose_bank_entry(self.window, lambda bank, entry_id: load_bank_source(
-            self.window, bank, entry_id, self._texture_loaded, self._texture_refused),
+        self.picker = choose_bank_entry(self.main_window, lambda bank, entry_id: load_bank_source(
+            self.main_window, bank, entry_id, self._texture_loaded, self._texture_refused),
             note=BANK_NOTE)
         self.picker.rejected.connect(self._texture_refused)
         self.picker.finished.connect(lambda _r: setattr(self, "picker", None))
@@ -341,14 +341,14 @@ class SpotTool(Tool):
         note = levels_note(source, self.document.num_levels)
         self.opts.texture_label.setToolTip(note)
         self.opts.hint.setText(note)
-        self.window.statusBar().showMessage(note, 8000)
+        self.main_window.statusBar().showMessage(note, 8000)
 
     # -- actions ----------------------------------------------------------------------------------
     def _spot_params(self) -> dict | None:
         """The parameters shared by a placement and a scatter, or None (and a message)."""
         env = self.editor.envelope
         if env is None:
-            self.window.show_error("No spot to place", ValueError(
+            self.main_window.show_error("No spot to place", ValueError(
                 "Draw an envelope in the spot editor first (click the ends of its equator)."))
             return None
         p = self.editor.perturbation()
@@ -359,13 +359,13 @@ class SpotTool(Tool):
                       wrap=self.opts.wrap.isChecked())
         if params["fill"] == "dpj":
             if self.document.dpj_ref is None:
-                self.window.show_error("No DPJ", ValueError(
+                self.main_window.show_error("No DPJ", ValueError(
                     "This document has no DPJ to synthesise a texture from: acquire one first."))
                 return None
             params["dpj"] = self.document.dpj_ref
         elif params["fill"] == "texture":
             if self.texture is None:
-                self.window.show_error("No texture", ValueError(
+                self.main_window.show_error("No texture", ValueError(
                     "Choose the bank entry that fills the spots first (Fill: Bank texture…)."))
                 return None
             self.texture.store(self.document)
@@ -382,12 +382,13 @@ class SpotTool(Tool):
         try:
             action = PlaceSpot(row=row, col=col, seed=self.editor.seed.value(),
                                angle=float(self.opts.angle.value() if angle is None else angle),
-                               scale=float(self.opts.scale.value() if scale is None else scale),
-                               level=self.window.current_level, **params)
+                               scale=float(self.opts.scale_box.value() if scale is None
+                                           else scale),
+                               level=self.main_window.current_level, **params)
         except TexeditorError as exc:
-            self.window.show_error("Cannot place this spot", exc)
+            self.main_window.show_error("Cannot place this spot", exc)
             return False
-        if self.window.submit(action):
+        if self.main_window.submit(action):
             self.editor.spot_placed()
             return True
         return False
@@ -396,9 +397,9 @@ class SpotTool(Tool):
         params = self._spot_params()
         if params is None:
             return False
-        level = self.window.current_level
+        level = self.main_window.current_level
         level_max = self.opts.level_max.value()
-        lo, hi = self.opts.scale.value(), self.opts.scale_max.value()
+        lo, hi = self.opts.scale_box.value(), self.opts.scale_max.value()
         try:
             action = ScatterSpots(count=self.opts.count.value(), seed=self.editor.seed.value(),
                                   top=top, left=left, height=height, width=width,
@@ -408,14 +409,14 @@ class SpotTool(Tool):
                                   level=level, level_max=level_max if level_max > level else None,
                                   **params)
         except TexeditorError as exc:
-            self.window.show_error("Cannot scatter these spots", exc)
+            self.main_window.show_error("Cannot scatter these spots", exc)
             return False
         if action.count < WORKER_COUNT:
             return self._submit_scatter(action)
         return self._scatter_in_worker(action)
 
     def _submit_scatter(self, action) -> bool:
-        if self.window.submit(action):
+        if self.main_window.submit(action):
             self.editor.spot_placed()
             return True
         return False
@@ -423,7 +424,7 @@ class SpotTool(Tool):
     def _scatter_in_worker(self, action) -> bool:
         """Many spots: rasterise them in the worker (progress, Cancel), then apply on the GUI
         thread, which only writes the points."""
-        window, history = self.window, self.window.history
+        window, history = self.main_window, self.main_window.history
         if window.runner.busy:
             return False
         shape = self.document.shape
@@ -443,11 +444,11 @@ class SpotTool(Tool):
         actions = self.document.actions
         found = spot_at(actions, self.document.shape, (row, col))
         if found is None:
-            self.window.statusBar().showMessage("No spot here to delete.", 4000)
+            self.main_window.statusBar().showMessage("No spot here to delete.", 4000)
             return False
         step, spot = found
         self._set_ghost(None)
-        return self.window.submit(DeleteSpot(step, spot_ref(actions[step]), spot))
+        return self.main_window.submit(DeleteSpot(step, spot_ref(actions[step]), spot))
 
     # -- the ghost ---------------------------------------------------------------------------------
     def _show_spot(self, row, col, angle, scale) -> None:
@@ -459,7 +460,8 @@ class SpotTool(Tool):
                                      Placement((row, col), angle, scale))
         except TexeditorError:
             return
-        colour = QtGui.QColor(*(int(c) for c in self._level_colour(self.window.current_level)))
+        level = self.main_window.current_level
+        colour = QtGui.QColor(*(int(c) for c in self._level_colour(level)))
         colour.setAlpha(140)
         self._set_ghost(_path(outline), GHOST, colour)
 
@@ -499,9 +501,9 @@ class SpotTool(Tool):
     def _sync_colours(self, *args) -> None:
         """The editor previews the spot in the colours it will have: the document's palette at
         the current level (redrawn only when those change)."""
-        if self.window.history is None or not self.document.levels.size:
+        if self.main_window.history is None or not self.document.levels.size:
             return
-        key = (self.document.palette.tobytes(), self.window.current_level)
+        key = (self.document.palette.tobytes(), self.main_window.current_level)
         if key != self._colours:
             self._colours = key
-            self.editor.set_palette(self.document.palette, self.window.current_level)
+            self.editor.set_palette(self.document.palette, self.main_window.current_level)

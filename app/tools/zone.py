@@ -91,11 +91,11 @@ class ZoneTool(Tool):
     # the zone is shared by both zone tools: duplicate, then scramble the copy's frontier
     @property
     def zone(self) -> Zone | None:
-        return getattr(self.window, "_paint_zone", None)
+        return getattr(self.main_window, "_paint_zone", None)
 
     @zone.setter
     def zone(self, zone: Zone | None) -> None:
-        self.window._paint_zone = zone
+        self.main_window._paint_zone = zone
 
     def build_options(self):
         self.opts = ZoneOptions(self.SCRAMBLE)
@@ -117,11 +117,11 @@ class ZoneTool(Tool):
 
     def show_zone(self) -> None:
         """The zone tinted on the canvas, and a line in the options saying what it is."""
-        if self.window.tool is not self:
+        if self.main_window.tool is not self:
             return
         mask = self.zone_mask()
         rgba, origin = (None, None) if mask is None else mask_overlay(mask, ZONE_TINT, 70)
-        self.window.canvas.set_overlay(rgba, origin or (0, 0))
+        self.main_window.canvas.set_overlay(rgba, origin or (0, 0))
         if mask is None or not mask.any():
             self.opts.status.setText("No zone: drag on the canvas to draw one.")
         else:
@@ -177,13 +177,13 @@ class ZoneTool(Tool):
         try:
             while True:
                 x, y = yield
-                self.window.canvas.set_overlay(rgba, (l + x - x0, t + y - y0))
+                self.main_window.canvas.set_overlay(rgba, (l + x - x0, t + y - y0))
         except GeneratorExit:
             dr, dc = y - y0, x - x0
             if (dr, dc) != (0, 0):
                 action = DuplicateZone(points=self.zone.points, offset_row=dr, offset_col=dc,
                                        zone=self.zone.kind, wrap=self.opts.wrap.isChecked())
-                if self.window.submit(action):
+                if self.main_window.submit(action):
                     self.zone = self.zone.moved(dr, dc)
             self.show_zone()
             raise
@@ -210,13 +210,13 @@ class ScrambleTool(ZoneTool):
 
     def show_zone(self) -> None:
         """The band that will change, tinted over the texture."""
-        if self.window.tool is not self:
+        if self.main_window.tool is not self:
             return
         super().show_zone()
         band = self.band()
         if band is not None and band.any():
             rgba, origin = mask_overlay(band, BAND_TINT, 90)
-            self.window.canvas.set_overlay(rgba, origin)
+            self.main_window.canvas.set_overlay(rgba, origin)
 
     def next_step(self) -> str:
         return "Click inside it to scramble its frontier (the tinted band)."
@@ -235,7 +235,7 @@ class ScrambleTool(ZoneTool):
     def scramble(self) -> None:
         if self.zone is None:
             return
-        self.window.submit(ScrambleFrontier(
+        self.main_window.submit(ScrambleFrontier(
             points=self.zone.points, zone=self.zone.kind, band=self.opts.band.value(),
             density=self.opts.density.value() / 100, grain_size=self.opts.grain.value(),
             wrap=self.opts.wrap.isChecked(), seed=new_seed()))

@@ -128,7 +128,7 @@ class Walk:
             return self.tool()
         mode = self.rng.randrange(tool.opts.mode.count())
         tool.opts.mode.setCurrentIndex(mode)
-        tool.opts.scale.setValue(self.rng.choice([0.2, 0.4, 0.8]))
+        tool.opts.scale_box.setValue(self.rng.choice([0.2, 0.4, 0.8]))
         tool.opts.count.setValue(self.rng.randint(1, 12))
         return f"spot mode {tool.opts.mode.currentData()}"
 

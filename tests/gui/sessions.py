@@ -111,7 +111,7 @@ def regions(s: Session) -> None:
     panel = tool.panel
     s.expect(ra.FlipSelection, hand.button, panel.flip_h, changes=False)
     s.expect(ra.RotateSelection, hand.button, panel.rotate, changes=False)
-    s.expect(ra.ScaleSelection, hand.button, panel.scale, changes=False)
+    s.expect(ra.ScaleSelection, hand.button, panel.scale_button, changes=False)
     s.expect(ra.Identity, hand.button, panel.duplicate, changes=False)
     s.other_level((tool.selection["col"], tool.selection["row"]))
     s.expect(ra.ChangeLevel, hand.button, panel.recolour)
@@ -135,7 +135,7 @@ def spots(s: Session) -> None:
     tool = win.tool
     QtTest.QTest.qWait(300)                       # the spot editor's dock takes its place
     tool.editor.load(tool.editor.library.get("Ellipse"))
-    tool.opts.scale.setValue(0.4)
+    tool.opts.scale_box.setValue(0.4)
     hand.swatch(3)
     first = s.expect(PlaceSpot, hand.click, (20, 15))
     assert (first.row, first.col) == (15, 20) and win.document.levels[15, 20] == 3

@@ -163,7 +163,7 @@ def test_click_places_the_current_spot_and_a_drag_turns_and_sizes_it(window, qtb
     assert window.history.index == steps + 1
     assert window.document.levels[20, 30] == level
 
-    tool.opts.scale.setValue(0.5)
+    tool.opts.scale_box.setValue(0.5)
     a, b = cell_pos(canvas, 10, 30), cell_pos(canvas, 10, 20)         # drag straight up 10
     drag(canvas.viewport(), LEFT, _xy(a), _xy(b))
     action = window.history.actions[-1]
@@ -196,7 +196,7 @@ def test_scatter_in_a_rectangle_then_delete_a_spot_and_undo(window, qtbot):
     canvas = window.canvas
     tool.opts.mode.setCurrentIndex(tool.opts.mode.findData("scatter"))
     tool.opts.count.setValue(12)
-    tool.opts.scale.setValue(0.3)
+    tool.opts.scale_box.setValue(0.3)
     tool.opts.scale_max.setValue(0.3)
     drag(canvas.viewport(), LEFT, _xy(cell_pos(canvas, 5, 5)), _xy(cell_pos(canvas, 40, 30)))
     scatter = window.history.actions[-1]
@@ -222,7 +222,7 @@ def test_scatter_over_the_whole_canvas_with_a_level_range(window, qtbot):
     tool.opts.mode.setCurrentIndex(tool.opts.mode.findData("scatter"))
     tool.opts.level_max.setValue(3)
     tool.opts.count.setValue(150)                       # many: rasterised in the worker
-    tool.opts.scale.setValue(0.2)
+    tool.opts.scale_box.setValue(0.2)
     tool.opts.scale_max.setValue(0.2)
     window.palette_dock.swatches.current = 1
     steps = window.history.index

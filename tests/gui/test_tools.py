@@ -15,7 +15,8 @@ class StampTool(Tool):
     SHORTCUT = "Q"
 
     def click(self, cell, modifiers):
-        self.window.submit(SetLevels(cell[1], cell[0], 1, 1, self.window.current_level))
+        level = self.main_window.current_level
+        self.main_window.submit(SetLevels(cell[1], cell[0], 1, 1, level))
 
     def drag(self, cell, modifiers):
         cells = [cell]
@@ -24,7 +25,8 @@ class StampTool(Tool):
                 cells.append((yield))
             except GeneratorExit:
                 for x, y in dict.fromkeys(cells):
-                    self.window.submit(SetLevels(y, x, 1, 1, self.window.current_level))
+                    level = self.main_window.current_level
+                    self.main_window.submit(SetLevels(y, x, 1, 1, level))
                 raise
 
 
