@@ -10,6 +10,7 @@ import threading
 import time
 from typing import Any, Callable
 
+import shiboken6
 from PySide6 import QtCore
 
 from texeditor.errors import Cancelled
@@ -101,6 +102,8 @@ class TaskRunner(QtCore.QObject):
         self.job, self.label = job, label
 
         def finish(callback, *args):
+            if not shiboken6.isValid(self):
+                return           # the window closed meanwhile: nobody is left to tell
             if self.job is job:
                 self.job = None
                 self.finished.emit()

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import time
 
+import shiboken6
 from PySide6 import QtCore, QtWidgets
 
 from texeditor.errors import TexeditorError
@@ -66,6 +67,8 @@ class LatestWins(QtCore.QObject):
         self.pool.start(job)
 
     def _finished(self, job, generation, outcome, failed: bool) -> None:
+        if not shiboken6.isValid(self):
+            return               # the editor closed meanwhile: nobody is left to tell
         if self.job is job:
             self.job = None
         if generation == self.generation and (outcome is not None or failed):

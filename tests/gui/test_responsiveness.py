@@ -225,3 +225,34 @@ def test_a_job_whose_window_closed_meanwhile_ends_quietly(qtbot):
         job = Job(work)
         shiboken6.delete(job.signals)
         job.run()                   # raised "Signal source has been deleted" before
+
+
+def test_a_task_whose_runner_was_deleted_meanwhile_ends_quietly(qtbot):
+    """A window (and its TaskRunner) deleted while its task runs: the outcome, queued to the GUI
+    thread, arrives for a runner that no longer exists and must not raise in the event loop."""
+    import shiboken6
+
+    from app.synthesis_worker import TaskRunner
+
+    called, gate = [], threading.Event()
+    runner = TaskRunner()
+    runner.run("work", lambda progress, cancel: gate.wait(10) and 1, called.append)
+    gate.set()
+    shiboken6.delete(runner)            # its pool waits for the job; the outcome is queued
+    qtbot.wait(50)                      # raised "Signal source has been deleted" before
+    assert called == []
+
+
+def test_a_preview_whose_editor_was_deleted_meanwhile_ends_quietly(qtbot):
+    """The same for the DPJ editor's latest-wins preview jobs."""
+    import shiboken6
+
+    from app.dpj_editor.preview import LatestWins
+
+    gate = threading.Event()
+    latest = LatestWins(delay_ms=0)
+    latest.request(lambda progress, cancel: gate.wait(10) and 1)
+    qtbot.waitUntil(lambda: latest.job is not None)
+    gate.set()
+    shiboken6.delete(latest)
+    qtbot.wait(50)
