@@ -10,7 +10,6 @@ import base64
 import io
 import json
 import os
-import threading
 import zipfile
 from pathlib import Path
 
@@ -25,6 +24,8 @@ from texeditor.levels import load_image
 from texeditor.texturefile import parse_texture, read_texture
 from texeditor.userdata import read_library
 
+from test_hostile_inputs import within
+
 from .test_fuzz_loaders import DPJ_BYTES, TEXTURE_BYTES
 
 EXAMPLES = int(os.environ.get("TEXEDITOR_FUZZ_EXAMPLES", "300"))
@@ -35,23 +36,12 @@ TIMEOUT = 30
 
 
 def ends(fn, *args):
-    """fn(*args) in a thread: a TexeditorError or a result, never a hang or another exception."""
-    box = {}
-
-    def target():
-        try:
-            box["result"] = fn(*args)
-        except TexeditorError as exc:
-            box["error"] = exc
-        except BaseException as exc:              # handed to the test as a failure
-            box["crash"] = exc
-    thread = threading.Thread(target=target, daemon=True)
-    thread.start()
-    thread.join(TIMEOUT)
-    assert not thread.is_alive(), f"{fn} did not end in {TIMEOUT} s"
-    if "crash" in box:
-        raise AssertionError(f"{fn} raised {box['crash']!r}") from box["crash"]
-    return box
+    """fn(*args) in bounded time: a TexeditorError or a result, never a hang or another
+    exception (those fail the test)."""
+    try:
+        return {"result": within(TIMEOUT, fn, *args)}
+    except TexeditorError as exc:
+        return {"error": exc}
 
 
 # -- special files -------------------------------------------------------------------------------
