@@ -226,6 +226,29 @@ def test_memory_budgets_are_kept():
     assert history.document.shape == (101, 100)
 
 
+def test_a_long_replay_copies_few_states_and_keeps_snapshots_spread(monkeypatch):
+    """Issue 17: once the snapshot store was full, every later step took a whole-state copy and
+    a thinning pass (a 500,000-step log opened in 108 s). Copies stay near one per
+    snapshot_every steps, the store within MAX_SNAPSHOTS and evenly spread; any step is reached
+    exactly from one of them."""
+    from texeditor import history as history_module
+    monkeypatch.setattr(history_module, "MAX_SNAPSHOTS", 16)
+    copies = []
+    monkeypatch.setattr(Document, "_state", lambda self, _s=Document._state: copies.append(1)
+                        or _s(self))
+    n = 4000
+    log = [NewCanvas(16, 16, 4)] + [SetLevels(k % 15, (k * 7) % 15, 2, 2, k % 4)
+                                    for k in range(n - 1)]
+    history = History.from_log(log, {}, undo_memory=0, snapshot_every=8)
+    keys = history._snap_keys
+    gaps = np.diff(keys)
+    assert len(copies) <= 2 * n // 8 and len(keys) <= 16
+    assert gaps.max() <= 4 * gaps.min() and n - keys[-1] <= gaps.max()
+    for target in (1, 1234, n // 2 + 1, n - 1, n):
+        history.goto(target)
+        assert same(history.document, replay(log[:target], {}))
+
+
 def test_history_over_an_existing_document_can_undo_to_empty():
     doc = Document.new(4, 4, 2)
     doc.apply(SetLevels(0, 0, 2, 2, 1))

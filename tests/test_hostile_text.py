@@ -47,3 +47,58 @@ def test_a_texture_whose_file_name_is_not_utf8_is_added(tmp_path):
     out = run_cli("bank", "add", name, "--bank", str(tmp_path / "b.db"))
     assert out.returncode == 0, out.stderr
     assert "X\ufffd".encode() in out.stdout
+
+
+LONE = "moss\udc80"
+
+
+def test_a_lone_surrogate_given_to_the_python_api_is_an_input_error(tmp_path):
+    from texeditor.actions import NewCanvas
+    from texeditor.bank import Bank, check_description, check_name, normalize_tags, parse_query
+    from texeditor.document import Document
+    from texeditor.errors import InputError
+    from texeditor.texturefile import save_texture
+    for call in (lambda: normalize_tags([LONE]), lambda: normalize_tags(LONE + ",stone"),
+                 lambda: check_name(LONE), lambda: check_description(LONE),
+                 lambda: parse_query(f"tag:{LONE}")):
+        with pytest.raises(InputError, match="lone surrogate"):
+            call()
+    doc = Document()
+    doc.apply(NewCanvas(8, 8, 2))
+    target = tmp_path / "t.texture"
+    with pytest.raises(InputError, match="lone surrogate"):
+        save_texture(target, doc, tags=[LONE])
+    with pytest.raises(InputError, match="lone surrogate"):
+        save_texture(target, doc, description=LONE)
+    assert not target.exists()
+    bank = Bank(tmp_path / "b.db")
+    before = bank.search()
+    with pytest.raises(InputError, match="lone surrogate"):
+        bank.add(doc, name="moss", tags=[LONE])
+    assert bank.search() == before
+
+
+def test_a_lone_surrogate_escaped_in_a_texture_manifest_is_a_format_error(tmp_path):
+    import io
+    import json
+    import zipfile
+    from texeditor.errors import FormatError
+    from texeditor.texturefile import parse_texture
+    from texeditor.actions import NewCanvas
+    from texeditor.document import Document
+    from texeditor.texturefile import texture_bytes
+    doc = Document()
+    doc.apply(NewCanvas(8, 8, 2))
+    data, _ = texture_bytes(doc, doc.actions)
+    src = zipfile.ZipFile(io.BytesIO(data))
+    out = io.BytesIO()
+    with zipfile.ZipFile(out, "w") as zf:
+        for info in src.infolist():
+            body = src.read(info)
+            if info.filename == "manifest.json":
+                manifest = json.loads(body)
+                manifest["tags"] = [LONE]
+                body = json.dumps(manifest).encode()     # ASCII: "\udc80" as an escape
+            zf.writestr(info.filename, body)
+    with pytest.raises(FormatError, match="lone surrogate"):
+        parse_texture(out.getvalue())

@@ -16,7 +16,7 @@ from typing import Any, Callable, ClassVar
 import numpy as np
 
 from .dpj import MAX_LEVELS, grey_ramp
-from .errors import FormatError, InputError
+from .errors import FormatError, InputError, check_unicode
 
 MAX_CANVAS_SIDE = 16384
 MAX_CANVAS_PIXELS = 2**26
@@ -78,7 +78,7 @@ def _bool(name, value, lo, hi):
 def _str(name, value, lo, hi):
     if not isinstance(value, str) or len(value) > (hi or 10_000):
         raise InputError(f"{name} must be a text of at most {hi or 10_000} characters")
-    return value
+    return check_unicode(value, name)
 
 
 def _ref(name, value, lo, hi):

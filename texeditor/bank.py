@@ -27,7 +27,8 @@ from . import attributes as attrs
 from .actions import Synthesize, action_from_json, dpj_refs
 from .document import Document, result_hash
 from .dpj import DPJ
-from .errors import Cancelled, FormatError, InputError, ReplayError, TexeditorError
+from .errors import (Cancelled, FormatError, InputError, ReplayError, TexeditorError,
+                     check_unicode)
 from .fileio import atomic_write, atomic_write_bytes, load_json
 from .history import History, replay
 from .logopt import optimize
@@ -1020,7 +1021,7 @@ def read_picture(path, sha256: str, shape: tuple, levels: int):
 def check_name(name) -> str:
     if not isinstance(name, str) or not name.strip():
         raise InputError("an entry needs a name")
-    name = " ".join(name.split())
+    name = check_unicode(" ".join(name.split()), "a name")
     if len(name) > MAX_NAME_CHARS:
         raise InputError(f"a name has at most {MAX_NAME_CHARS} characters")
     return name
@@ -1029,7 +1030,7 @@ def check_name(name) -> str:
 def check_description(text) -> str:
     if not isinstance(text, str) or len(text) > MAX_DESCRIPTION_CHARS:
         raise InputError(f"a description is a text of at most {MAX_DESCRIPTION_CHARS} characters")
-    return text.strip()
+    return check_unicode(text, "a description").strip()
 
 
 def normalize_tags(tags) -> tuple:
@@ -1041,7 +1042,7 @@ def normalize_tags(tags) -> tuple:
     for tag in tags:
         if not isinstance(tag, str):
             raise InputError(f"a tag must be a text, got {tag!r}")
-        tag = " ".join(tag.lower().split()).lstrip("#").strip()
+        tag = check_unicode(" ".join(tag.lower().split()).lstrip("#").strip(), "a tag")
         if not tag:
             continue
         if len(tag) > MAX_TAG_CHARS or any(ord(c) < 32 for c in tag):
@@ -1056,6 +1057,7 @@ def parse_query(text: str) -> tuple[list, list]:
     """Split a search text into words and tags (``tag:name`` or ``#name``)."""
     if not isinstance(text, str):
         raise InputError("the search text must be a text")
+    check_unicode(text, "the search text")
     words, tags = [], []
     for token in text.split():
         lower = token.lower()

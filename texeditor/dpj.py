@@ -406,7 +406,9 @@ def bytes_ref(data: bytes) -> str:
 
 def _residual(a: DPJ, b: DPJ) -> float:
     """L1 distance between two laws on the same sub-window."""
-    codes = np.union1d(a.codes, b.codes)
+    codes = np.concatenate([a.codes, b.codes])
+    codes.sort()       # not np.union1d: numpy 2's hashing unique takes 20× longer on 8M codes
+    codes = codes[np.r_[True, codes[1:] != codes[:-1]]]
     pa = np.zeros(len(codes))
     pb = np.zeros(len(codes))
     pa[np.searchsorted(codes, a.codes)] = a.probs

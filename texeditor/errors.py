@@ -27,3 +27,15 @@ class ReplayError(TexeditorError):
 
 class Cancelled(TexeditorError):
     """Long work was cancelled by the user; nothing was changed."""
+
+
+def check_unicode(text: str, what: str) -> str:
+    """``text`` if it can be written as UTF-8; a lone surrogate (a file name or an argument that
+    was not UTF-8, passed on) is an InputError naming ``what``, not a UnicodeEncodeError later."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        shown = text.encode("utf-8", "replace").decode("utf-8")
+        raise InputError(f"{what} is not valid Unicode text (it holds a lone surrogate): "
+                         f"{shown!r:.80}") from None
+    return text

@@ -27,7 +27,9 @@ def window_codes(levels: np.ndarray, window: tuple[int, int], num_levels: int,
     if wrap:
         levels = np.pad(levels, ((0, v - 1), (0, u - 1)), mode="wrap")
     rows, cols = levels.shape[0] - v + 1, levels.shape[1] - u + 1
-    codes = np.zeros((rows, cols), dtype=np.int64)
+    # int32 when every code fits: half the memory of a 64-megapixel photo's codes, same values
+    dtype = np.int32 if num_levels ** (u * v) <= np.iinfo(np.int32).max else np.int64
+    codes = np.zeros((rows, cols), dtype=dtype)
     for i in range(v):
         for j in range(u):
             codes *= num_levels
@@ -47,6 +49,7 @@ def estimate_dpj(matrix: np.ndarray, window: tuple[int, int] = (2, 2), levels: i
         levels = max(2, int(matrix.max()) + 1) if matrix.size else 2
     codes = window_codes(matrix, window, levels, wrap)
     unique, counts = np.unique(codes, return_counts=True)
+    del codes
     meta = {"source": "estimated", "wrap": bool(wrap), **(meta or {})}
     return DPJ.from_codes(unique, counts / counts.sum(), levels, window,
                           palette=palette, meta=meta)
@@ -60,4 +63,4 @@ def _check_matrix(levels: np.ndarray, num_levels: int) -> np.ndarray:
         raise InputError(f"a level matrix must hold integers, got {levels.dtype}")
     if levels.min() < 0 or levels.max() >= num_levels:
         raise InputError(f"the matrix holds levels outside 0..{num_levels - 1}")
-    return levels.astype(np.int64)
+    return levels if levels.dtype == np.uint8 else levels.astype(np.int64)

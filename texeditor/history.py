@@ -19,6 +19,12 @@ Progress = Callable[[float], None] | None
 Cancel = Callable[[], bool] | None
 
 
+# Snapshots are thinned to this many: more would make thinning slow (it is linear in their
+# number) and gain little (a step is then at most 1/256 of the log away from one).
+MAX_SNAPSHOTS = 256
+RECORD_OVERHEAD = 256      # bytes of Python objects per undo record, counted in undo_memory
+
+
 def replay(actions: Iterable[Action], dpjs: dict, *, progress: Progress = None,
            cancel: Cancel = None) -> Document:
     """Rebuild a document from its log and DPJs (ref → DPJ); a step that fails is a ReplayError."""
@@ -73,6 +79,7 @@ class History:
         self._record_bytes = 0
         self._snaps: dict[int, State] = {0: Document()._state()}
         self._snap_keys = [0]
+        self._spacing = 1                      # the least gap a new snapshot needs (thinning)
         self._snap_bytes = 0
         self._costs: dict[int, float] = {}
         self._subscribers: list[Callable[[], None]] = []
@@ -413,17 +420,19 @@ class History:
             far = first if self._index - first >= last - self._index else last
             self._drop_record(far)
 
-    def _wants_snapshot(self, k: int, keys: list, costs: dict) -> bool:
-        """Snapshot state k when the last one is snapshot_every steps or snapshot_cost s back."""
+    def _wants_snapshot(self, k: int, keys: list, costs: dict, spacing: int = 1) -> bool:
+        """Snapshot state k when the last one is snapshot_every steps or snapshot_cost s back,
+        and at least ``spacing`` steps back (once thinning began, a nearer one would only make
+        the next thinning drop another)."""
         last = keys[bisect_right(keys, k) - 1]
-        if last == k:
+        if k - last < max(spacing, 1):
             return False
         if k - last >= self.snapshot_every:
             return True
         return sum(costs.get(j, 0.0) for j in range(last, k)) >= self.snapshot_cost
 
     def _maybe_snapshot(self, k: int, doc: Document) -> None:
-        if self._wants_snapshot(k, self._snap_keys, self._costs):
+        if self._wants_snapshot(k, self._snap_keys, self._costs, self._spacing):
             self._add_snapshot(k, doc._state())
 
     def _add_snapshot(self, k: int, state: State) -> None:
@@ -432,17 +441,22 @@ class History:
         self._snaps[k] = state
         self._snap_keys.insert(bisect_right(self._snap_keys, k), k)
         self._snap_bytes += state.nbytes
-        while self._snap_bytes > self.snapshot_memory and len(self._snap_keys) > 1:
+        thinned = False
+        while ((self._snap_bytes > self.snapshot_memory or len(self._snap_keys) > MAX_SNAPSHOTS)
+               and len(self._snap_keys) > 1):
             self._drop_snapshot(self._thinnest())
+            thinned = True
+        self._spacing = _closest(self._snap_keys) if thinned else 1
 
     def _thinnest(self) -> int:
-        return _thinnest(self._snap_keys, max(len(self._actions), self._snap_keys[-1]) + 1)
+        return _thinnest(self._snap_keys)
 
     def _drop_snapshot(self, k: int) -> None:
         if k == 0:
             return
         self._snap_bytes -= self._snaps.pop(k).nbytes
         self._snap_keys.remove(k)
+        self._spacing = 1
 
     def _notify(self) -> None:
         self._changes += 1
@@ -451,14 +465,23 @@ class History:
 
 
 def _atoms_bytes(atoms: list) -> int:
-    return sum(a.nbytes for a in atoms)
+    """A record's arrays plus the Python objects around them (a 4×4 fill's are 20× its data)."""
+    return RECORD_OVERHEAD + sum(a.nbytes for a in atoms)
 
 
-def _thinnest(keys: list, end: int) -> int:
+def _thinnest(keys: list) -> int:
     """The snapshot whose removal leaves the smallest gap (keeps the rest evenly spread); never
-    ``keys[0]``."""
-    gaps = [(keys[j + 1] if j + 1 < len(keys) else end) - keys[j - 1] for j in range(1, len(keys))]
+    ``keys[0]``, and the newest only when it is the one other (it is the nearest to the steps
+    being added: dropping it would leave the next ones as far from a snapshot)."""
+    if len(keys) <= 2:
+        return keys[-1]
+    gaps = [keys[j + 1] - keys[j - 1] for j in range(1, len(keys) - 1)]
     return keys[1 + gaps.index(min(gaps))]
+
+
+def _closest(keys: list) -> int:
+    """The smallest gap between two consecutive snapshots."""
+    return min((b - a for a, b in zip(keys, keys[1:])), default=1)
 
 
 class PendingEdit:
@@ -486,6 +509,7 @@ class PendingEdit:
         self.targets: dict[int, str] = {}
         self.snaps: dict[int, State] = {}
         self._record_bytes = self._snap_bytes = 0
+        self._spacing = 1
         self.state: State | None = None
         self.finished = i >= new_index       # only the redo tail changes: nothing to replay
 
@@ -505,7 +529,8 @@ class PendingEdit:
                 raise Cancelled("replay cancelled")
             sub = None if progress is None else (lambda f, j=k - self.start: progress((j + f) / n))
             self._replay_step(scratch, k, sub, cancel)
-            if k + 1 > self.i and self.history._wants_snapshot(k + 1, self._keys, costs):
+            if k + 1 > self.i and self.history._wants_snapshot(k + 1, self._keys, costs,
+                                                               self._spacing):
                 self._keep_snapshot(k + 1, scratch._state())
             if progress is not None:
                 progress((k + 1 - self.start) / n)
@@ -530,10 +555,12 @@ class PendingEdit:
         self.snaps[k] = state
         self._keys.append(k)
         self._snap_bytes += state.nbytes
-        while self.snaps and self._snap_bytes > self._snap_budget:
-            drop = _thinnest([self.start] + sorted(self.snaps), self.new_index + 1)
+        while self.snaps and (self._snap_bytes > self._snap_budget
+                              or len(self.snaps) > MAX_SNAPSHOTS):
+            drop = _thinnest([self.start] + sorted(self.snaps))
             self._snap_bytes -= self.snaps.pop(drop).nbytes
             self._keys.remove(drop)
+            self._spacing = _closest([self.start] + sorted(self.snaps))
 
 
 class Version:

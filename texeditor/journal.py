@@ -25,6 +25,7 @@ from .actions import action_from_json
 from .dpj import DPJ
 from .errors import FormatError, TexeditorError
 from .fileio import load_json, read_limited
+from .texturefile import MAX_ACTIONS
 from .userdata import data_dir
 
 try:
@@ -34,7 +35,7 @@ except ImportError:          # not POSIX: journals still work, orphans are told 
 
 FORMAT = 1
 SUFFIX = ".journal"
-MAX_JOURNAL_BYTES = 512 * 2**20
+MAX_JOURNAL_BYTES = 256 * 2**20       # measured: recovery at the limit stays near 1 GiB
 MAX_START_TIME = 253402300799       # 9999-12-31 23:59:59 UTC: any later "time" is damage
 
 
@@ -150,31 +151,49 @@ def _nonblocking(path, flags):
 
 
 def recover(path: Path) -> Recovered:
-    """Rebuild the log a journal describes, up to its last complete record."""
+    """Rebuild the log a journal describes, up to its last complete record.
+
+    Records are parsed and applied one at a time (a long session's journal holds millions of
+    small ones); the log may not grow past a .texture's MAX_ACTIONS, or it could never be saved.
+    """
     path = Path(path)
-    lines = read_limited(path, MAX_JOURNAL_BYTES, "journal").split(b"\n")   # regular, bounded
-    records = []
-    for line in lines:
-        try:
-            records.append(load_json(line, "a journal record", limit=MAX_JOURNAL_BYTES,
-                                     constants=True))
-        except FormatError:
-            break            # the line the crash cut short (and anything after it)
-    if not records or not isinstance(records[0], dict) or records[0].get("kind") != "start" \
-            or records[0].get("format") != FORMAT:
+    data = read_limited(path, MAX_JOURNAL_BYTES, "journal")      # a regular file, bounded
+    lines = _lines(data)
+    start = _record(next(lines, b""))
+    if not isinstance(start, dict) or start.get("kind") != "start" or start.get("format") != FORMAT:
         raise FormatError(f"{path}: not a texeditor journal")
     actions, dpjs, logs = [], {}, 0
-    for record in records[1:]:
+    for line in lines:
+        record = _record(line)
         try:
+            if record is None:
+                break        # the line the crash cut short (and anything after it)
             _apply(record, actions, dpjs)
         except (TexeditorError, KeyError, TypeError, ValueError, AttributeError,
                 ArithmeticError):
             break            # keep what was complete before a damaged record
-        logs += isinstance(record, dict) and record.get("kind") == "log"
-    start = records[0]
+        logs += record.get("kind") == "log"
     source = start.get("source") if isinstance(start.get("source"), str) else None
     return Recovered(path, tuple(actions), dpjs, source, _start_time(start.get("time")),
                      max(0, logs - 1))
+
+
+def _lines(data: bytes):
+    """The lines of ``data``, one at a time (no list of them all)."""
+    begin = 0
+    while begin < len(data):
+        end = data.find(b"\n", begin)
+        end = len(data) if end < 0 else end
+        yield data[begin:end]
+        begin = end + 1
+
+
+def _record(line: bytes):
+    """One record, or None when the line is not one (cut short by the crash, or damaged)."""
+    try:
+        return load_json(line, "a journal record", limit=MAX_JOURNAL_BYTES, constants=True)
+    except FormatError:
+        return None
 
 
 def _start_time(value) -> float:
@@ -189,7 +208,7 @@ def _start_time(value) -> float:
 
 
 def _apply(record, actions: list, dpjs: dict) -> None:
-    kind = record["kind"]
+    kind = record["kind"] if isinstance(record, dict) else None
     if kind == "dpj":
         # the reference is the DPJ's name in the log (as in .texture files); its bytes must hash
         # to it (DPJ.from_bytes checks), else the record is damaged and recovery stops here
@@ -202,6 +221,8 @@ def _apply(record, actions: list, dpjs: dict) -> None:
         keep = record["keep"]
         if isinstance(keep, bool) or not isinstance(keep, int) or not 0 <= keep <= len(actions):
             raise FormatError("a journal record keeps more actions than there are")
+        if keep + len(record["append"]) > MAX_ACTIONS:
+            raise FormatError(f"a journal log of more than {MAX_ACTIONS} actions")
         new = [action_from_json(obj) for obj in record["append"]]
         del actions[keep:]
         actions.extend(new)

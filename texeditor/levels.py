@@ -21,6 +21,9 @@ from .fileio import check_regular
 MIN_LEVELS = 2
 MAX_LEVELS = 16
 MAX_PIXELS = 64 * 2**20
+# Decoded, at most a 64-megapixel RGBA photo of 8 bits: acquiring one peaks at 1.9 GB (measured,
+# benchmarks/bench_limits.py); 16-bit or float colour pictures that large would pass 2 GiB.
+MAX_IMAGE_BYTES = 256 * 2**20
 BAND = (5.0, 95.0)
 MAX_LLOYD_ITERATIONS = 100
 METHODS = ("band", "lloyd")
@@ -137,6 +140,15 @@ def _check_decoded(image: np.ndarray, path: Path) -> np.ndarray:
     except ImageError as exc:
         raise ImageError(f"{path}: {exc}") from None
     _check_pixels(image.shape[0], image.shape[1], path)
+    if image.nbytes > MAX_IMAGE_BYTES:
+        h, w = image.shape[:2]
+        channels = 1 if image.ndim == 2 else image.shape[2]
+        kind = "floats" if image.dtype.kind == "f" else "integers"
+        raise ImageError(f"{path}: the image is {w}x{h} with {channels} channel(s) of "
+                         f"{image.dtype.itemsize * 8}-bit {kind}: "
+                         f"{image.nbytes / 2**20:.0f} MiB decoded, more than "
+                         f"{MAX_IMAGE_BYTES // 2**20} MiB; reduce it or save it with 8 bits "
+                         "per channel")
     return image
 
 
@@ -155,12 +167,26 @@ def to_grey(image) -> np.ndarray:
     """Grey (H, W) float64 in [0, 1] of any supported image; RGBA is laid on white first.
 
     Integer types are scaled by their range (uint16 65535 → 1); negative or > 1 floats are clipped.
+    Converted by bands of rows: a 64-megapixel RGBA photo as float64 would take 2 GB at once
+    (every step is per pixel, so the result is the same as in one go).
     """
+    image = np.asarray(image)
+    _check_shape(image)
+    grey = np.empty(image.shape[:2], np.float64)
+    for top in range(0, image.shape[0], _BAND_ROWS):
+        grey[top:top + _BAND_ROWS] = _grey_band(image[top:top + _BAND_ROWS])
+    return grey
+
+
+_BAND_ROWS = 256
+
+
+def _grey_band(image: np.ndarray) -> np.ndarray:
     img = _as_unit_float(image)
     if img.ndim == 2:
         return img
     if img.shape[2] <= 2:
-        return np.ascontiguousarray(img[..., 0])
+        return img[..., 0]
     if img.shape[2] == 4:
         img = ski.color.rgba2rgb(img)
     return ski.color.rgb2gray(img)
@@ -172,7 +198,9 @@ def _as_unit_float(image) -> np.ndarray:
     img = ski.util.img_as_float64(image)
     if img.dtype.kind == "f" and image.dtype.kind == "f" and not np.all(np.isfinite(img)):
         raise ImageError("the image holds NaN or infinite values")
-    return np.clip(img, 0.0, 1.0)
+    if np.shares_memory(img, image):
+        return np.clip(img, 0.0, 1.0)
+    return np.clip(img, 0.0, 1.0, out=img)     # a converted copy: clipped where it is
 
 
 # -- quantisation -----------------------------------------------------------------------------
@@ -181,7 +209,8 @@ def quantize(image, levels: int, method: str = "band") -> Quantization:
     levels = check_levels(levels)
     if method not in METHODS:
         raise InputError(f"unknown quantisation method {method!r}: choose one of {', '.join(METHODS)}")
-    grey = np.round(to_grey(image), _DECIMALS)
+    grey = to_grey(image)
+    np.round(grey, _DECIMALS, out=grey)
     _check_contrast(grey)
     find = _band_thresholds if method == "band" else _lloyd_thresholds
     thresholds = np.round(find(grey, levels), _DECIMALS)
@@ -230,9 +259,11 @@ def _lloyd_thresholds(grey: np.ndarray, levels: int) -> np.ndarray:
     Starts from the band thresholds. The values are sorted once, so each iteration is G binary
     searches and G differences of a cumulative sum; an empty cell keeps its previous centroid.
     """
+    thresholds = _band_thresholds(grey, levels)    # first: its percentile copy is gone by now
     values = np.sort(grey, axis=None)
-    sums = np.concatenate([[0.0], np.cumsum(values)])
-    thresholds = _band_thresholds(grey, levels)
+    sums = np.empty(values.size + 1)           # [0, cumsum]: no second copy of a large photo
+    sums[0] = 0.0
+    np.cumsum(values, out=sums[1:])
     edges = np.concatenate([[values[0]], thresholds, [values[-1]]])
     centroids = (edges[:-1] + edges[1:]) / 2
     bounds = None
@@ -257,14 +288,16 @@ def _palette(image, grey: np.ndarray, index: np.ndarray, thresholds: np.ndarray)
     levels = thresholds.size + 1
     image = np.asarray(image)
     colour = image.ndim == 3 and image.shape[2] >= 3
-    channels = _as_unit_float(image[..., :3]) if colour else grey[..., None]
     flat = index.ravel()
     counts = np.bincount(flat, minlength=levels)
     edges = np.concatenate([[0.0], thresholds, [1.0]])
     means = np.repeat(((edges[:-1] + edges[1:]) / 2)[:, None], 3, axis=1)
     seen = counts > 0
     for c in range(3):
-        values = channels[..., min(c, channels.shape[-1] - 1)].ravel()
+        if colour:       # one channel at a time as float64 (not the whole RGB photo at once)
+            values = _as_unit_float(image[..., c]).ravel()
+        else:
+            values = grey.ravel()
         sums = np.bincount(flat, weights=values, minlength=levels)
         means[seen, c] = sums[seen] / counts[seen]
     return np.round(means * 255).astype(np.uint8)

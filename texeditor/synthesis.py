@@ -16,6 +16,7 @@ above and the points already chosen to its left) never raise and never hang:
 
 from __future__ import annotations
 
+import threading
 import weakref
 from dataclasses import dataclass
 from typing import Callable, NamedTuple
@@ -121,20 +122,37 @@ OFF, LEN = 0, 1
 LO, HI, TOFF = 0, 1, 2  # rows of the per-position work array: entries weighed, where T starts
 
 
-_cache: dict[int, tuple[weakref.ref, _Tables]] = {}
+# DPJ id → (weakref, tables, bytes), the latest last. The latest DPJ's tables are always kept;
+# older ones only within TABLES_MEMORY (a document with many large DPJs would keep 0.6 GB each).
+_cache: dict[int, tuple[weakref.ref, _Tables, int]] = {}
+_cache_lock = threading.Lock()       # workers and the GUI thread synthesise at once
+TABLES_MEMORY = 256 * 2**20
 
 
 def _tables(dpj: DPJ) -> _Tables:
     """Build (or reuse) the kernel tables of a DPJ; DPJs are immutable so id + weakref is safe."""
-    hit = _cache.get(id(dpj))
-    if hit is not None and hit[0]() is dpj:
-        return hit[1]
+    with _cache_lock:
+        hit = _cache.pop(id(dpj), None)
+        if hit is not None and hit[0]() is dpj:
+            _cache[id(dpj)] = hit
+            return hit[1]
+        for key in [k for k, (ref, _, _) in _cache.items() if ref() is None]:
+            del _cache[key]
+        _evict(TABLES_MEMORY)     # before building: old tables need not stay during the build
     positive = dpj.probs > 0
     tables = _build_tables(DPJ(dpj.configs[positive], dpj.probs[positive], dpj.levels).normalized())
-    for key in [k for k, (ref, _) in _cache.items() if ref() is None]:
-        del _cache[key]
-    _cache[id(dpj)] = (weakref.ref(dpj), tables)
+    size = sum(a.nbytes for a in tables if isinstance(a, np.ndarray))
+    with _cache_lock:
+        _cache[id(dpj)] = (weakref.ref(dpj), tables, size)
+        _evict(TABLES_MEMORY, keep=1)
     return tables
+
+
+def _evict(budget: int, keep: int = 0) -> None:
+    """Forget the oldest tables until those left take ≤ budget bytes (the newest ``keep``
+    stay whatever their size)."""
+    while len(_cache) > keep and sum(size for _, _, size in _cache.values()) > budget:
+        del _cache[next(iter(_cache))]
 
 
 def _build_tables(dpj: DPJ) -> _Tables:

@@ -21,18 +21,21 @@ from .actions import (MAX_CANVAS_SIDE, Action, Synthesize, _palette, action_from
                       dpj_refs)
 from .document import Document, REF_LENGTH
 from .dpj import DPJ, MAX_FILE_BYTES as MAX_DPJ_BYTES, MAX_LEVELS
-from .errors import FormatError, InputError, ReplayError
+from .errors import FormatError, InputError, ReplayError, check_unicode
 from .fileio import load_json, read_limited, write_file
 from .history import History, replay
 from .logopt import optimize
 
 FORMAT_NAME = "texeditor-texture"
 FORMAT_VERSION = 1
-MAX_FILE_BYTES = 1024 * 2**20
-MAX_TOTAL_BYTES = 1024 * 2**20          # sum of the declared uncompressed sizes
+# Measured at these limits (benchmarks/bench_limits.py): opening and replaying stays under 2 GiB.
+# Each DPJ in memory takes about 3× its stored bytes, and a synthesis from the largest one 1.3 GB.
 MAX_MANIFEST_BYTES = 2**20
 MAX_ACTIONS_BYTES = 64 * 2**20
-MAX_ACTIONS = 1_000_000
+MAX_ACTIONS = 250_000
+MAX_DPJ_CONTENT = 128 * 2**20           # the DPJ members together (two of the largest DPJs)
+MAX_TOTAL_BYTES = MAX_MANIFEST_BYTES + MAX_ACTIONS_BYTES + MAX_DPJ_CONTENT   # declared sizes
+MAX_FILE_BYTES = MAX_TOTAL_BYTES + 2**20
 MAX_DPJS = 64
 MAX_RATIO = 200                         # uncompressed / compressed, above RATIO_FLOOR bytes
 RATIO_FLOOR = 2**20
@@ -110,7 +113,7 @@ def texture_bytes(doc: Document, actions, *, tags=(), description="") -> tuple[b
     if main is not None:
         members.append(("dpj.npz", doc.dpjs[main].to_bytes()))
     members += [(f"dpjs/{ref}.npz", doc.dpjs[ref].to_bytes()) for ref in others]
-    return _zip(members), manifest
+    return _archive(members), manifest
 
 
 def _checked_for_saving(manifest: Manifest) -> Manifest:
@@ -132,7 +135,30 @@ def _json_bytes(obj) -> bytes:
     return json.dumps(obj, indent=1, ensure_ascii=False, allow_nan=False).encode("utf-8")
 
 
-def _zip(members) -> bytes:
+def _archive(members) -> bytes:
+    """The zip, refused here (InputError) if a reader would refuse it: a file saved always
+    opens again. A member that compresses past MAX_RATIO (a log of one step repeated) is stored."""
+    data = _zip(members)
+    with zipfile.ZipFile(io.BytesIO(data)) as zf:
+        dense = {i.filename for i in zf.infolist() if _too_dense(i)}
+    if dense:
+        data = _zip(members, stored=dense)
+    try:
+        with zipfile.ZipFile(io.BytesIO(data)) as zf:
+            _check_members(zf, "cannot save the texture")
+    except FormatError as exc:
+        raise InputError(str(exc)) from None
+    if len(data) > MAX_FILE_BYTES:
+        raise InputError(f"cannot save the texture: {_mib(len(data))} is more than the limit "
+                         f"of {_mib(MAX_FILE_BYTES)}")
+    return data
+
+
+def _too_dense(info: zipfile.ZipInfo) -> bool:
+    return info.file_size > RATIO_FLOOR and info.file_size > MAX_RATIO * max(info.compress_size, 1)
+
+
+def _zip(members, stored=frozenset()) -> bytes:
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w") as zf:
         for name, data in members:
@@ -140,7 +166,8 @@ def _zip(members) -> bytes:
             info.create_system = 3
             info.external_attr = 0o644 << 16
             # .npz members are compressed already
-            info.compress_type = zipfile.ZIP_STORED if name.endswith(".npz") else zipfile.ZIP_DEFLATED
+            info.compress_type = (zipfile.ZIP_STORED if name.endswith(".npz") or name in stored
+                                  else zipfile.ZIP_DEFLATED)
             zf.writestr(info, data)
     return buf.getvalue()
 
@@ -202,7 +229,7 @@ def _check_members(zf: zipfile.ZipFile, name: str) -> dict[str, zipfile.ZipInfo]
     if len(infos) > 2 + 1 + MAX_DPJS:
         raise FormatError(f"{name}: {len(infos)} members, more than a texture file holds")
     seen: dict[str, zipfile.ZipInfo] = {}
-    total = 0
+    total = dpj_total = 0
     for info in infos:
         member = info.filename
         if (member.startswith(("/", "\\")) or ".." in member.replace("\\", "/").split("/")
@@ -221,13 +248,17 @@ def _check_members(zf: zipfile.ZipFile, name: str) -> dict[str, zipfile.ZipInfo]
         if info.file_size > limit:
             raise FormatError(f"{name}: member {member!r} declares {info.file_size} bytes, "
                               f"more than the limit of {limit}")
-        if info.file_size > RATIO_FLOOR and info.file_size > MAX_RATIO * max(info.compress_size, 1):
+        if _too_dense(info):
             raise FormatError(f"{name}: member {member!r} expands {info.file_size} bytes from "
                               f"{info.compress_size}: refused as a zip bomb")
         total += info.file_size
+        dpj_total += info.file_size if member.endswith(".npz") else 0
         seen[member] = info
     if total > MAX_TOTAL_BYTES:
         raise FormatError(f"{name}: declared content of {total} bytes is more than the limit")
+    if dpj_total > MAX_DPJ_CONTENT:
+        raise FormatError(f"{name}: its DPJs take {_mib(dpj_total)} together, more than the "
+                          f"limit of {_mib(MAX_DPJ_CONTENT)}")
     for required in ("manifest.json", "actions.json"):
         if required not in seen:
             raise FormatError(f"{name}: not a texture file ({required} is missing)")
@@ -236,7 +267,11 @@ def _check_members(zf: zipfile.ZipFile, name: str) -> dict[str, zipfile.ZipInfo]
 
 def _member_limit(member: str) -> int:
     return {"manifest.json": MAX_MANIFEST_BYTES,
-            "actions.json": MAX_ACTIONS_BYTES}.get(member, MAX_DPJ_BYTES)
+            "actions.json": MAX_ACTIONS_BYTES}.get(member, min(MAX_DPJ_BYTES, MAX_DPJ_CONTENT))
+
+
+def _mib(n: int) -> str:
+    return f"{n / 2**20:.1f} MiB"
 
 
 def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, name: str) -> bytes:
@@ -312,7 +347,7 @@ def _text(value, what, max_chars, pattern=None) -> str:
             pattern and not re.fullmatch(pattern, value)):
         raise InputError(f"{what} must be a text of at most {max_chars} characters"
                          + (f" matching {pattern}" if pattern else "") + f", got {value!r:.80}")
-    return value
+    return check_unicode(value, what)
 
 
 def _texts(value, what, max_items, max_chars, pattern=None) -> tuple:
