@@ -166,6 +166,12 @@ def case_synth(folder: Path) -> list:
             ["synth", dpj, "--size", "8192x8192", "-o", folder / "s.texture"]]
 
 
+def case_synth_png(folder: Path) -> list:
+    dpj = sorted((ROOT / "resources" / "dpj").glob("*.dpj"))[0]
+    return [f"synth, 16384×16384 (2^28 points, the synthesis limit) to PNG",
+            ["synth", dpj, "--size", "16384x16384", "-o", folder / "s.png"]]
+
+
 def case_screenshot(folder: Path) -> list:
     return ["gui --screenshot at 7680×4320", ["gui", "--screenshot", folder / "shot.png",
                                              "--size", "7680x4320"]]
@@ -173,7 +179,8 @@ def case_screenshot(folder: Path) -> list:
 
 CASES = {"dpj-info": case_dpj_info, "texture-dpjs": case_texture_dpjs, "long-log": case_long_log,
          "journal": case_journal,
-         "acquire": case_acquire, "synth": case_synth, "screenshot": case_screenshot}
+         "acquire": case_acquire, "synth": case_synth, "synth-png": case_synth_png,
+         "screenshot": case_screenshot}
 
 
 def main() -> None:

@@ -22,7 +22,6 @@ Cancel = Callable[[], bool] | None
 # Snapshots are thinned to this many: more would make thinning slow (it is linear in their
 # number) and gain little (a step is then at most 1/256 of the log away from one).
 MAX_SNAPSHOTS = 256
-RECORD_OVERHEAD = 256      # bytes of Python objects per undo record, counted in undo_memory
 
 
 def replay(actions: Iterable[Action], dpjs: dict, *, progress: Progress = None,
@@ -465,8 +464,7 @@ class History:
 
 
 def _atoms_bytes(atoms: list) -> int:
-    """A record's arrays plus the Python objects around them (a 4×4 fill's are 20× its data)."""
-    return RECORD_OVERHEAD + sum(a.nbytes for a in atoms)
+    return sum(a.nbytes for a in atoms)
 
 
 def _thinnest(keys: list) -> int:
