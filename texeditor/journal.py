@@ -14,6 +14,7 @@ step k keeps k-1 and appends the rest). A line cut short by the crash is ignored
 from __future__ import annotations
 
 import base64
+import io
 import json
 import os
 import time
@@ -158,7 +159,7 @@ def recover(path: Path) -> Recovered:
     """
     path = Path(path)
     data = read_limited(path, MAX_JOURNAL_BYTES, "journal")      # a regular file, bounded
-    lines = _lines(data)
+    lines = iter(io.BytesIO(data))     # one line at a time, no list of them all
     start = _record(next(lines, b""))
     if not isinstance(start, dict) or start.get("kind") != "start" or start.get("format") != FORMAT:
         raise FormatError(f"{path}: not a texeditor journal")
@@ -176,16 +177,6 @@ def recover(path: Path) -> Recovered:
     source = start.get("source") if isinstance(start.get("source"), str) else None
     return Recovered(path, tuple(actions), dpjs, source, _start_time(start.get("time")),
                      max(0, logs - 1))
-
-
-def _lines(data: bytes):
-    """The lines of ``data``, one at a time (no list of them all)."""
-    begin = 0
-    while begin < len(data):
-        end = data.find(b"\n", begin)
-        end = len(data) if end < 0 else end
-        yield data[begin:end]
-        begin = end + 1
 
 
 def _record(line: bytes):
