@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor.dpj import DPJ, MAX_SIDE
+from texeditor.markov.dpj import DPJ, MAX_SIDE
 from texeditor.errors import Cancelled, TexeditorError
-from texeditor.estimation import estimate_dpj
-from texeditor.levels import load_image, quantize
+from texeditor.markov.estimation import estimate_dpj
+from texeditor.markov.levels import load_image, quantize
 
 from .canvas import colourize
 from .dpj_editor.preview import LatestWins

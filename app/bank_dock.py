@@ -1,7 +1,7 @@
 """The bank browser dock: the texture bank as a grid of thumbnails, with search, attribute filters,
 tags, "more like this", open, duplicate, delete (trash and undo), import and export.
 
-It sits between the bank (texeditor.bank, SQLite) and the main window: opening an entry replays its
+It sits between the bank (texeditor.bank.store, SQLite) and the main window: opening an entry replays its
 log in the window's TaskRunner and hands the History to ``set_history``; saving sends a snapshot
 of the current document to the worker and stores the result. The bank opens on ``load()`` (the
 application's start-up), never merely because the dock exists.
@@ -15,7 +15,7 @@ import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor import warmup
-from texeditor.bank import Bank, make_record
+from texeditor.bank.store import Bank, make_record
 from texeditor.errors import TexeditorError
 
 from .bank_view import IdRole, RangeFilters, SaveToBankDialog, ThumbnailGrid

@@ -12,9 +12,9 @@ from typing import Callable
 
 from PySide6 import QtCore, QtWidgets
 
-from texeditor.bank import Bank
+from texeditor.bank.store import Bank
 from texeditor.errors import TexeditorError
-from texeditor.texture_actions import TextureSource, bank_source
+from texeditor.texture.actions import TextureSource, bank_source
 
 from .bank_view import IdRole, ThumbnailGrid
 

@@ -1,7 +1,7 @@
 """The widgets of the bank browser: the lazy thumbnail model, its grid view and delegate, the
 attribute range filters and the Save to bank dialog.
 
-Used by app/bank_dock.py; they read names and thumbnails from the bank (texeditor.bank) and never
+Used by app/bank_dock.py; they read names and thumbnails from the bank (texeditor.bank.store) and never
 change it — the dock does.
 """
 
@@ -11,8 +11,8 @@ from collections import OrderedDict
 
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor import attributes as attrs
-from texeditor.bank import Bank
+from texeditor.bank import attributes as attrs
+from texeditor.bank.store import Bank
 from texeditor.errors import TexeditorError
 
 ICON = 80                         # thumbnail side on screen (they are stored at 128)

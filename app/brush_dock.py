@@ -2,7 +2,7 @@
 pictures of one dab, the user's own saved in the user data folder; and the few menu entries and
 keys of the painting tools ([ and ], the Grain stamps menu, Peano sub-regions).
 
-A preset is plain data (texeditor.brushes.Brush); choosing one loads it into the Brush or Spray
+A preset is plain data (texeditor.paint.brushes.Brush); choosing one loads it into the Brush or Spray
 tool, which turns strokes into Stroke actions.
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor.brushes import Brush, BrushLibrary, StrokePainter
+from texeditor.paint.brushes import Brush, BrushLibrary, StrokePainter
 from texeditor.errors import TexeditorError
 
 ICON = 44

@@ -15,10 +15,10 @@ from pathlib import Path
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor import composition
+from texeditor.texture import composition
 from texeditor.errors import TexeditorError
-from texeditor.actions import dpj_refs
-from texeditor.texture_actions import Incrust, Mix, check_recipe, recipe_of, synthesis_recipe
+from texeditor.recipe.actions import dpj_refs
+from texeditor.texture.actions import Incrust, Mix, check_recipe, recipe_of, synthesis_recipe
 
 from .bank_picker import choose_bank_entry, load_bank_source
 from .images import qimage_from_rgb
@@ -121,7 +121,7 @@ class SourcePicker(QtWidgets.QWidget):
             self.step.setValue(max(1, history.index))
 
     def open_file(self, path=None) -> None:
-        from texeditor.texturefile import read_texture
+        from texeditor.recipe.texturefile import read_texture
         if path is None:
             path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Open a texture", "",
                                                             "Textures (*.texture)")

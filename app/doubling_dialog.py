@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 from PySide6 import QtCore, QtWidgets
 
-from texeditor import doubling
+from texeditor.markov import doubling
 from texeditor.errors import TexeditorError
-from texeditor.levels import load_image
-from texeditor.texture_actions import DoubleLevels, store_dpj
+from texeditor.markov.levels import load_image
+from texeditor.texture.actions import DoubleLevels, store_dpj
 
 from . import resources
 from .acquire_dialog import IMAGE_FILTER, QUANTISERS

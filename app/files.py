@@ -11,10 +11,10 @@ from pathlib import Path
 from PySide6 import QtCore, QtWidgets
 
 from texeditor.export import write_png
-from texeditor.actions import NewCanvas
+from texeditor.recipe.actions import NewCanvas
 from texeditor.errors import TexeditorError
-from texeditor.history import History
-from texeditor.texturefile import load_texture, save_texture
+from texeditor.recipe.history import History
+from texeditor.recipe.texturefile import load_texture, save_texture
 
 from .new_dialog import NewDialog
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from PySide6 import QtWidgets
 
-from texeditor import region_actions as ra
+from texeditor.regions import actions as ra
 
 from .widgets import spin_box
 

@@ -17,9 +17,9 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor import warmup
 from texeditor.errors import TexeditorError
-from texeditor.grain_render import (LATTICES, MAX_COMPRESSION, MAX_EXPLOSION, OVERLAP_RULES,
+from texeditor.texture.grain_render import (LATTICES, MAX_COMPRESSION, MAX_EXPLOSION, OVERLAP_RULES,
                                     check_size)
-from texeditor.texture_actions import RenderGrains
+from texeditor.texture.actions import RenderGrains
 
 from .images import qimage_from_rgb
 from .widgets import scrolled
@@ -354,7 +354,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
             return doc.levels, doc.palette
         key = (id(history), tuple(history.actions[:i]))
         if key != self._base_key:
-            from texeditor.history import replay
+            from texeditor.recipe.history import replay
             doc = replay(history.actions[:i], history.document.dpjs)
             self._base_key, self._base = key, (doc.levels.copy(), doc.palette)
         return self._base

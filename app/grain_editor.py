@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor import grains
+from texeditor.paint import grains
 from texeditor.errors import TexeditorError
-from texeditor.grains import GrainLibrary, GrainType
+from texeditor.paint.grains import GrainLibrary, GrainType
 
 SHAPES = [("Square", "square"), ("Rectangle", "rectangle"), ("Circle / ellipse", "circle"),
           ("Diamond", "diamond"), ("Hexagon", "hexagon"), ("Regular polygon", "polygon"),

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor.actions import replace_params
+from texeditor.recipe.actions import replace_params
 from texeditor.errors import TexeditorError
 
 from .params_form import ParamsForm

@@ -1,6 +1,6 @@
-"""Entry point of the application: ``run(argv)`` opens the window (or renders it to a PNG and exits).
-
-`texeditor` with no argument and `texeditor gui [--screenshot OUT.png] [--open FILE]` call it.
+"""The `texeditor` console script: ``main(argv)`` opens the window for `texeditor` and
+`texeditor gui [--screenshot OUT.png] [--open FILE]` (``run``), and hands every other command to
+the headless CLI (`texeditor.cli`) without importing Qt, so `texeditor synth …` runs anywhere.
 """
 
 from __future__ import annotations
@@ -38,6 +38,15 @@ def window_size(text: str) -> tuple[int, int]:
     return size
 
 
+def main(argv=None) -> int:
+    """The console script: the window, or the engine's command line for any other command."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if not argv or argv[0] == "gui":
+        return run(argv[1:])
+    from texeditor.cli import main as headless
+    return headless(argv)
+
+
 def run(argv=None) -> int:
     """Start the GUI. ``argv`` excludes the program name (None: ``sys.argv[1:]``); returns the exit
     code (0; 2 when no window can open here, or --open or --screenshot fails in screenshot
@@ -60,7 +69,7 @@ def run(argv=None) -> int:
 
     from .main_window import MainWindow
     from .recovery import offer_recovery, report_problems
-    from texeditor.userdata import check_libraries
+    from texeditor.libraries import check_libraries
 
     problems = check_libraries()           # a bad library is set aside before any dock reads it
     window = MainWindow()
@@ -124,4 +133,4 @@ def write_screenshot(path: Path, png: bytes | None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(run())
+    sys.exit(main())

@@ -12,9 +12,9 @@ import time
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor import warmup
-from texeditor.actions import SetPalette, Synthesize
+from texeditor.recipe.actions import SetPalette, Synthesize
 from texeditor.errors import TexeditorError
-from texeditor.history import History
+from texeditor.recipe.history import History
 
 from . import dpj_editor, resources
 from .acquire_dialog import AcquireDialog
@@ -318,7 +318,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         A journal that cannot be written is given up with a warning, never an error."""
         if self.history is None or self._journal is False:
             return
-        from texeditor.journal import Journal
+        from texeditor.recipe.journal import Journal
         try:
             if self._journal is None:
                 self._journal = Journal()

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from PySide6 import QtWidgets
 
-from texeditor.actions import MAX_CANVAS_SIDE
-from texeditor.dpj import MAX_LEVELS
+from texeditor.recipe.actions import MAX_CANVAS_SIDE
+from texeditor.markov.dpj import MAX_LEVELS
 
 
 class NewDialog(QtWidgets.QDialog):

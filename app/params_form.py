@@ -10,7 +10,7 @@ import secrets
 
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor.actions import param_specs
+from texeditor.recipe.actions import param_specs
 
 INT32 = 2**31 - 1
 LONG_TEXT = 80             # a text parameter longer than this is structured data, shown as its size

@@ -11,9 +11,10 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor import grains, peano
+from texeditor.paint import grains
+from texeditor.paint import peano
 from texeditor.errors import TexeditorError
-from texeditor.paint_actions import PeanoLevels
+from texeditor.paint.actions import PeanoLevels
 
 from .canvas import colourize
 from .widgets import spin_box

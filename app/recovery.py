@@ -1,6 +1,6 @@
 """Restoring work after a crash: the journals of dead processes, offered back on start-up.
 
-`texeditor.journal` keeps them; this module asks the user, replays the log into a History and
+`texeditor.recipe.journal` keeps them; this module asks the user, replays the log into a History and
 shows it as an unsaved document (its title starred), one window per document.
 """
 
@@ -13,8 +13,8 @@ from pathlib import Path
 from PySide6 import QtWidgets
 
 from texeditor.errors import TexeditorError
-from texeditor.history import History
-from texeditor.journal import orphans, recover
+from texeditor.recipe.history import History
+from texeditor.recipe.journal import orphans, recover
 from texeditor.userdata import set_aside_line
 
 Yes, No = QtWidgets.QMessageBox.StandardButton.Yes, QtWidgets.QMessageBox.StandardButton.No

@@ -25,7 +25,7 @@ def bundled_dpjs() -> list[Path]:
 
 def default_dpj():
     """The DPJ the window starts on: the first bundled one that loads, else one estimated."""
-    from texeditor.dpj import DPJ
+    from texeditor.markov.dpj import DPJ
     for path in sorted(bundled_dpjs(), key=lambda p: (not p.stem.startswith(START_NAME), p.name)):
         try:
             dpj = DPJ.load(path)
@@ -40,8 +40,8 @@ def default_dpj():
 
 def estimate_from_photo(path: Path | None, window=START_WINDOW, levels=START_LEVELS):
     """A DPJ acquired from a photo (or scikit-image's gravel when there is none)."""
-    from texeditor.estimation import estimate_dpj
-    from texeditor.levels import load_image, quantize
+    from texeditor.markov.estimation import estimate_dpj
+    from texeditor.markov.levels import load_image, quantize
     if path is None:
         from skimage import data
         image, name = data.gravel(), "gravel"

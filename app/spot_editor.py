@@ -2,7 +2,7 @@
 axes, see the real spot it gives, keep it in the spot library.
 
 It sits before the Spot tool: the tool places what the editor holds (its envelope, perturbation
-and seed). The editor only builds engine objects (`texeditor.spots`); it never touches the
+and seed). The editor only builds engine objects (`texeditor.spots.envelope`); it never touches the
 document.
 
 Gestures in the drawing area: click the two ends of the equator (or drag from one to the other);
@@ -20,8 +20,8 @@ import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.errors import TexeditorError
-from texeditor.spot_library import SpotLibrary
-from texeditor.spots import KINDS, MIN_GAP, Envelope, Perturbation, real_spot
+from texeditor.spots.library import SpotLibrary
+from texeditor.spots.envelope import KINDS, MIN_GAP, Envelope, Perturbation, real_spot
 
 from .params_form import SeedEdit, new_seed
 from .widgets import scrolled

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from PySide6 import QtCore, QtWidgets
 
-from texeditor.actions import MAX_CANVAS_SIDE
+from texeditor.recipe.actions import MAX_CANVAS_SIDE
 
 from .params_form import SeedEdit, dpj_summary
 from .widgets import scrolled

@@ -23,10 +23,10 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
-from texeditor import attributes as attrs  # noqa: E402
-from texeditor.actions import NewCanvas, SetLevels  # noqa: E402
-from texeditor.bank import Bank, make_record  # noqa: E402
-from texeditor.history import History  # noqa: E402
+from texeditor.bank import attributes as attrs  # noqa: E402
+from texeditor.recipe.actions import NewCanvas, SetLevels  # noqa: E402
+from texeditor.bank.store import Bank, make_record  # noqa: E402
+from texeditor.recipe.history import History  # noqa: E402
 
 WORDS = ("gravel sand stone brick grass moss bark wood marble granite slate linen canvas wool "
          "rust cork leather pebble concrete plaster ripple dune cloud foam lichen coral straw "

@@ -32,7 +32,7 @@ RATE_LIMIT_S = 0.011      # pyqtgraph drops moves closer than 10 ms apart (as no
 
 def spray_brush(points: int = 64):
     """A disc spray whose dabs hold ``points`` points on average."""
-    from texeditor.brushes import Brush
+    from texeditor.paint.brushes import Brush
     size = 16
     area = len(Brush(size=size, shape="disc").footprint())
     return Brush("Spray 64", size, "disc", distribution="cloud", density=points / area,
@@ -52,9 +52,9 @@ def run(size: int, segments: int, zoom: float | None, step: float) -> dict:
 
     from app.main_window import MainWindow
     from app.tools.brush import SprayTool
-    from texeditor.actions import NewCanvas
-    from texeditor.paint_actions import Stroke
-    from texeditor.history import History
+    from texeditor.recipe.actions import NewCanvas
+    from texeditor.paint.actions import Stroke
+    from texeditor.recipe.history import History
     from tests.gui.events import cell_pos
 
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])

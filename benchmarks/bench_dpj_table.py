@@ -47,7 +47,7 @@ def main(argv=None) -> int:
 
     from app.dpj_editor import DPJEditor
     from app.dpj_editor.table import CHAIN, CONFIG, PROB, SHARE
-    from texeditor import dpj_edit
+    from texeditor.markov import dpj_edit
 
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
     total = 4 ** 9

@@ -16,10 +16,11 @@ from pathlib import Path
 
 
 from texeditor import DPJ, synthesize
-from texeditor import composition, doubling
-from texeditor import grain_render as gr
-from texeditor.levels import load_image
-from texeditor.texture_actions import RenderGrains
+from texeditor.texture import composition
+from texeditor.markov import doubling
+from texeditor.texture import grain_render as gr
+from texeditor.markov.levels import load_image
+from texeditor.texture.actions import RenderGrains
 
 ROOT = Path(__file__).resolve().parent.parent / "resources"
 TARGET_S = 1.0

@@ -82,7 +82,7 @@ def event_loop_gaps(size: int) -> dict:
 
     from app.main_window import MainWindow
     from app.resources import default_dpj
-    from texeditor.history import History
+    from texeditor.recipe.history import History
 
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
     window = MainWindow()

@@ -26,11 +26,11 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from texeditor import DPJ  # noqa: E402
-from texeditor.actions import SetLevels  # noqa: E402
-from texeditor.dpj import MAX_ENTRIES  # noqa: E402
-from texeditor.document import Document  # noqa: E402
-from texeditor import journal  # noqa: E402
-from texeditor.texturefile import MAX_ACTIONS, MAX_DPJ_CONTENT, MAX_DPJS, texture_bytes  # noqa: E402
+from texeditor.recipe.actions import SetLevels  # noqa: E402
+from texeditor.markov.dpj import MAX_ENTRIES  # noqa: E402
+from texeditor.recipe.document import Document  # noqa: E402
+from texeditor.recipe import journal  # noqa: E402
+from texeditor.recipe.texturefile import MAX_ACTIONS, MAX_DPJ_CONTENT, MAX_DPJS, texture_bytes  # noqa: E402
 from texeditor.fileio import write_file  # noqa: E402
 
 # The child runs the CLI (or a snippet), then reports its own peak resident memory on stderr.
@@ -43,7 +43,7 @@ atexit.register(_peak)
 """
 CLI = """\
 sys.argv = ['texeditor'] + sys.argv[1:]
-from texeditor.cli import main
+from app.main import main
 sys.exit(main())
 """
 
@@ -102,7 +102,7 @@ def case_dpj_info(folder: Path) -> list:
 
 def case_texture_dpjs(folder: Path) -> list:
     """As many of the largest DPJs as a .texture may carry, each synthesised once."""
-    from texeditor.actions import Synthesize
+    from texeditor.recipe.actions import Synthesize
     dpjs, total = [], 0
     while len(dpjs) < MAX_DPJS:
         dpj = big_dpj(MAX_ENTRIES, 100 + len(dpjs))

@@ -17,9 +17,10 @@ from pathlib import Path
 import numpy as np
 
 from texeditor import DPJ, synthesize
-from texeditor import regions, transforms
-from texeditor.document import Document
-from texeditor.region_actions import (ChangeLevel, Copy, Fill, Identity, Isometry,
+from texeditor.regions import extractext as regions
+from texeditor.regions import transforms
+from texeditor.recipe.document import Document
+from texeditor.regions.actions import (ChangeLevel, Copy, Fill, Identity, Isometry,
                                       RotateSelection, Translate)
 
 DPJ_PATH = Path(__file__).resolve().parent.parent / "resources" / "dpj" / "gravel-3x3-g4.dpj"

@@ -11,12 +11,12 @@ import time
 
 import numpy as np
 
-from texeditor.actions import (_MEMO, CropCanvas, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
+from texeditor.recipe.actions import (_MEMO, CropCanvas, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
                                Synthesize)
-from texeditor.document import dpj_ref
-from texeditor.dpj import DPJ
-from texeditor.history import History, replay
-from texeditor.logopt import optimize
+from texeditor.recipe.document import dpj_ref
+from texeditor.markov.dpj import DPJ
+from texeditor.recipe.history import History, replay
+from texeditor.recipe.logopt import optimize
 
 SIDE = 512
 STEPS = 1000

@@ -30,13 +30,13 @@ def replay_log(n: int):
     """1,000 mixed actions: a synthesis, then fills and copies of regions, level edits, palettes."""
     import numpy as np
 
-    from texeditor.actions import SetLevels, SetPalette, Synthesize
-    from texeditor.dpj import DPJ
-    from texeditor.region_actions import Copy, Fill
+    from texeditor.recipe.actions import SetLevels, SetPalette, Synthesize
+    from texeditor.markov.dpj import DPJ
+    from texeditor.regions.actions import Copy, Fill
     from texeditor.resources import bundled_dpj
 
     dpj = DPJ.load(bundled_dpj())
-    from texeditor.document import dpj_ref
+    from texeditor.recipe.document import dpj_ref
     ref = dpj_ref(dpj)
     rng = np.random.default_rng(7)
     actions = [Synthesize(ref, 512, 512, 3)]
@@ -85,8 +85,8 @@ def measure(app, window, label: str, work) -> tuple[float, float]:
 
 def edit_step_one(app, window, actions, dpjs) -> tuple[float, float]:
     """Click step 1 of the log, give it a new seed, Apply & replay: until the new document is in."""
-    from texeditor.actions import replace_params
-    from texeditor.history import History
+    from texeditor.recipe.actions import replace_params
+    from texeditor.recipe.history import History
 
     window.set_history(History.from_log(actions, dpjs))
 
@@ -127,9 +127,9 @@ def acquisition(app, window, path: Path) -> tuple[float, float]:
 def cancel_latency(app, window) -> float:
     from PySide6 import QtCore
 
-    from texeditor.dpj import DPJ
+    from texeditor.markov.dpj import DPJ
     from texeditor.resources import bundled_dpj
-    from texeditor.synthesis import synthesize
+    from texeditor.markov.synthesis import synthesize
 
     dpj = DPJ.load(bundled_dpj())
     stopped: list[float] = []
@@ -152,11 +152,11 @@ def main() -> int:
     from PySide6 import QtWidgets
 
     from app.main_window import MainWindow
-    from texeditor.bank import Bank
-    from texeditor.dpj import DPJ
-    from texeditor.history import History
+    from texeditor.bank.store import Bank
+    from texeditor.markov.dpj import DPJ
+    from texeditor.recipe.history import History
     from texeditor.resources import bundled_dpj
-    from texeditor.synthesis import synthesize
+    from texeditor.markov.synthesis import synthesize
 
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
     window = MainWindow()

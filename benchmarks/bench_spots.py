@@ -17,12 +17,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from texeditor.actions import NewCanvas  # noqa: E402
-from texeditor.history import History  # noqa: E402
-from texeditor.spot_actions import (_STAMPS, DeleteSpot, PlaceSpot, ScatterSpots,  # noqa: E402
+from texeditor.recipe.actions import NewCanvas  # noqa: E402
+from texeditor.recipe.history import History  # noqa: E402
+from texeditor.spots.actions import (_STAMPS, DeleteSpot, PlaceSpot, ScatterSpots,  # noqa: E402
                                     spot_at, spot_ref)
-from texeditor.spot_library import standard_spots  # noqa: E402
-from texeditor.spots import Perturbation, Placement, polygon_mask, real_spot  # noqa: E402
+from texeditor.spots.library import standard_spots  # noqa: E402
+from texeditor.spots.envelope import Perturbation, Placement, polygon_mask, real_spot  # noqa: E402
 
 STONE = next(s for s in standard_spots() if s.name == "Stone")
 PERTURBATIONS = {

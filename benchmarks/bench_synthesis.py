@@ -17,7 +17,7 @@ import numpy as np
 from skimage import data
 
 from texeditor import estimate_dpj, quantize, synthesize
-from texeditor.synthesis import _tables
+from texeditor.markov.synthesis import _tables
 
 CASES = [((2, 2), 2, False), ((2, 2), 4, False), ((2, 2), 8, False), ((3, 3), 4, True)]
 

@@ -45,7 +45,7 @@ def main(argv=None) -> int:
     import numpy as np
 
     from app.main_window import MainWindow
-    from texeditor.actions import SetPalette
+    from texeditor.recipe.actions import SetPalette
 
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
     app.setApplicationName("texeditor")
@@ -197,9 +197,9 @@ def shot_spots(app, window, out: Path) -> None:
     Pebble envelopes, under the stones already placed, shaded in relief — with the Spot tool's
     ghost and the spot editor; the editor alone; the texture itself."""
     from app.tools.spot import SpotTool
-    from texeditor.actions import NewCanvas
+    from texeditor.recipe.actions import NewCanvas
     from texeditor.export import write_png
-    from texeditor.history import History
+    from texeditor.recipe.history import History
 
     previous = window.history
     stones = [(38, 33, 30), (78, 68, 58), (112, 98, 84), (142, 127, 108), (170, 156, 136),
@@ -267,9 +267,9 @@ def shot_paint(app, window, out: Path) -> None:
     from app.tools.brush import SprayTool
     from app.tools.grain import GrainTool
     from app.tools.zone import ScrambleTool, Zone
-    from texeditor.actions import NewCanvas
-    from texeditor.history import History
-    from texeditor.paint_actions import DuplicateZone, PlaceGrains, Stroke
+    from texeditor.recipe.actions import NewCanvas
+    from texeditor.recipe.history import History
+    from texeditor.paint.actions import DuplicateZone, PlaceGrains, Stroke
 
     previous = window.history
     earth = [(34, 30, 26), (84, 66, 48), (122, 96, 66), (158, 128, 88), (196, 168, 122),
@@ -418,10 +418,10 @@ def shot_grains(app, window, out: Path) -> None:
 
     from app.images import qimage_from_rgb
     from texeditor import DPJ
-    from texeditor.actions import SetPalette
-    from texeditor.history import History
+    from texeditor.recipe.actions import SetPalette
+    from texeditor.recipe.history import History
     from texeditor.resources import bundled_dpj
-    from texeditor.texture_actions import RenderGrains, store_dpj
+    from texeditor.texture.actions import RenderGrains, store_dpj
 
     previous = window.history
     history = History()

@@ -19,13 +19,13 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from texeditor.actions import NewCanvas, SetLevels, SetPalette, Synthesize  # noqa: E402
-from texeditor.dpj import DPJ  # noqa: E402
-from texeditor.history import History  # noqa: E402
-from texeditor.logopt import optimize  # noqa: E402
-from texeditor.region_actions import Copy, Fill, Identity, Isometry, Similarity  # noqa: E402
-from texeditor.bank import write_picture  # noqa: E402
-from texeditor.texturefile import render_texture, save_texture  # noqa: E402
+from texeditor.recipe.actions import NewCanvas, SetLevels, SetPalette, Synthesize  # noqa: E402
+from texeditor.markov.dpj import DPJ  # noqa: E402
+from texeditor.recipe.history import History  # noqa: E402
+from texeditor.recipe.logopt import optimize  # noqa: E402
+from texeditor.regions.actions import Copy, Fill, Identity, Isometry, Similarity  # noqa: E402
+from texeditor.bank.store import write_picture  # noqa: E402
+from texeditor.recipe.texturefile import render_texture, save_texture  # noqa: E402
 
 SIZE = 256
 WARM = [(52, 36, 24), (128, 86, 52), (186, 140, 92), (232, 206, 160)]

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from test_history_support import REFS, TINY, TINY_DPJS
-from texeditor import synthesis
-from texeditor.actions import (_MEMO, REGISTRY, CropCanvas, NewCanvas, ResizeCanvas, SetLevels,
+from texeditor.markov import synthesis
+from texeditor.recipe.actions import (_MEMO, REGISTRY, CropCanvas, NewCanvas, ResizeCanvas, SetLevels,
                                SetPalette, Synthesize, action_from_json, action_params,
                                param_specs, register, replace_params)
-from texeditor.document import Document
+from texeditor.recipe.document import Document
 from texeditor.errors import Cancelled, FormatError, InputError
 
 EXAMPLES = [

@@ -10,8 +10,8 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from test_history_support import PROPERTY
-from texeditor import attributes as A
-from texeditor.dpj import grey_ramp
+from texeditor.bank import attributes as A
+from texeditor.markov.dpj import grey_ramp
 from texeditor.errors import FormatError, InputError
 
 BW = grey_ramp(2)                                   # black, white

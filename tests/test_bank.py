@@ -19,18 +19,18 @@ from hypothesis import strategies as st
 from test_history_support import PROPERTY, REFS, TINY_DPJS, random_history
 from test_region_actions import EXAMPLES, history_of
 from test_regions import T
-from texeditor import attributes as attrs
-from texeditor import bank as bk
-from texeditor import texturefile as tf
-from texeditor.actions import (registry, CropCanvas, NewCanvas, ResizeCanvas, SetLevels,
+from texeditor.bank import attributes as attrs
+from texeditor.bank import store as bk
+from texeditor.recipe import texturefile as tf
+from texeditor.recipe.actions import (registry, CropCanvas, NewCanvas, ResizeCanvas, SetLevels,
                                SetPalette, Synthesize)
-from texeditor import doubling
-from texeditor.bank import Bank, BankError
-from texeditor.levels import load_image
+from texeditor.markov import doubling
+from texeditor.bank.store import Bank, BankError
+from texeditor.markov.levels import load_image
 from texeditor.resources import ROOT as RESOURCES
-from texeditor.document import dpj_ref
+from texeditor.recipe.document import dpj_ref
 from texeditor.errors import FormatError, InputError, ReplayError
-from texeditor.history import History
+from texeditor.recipe.history import History
 
 
 @pytest.fixture
@@ -102,7 +102,7 @@ def one_of_each() -> list:
     import test_paint_actions as paint
     import test_spot_actions as spot
     import test_texture_actions as texture
-    from texeditor.spot_actions import PlaceSpot, ScatterSpots
+    from texeditor.spots.actions import PlaceSpot, ScatterSpots
 
     histories = []
     h = synthesised(3)
@@ -210,7 +210,7 @@ def test_an_entry_has_thumbnail_attributes_and_times(bank):
 
 
 def test_grain_and_density_parameters_are_kept_with_the_entry(bank):
-    from texeditor.texture_actions import RenderGrains
+    from texeditor.texture.actions import RenderGrains
     history = stripes(4, True, size=16)
     history.apply(RenderGrains("hexagon", 4, explosion_x=2.0, compression=0.0))
     history.apply(SetPalette([(0, 0, 0), (200, 180, 150)]))
@@ -358,9 +358,9 @@ def test_two_connections_writing_at_once_do_not_corrupt_the_bank(tmp_path):
 
 WRITER = """
 import sys
-from texeditor.actions import NewCanvas, SetLevels
-from texeditor.bank import Bank
-from texeditor.history import History
+from texeditor.recipe.actions import NewCanvas, SetLevels
+from texeditor.bank.store import Bank
+from texeditor.recipe.history import History
 bank = Bank(sys.argv[1], builtins=False, timeout=60)
 for k in range(15):
     h = History()

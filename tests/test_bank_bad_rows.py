@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from test_bank import drawn, synthesised
-from texeditor.bank import Bank
+from texeditor.bank.store import Bank
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -9,13 +9,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from texeditor import bank as bk
-from texeditor import synthesis, warmup
-from texeditor.actions import _MEMO, SetLevels, SetPalette, Synthesize
-from texeditor.bank import Bank, picture_bytes, read_picture, write_picture
-from texeditor.dpj import DPJ
-from texeditor.history import History
-from texeditor.texturefile import read_texture, render_texture
+from texeditor.bank import store as bk
+from texeditor import warmup
+from texeditor.markov import synthesis
+from texeditor.recipe.actions import _MEMO, SetLevels, SetPalette, Synthesize
+from texeditor.bank.store import Bank, picture_bytes, read_picture, write_picture
+from texeditor.markov.dpj import DPJ
+from texeditor.recipe.history import History
+from texeditor.recipe.texturefile import read_texture, render_texture
 
 BUILTINS = sorted(bk.BUILTIN_DIR.glob("*.texture"))
 
@@ -233,8 +234,8 @@ def test_a_failed_warm_up_is_kept_never_raised(fresh_warmup, monkeypatch):
 
 
 def test_which_steps_need_the_kernels():
-    from texeditor.document import Document
-    from texeditor.texture_actions import RenderGrains
+    from texeditor.recipe.document import Document
+    from texeditor.texture.actions import RenderGrains
     doc = _synth(7).document
     ref = doc.dpj_ref
     _MEMO.clear()

@@ -8,16 +8,16 @@ import numpy as np
 import pytest
 
 from test_history_support import REFS, TINY, TINY_DPJS
-from texeditor.actions import NewCanvas, SetLevels, Synthesize, action_from_json
-from texeditor.bank import Bank, BankError
-from texeditor.composition import convert_levels, fit
+from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize, action_from_json
+from texeditor.bank.store import Bank, BankError
+from texeditor.texture.composition import convert_levels, fit
 from texeditor.errors import FormatError, InputError, ReplayError
-from texeditor.history import History, replay
-from texeditor.spot_actions import DeleteSpot, PlaceSpot, ScatterSpots, spot_ref
-from texeditor.spots import Envelope
-from texeditor.texture_actions import (Incrust, Mix, bank_source, recipe_of, render_recipe,
+from texeditor.recipe.history import History, replay
+from texeditor.spots.actions import DeleteSpot, PlaceSpot, ScatterSpots, spot_ref
+from texeditor.spots.envelope import Envelope
+from texeditor.texture.actions import (Incrust, Mix, bank_source, recipe_of, render_recipe,
                                        store_dpj, synthesis_recipe)
-from texeditor.texturefile import load_texture, save_texture
+from texeditor.recipe.texturefile import load_texture, save_texture
 
 DISC = Envelope.ellipse(12, 12).dumps()
 SMALL = '{"a":[0.0,-3.0],"b":[0.0,3.0],"kind":"bspline","meridians":[[0.5,2.0,2.0,true]],' \

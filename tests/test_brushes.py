@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from skimage.measure import label
 
-from texeditor import brushes
-from texeditor.brushes import Brush, BrushLibrary, PathWalker, StrokePainter, paint_stroke
+from texeditor.paint import brushes
+from texeditor.paint.brushes import Brush, BrushLibrary, PathWalker, StrokePainter, paint_stroke
 from texeditor.errors import FormatError, InputError
 
 

@@ -4,7 +4,7 @@ inputs, weights, negation, incrustation with two and N textures, level conversio
 import numpy as np
 import pytest
 
-from texeditor import composition as cp
+from texeditor.texture import composition as cp
 from texeditor.errors import InputError
 
 X2, Y2 = np.array([[0, 0, 1, 1]]), np.array([[0, 1, 0, 1]])        # every pair, G = 2

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from test_history_support import TINY_DPJS
-from texeditor.actions import NewCanvas, SetLevels, SetPalette
-from texeditor.document import Document, dpj_ref
+from texeditor.recipe.actions import NewCanvas, SetLevels, SetPalette
+from texeditor.recipe.document import Document, dpj_ref
 from texeditor.errors import InputError
 
 

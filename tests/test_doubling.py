@@ -7,10 +7,10 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from test_history_support import PROPERTY
-from texeditor import doubling
-from texeditor.dpj import DPJ
+from texeditor.markov import doubling
+from texeditor.markov.dpj import DPJ
 from texeditor.errors import InputError
-from texeditor.levels import load_image, quantize
+from texeditor.markov.levels import load_image, quantize
 from texeditor.resources import ROOT, bundled_dpj
 
 GRAVEL = load_image(ROOT / "images" / "gravel.png")
@@ -76,7 +76,7 @@ def test_a_synthesised_texture_doubles_to_a_histogram_close_to_the_photos(table4
     """G = 4 synthesis from the bundled gravel DPJ, doubled to 8 levels: each level splits into
     its children in the photo's proportions, so the 2G histogram is as close to the photo's as
     the synthesis's own G-level histogram is (doubling adds almost nothing to the gap)."""
-    from texeditor.synthesis import synthesize
+    from texeditor.markov.synthesis import synthesize
     dpj = DPJ.load(bundled_dpj("gravel-3x3-g4"))
     t = synthesize(dpj, (96, 96), seed=1).levels
     out = doubling.double_levels(t, table4, seed=1).levels

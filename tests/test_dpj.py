@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from texeditor import DPJ
-from texeditor.dpj import decode, encode
+from texeditor.markov.dpj import decode, encode
 from texeditor.errors import FormatError, InputError
-from texeditor.estimation import estimate_dpj
+from texeditor.markov.estimation import estimate_dpj
 
 
 def checkerboard_dpj():

@@ -5,10 +5,10 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from texeditor import DPJ
-from texeditor import dpj_edit as E
-from texeditor.dpj import encode
+from texeditor.markov import dpj_edit as E
+from texeditor.markov.dpj import encode
 from texeditor.errors import InputError
-from texeditor.estimation import estimate_dpj
+from texeditor.markov.estimation import estimate_dpj
 
 STRIPES = np.array([[[0, 1], [0, 1]], [[1, 0], [1, 0]]], np.uint8)
 

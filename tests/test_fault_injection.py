@@ -14,9 +14,9 @@ import time
 import numpy as np
 
 from texeditor import DPJ, estimate_dpj
-from texeditor.actions import SetLevels, Synthesize
-from texeditor.history import History
-from texeditor.texturefile import parse_texture, save_texture
+from texeditor.recipe.actions import SetLevels, Synthesize
+from texeditor.recipe.history import History
+from texeditor.recipe.texturefile import parse_texture, save_texture
 
 KILLS = int(os.environ.get("TEXEDITOR_KILLS", "50"))
 
@@ -81,7 +81,7 @@ def test_killing_a_dpj_save_leaves_the_old_or_the_new_file(tmp_path):
 
 
 def test_killing_bank_writers_leaves_a_sound_bank(tmp_path, monkeypatch, capsys):
-    from texeditor.bank import Bank, make_record
+    from texeditor.bank.store import Bank, make_record
 
     path = tmp_path / "bank.sqlite"
     records = [make_record(_history(3, 5), "first"), make_record(_history(4, 50), "second")]

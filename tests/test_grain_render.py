@@ -7,9 +7,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from test_history_support import PROPERTY
-from texeditor import grain_render as gr
+from texeditor.texture import grain_render as gr
 from texeditor.errors import InputError
-from texeditor.grains import anchor, grain_mask
+from texeditor.paint.grains import anchor, grain_mask
 
 
 def grid(text: str) -> np.ndarray:
@@ -270,8 +270,8 @@ def test_kernel_matches_the_definition(levels, shape, size, angle, ex, ey, comp,
 
 def test_banded_render_with_progress_is_the_same_picture_and_can_be_cancelled():
     from texeditor.errors import Cancelled
-    from texeditor.texture_actions import RenderGrains
-    from texeditor.document import Document
+    from texeditor.texture.actions import RenderGrains
+    from texeditor.recipe.document import Document
     t = np.random.default_rng(3).integers(0, 4, (40, 30), dtype=np.uint8)
     action = RenderGrains("hexagon", 6, explosion_x=1.9, compression=0.3, overlap="max")
     seen = []

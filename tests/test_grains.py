@@ -9,11 +9,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from texeditor import grains
-from texeditor.document import Document
+from texeditor.paint import grains
+from texeditor.recipe.document import Document
 from texeditor.errors import FormatError, InputError
-from texeditor.grains import GrainLibrary, GrainType, grain_mask
-from texeditor.paint_actions import PlaceGrains
+from texeditor.paint.grains import GrainLibrary, GrainType, grain_mask
+from texeditor.paint.actions import PlaceGrains
 from texeditor.userdata import data_dir
 
 ALL = [("square", {}), ("rectangle", {"aspect": 0.5}), ("circle", {}),
@@ -229,7 +229,7 @@ fields = st.sampled_from(["name", "shape", "size", "aspect", "sides", "angle", "
 @given(st.dictionaries(fields, json_values, max_size=9))
 def test_any_json_object_is_a_grain_or_an_input_error(obj):
     """A library file is the user's: whatever it holds, reading it never crashes."""
-    from texeditor.brushes import Brush
+    from texeditor.paint.brushes import Brush
     for cls, extra in ((GrainType, {}), (Brush, {"distribution": "cloud"})):
         try:
             cls.from_json({**extra, **{k: v for k, v in obj.items()

@@ -8,12 +8,12 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from test_history_support import PROPERTY, TINY, draw_action, random_history
-from texeditor.actions import (_MEMO, Action, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
+from texeditor.recipe.actions import (_MEMO, Action, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
                                Synthesize, param, register, replace_params)
-from texeditor.document import Document
+from texeditor.recipe.document import Document
 from texeditor.errors import InputError, ReplayError
-from texeditor.history import History, replay
-from texeditor.logopt import optimize
+from texeditor.recipe.history import History, replay
+from texeditor.recipe.logopt import optimize
 
 # Memory settings that force every path: records kept, no records (snapshots only), few snapshots.
 SETTINGS = [dict(), dict(undo_memory=0, snapshot_every=3), dict(undo_memory=200, snapshot_every=2,
@@ -231,7 +231,7 @@ def test_a_long_replay_copies_few_states_and_keeps_snapshots_spread(monkeypatch)
     a thinning pass (a 500,000-step log opened in 108 s). Copies stay near one per
     snapshot_every steps, the store within MAX_SNAPSHOTS and evenly spread; any step is reached
     exactly from one of them."""
-    from texeditor import history as history_module
+    from texeditor.recipe import history as history_module
     monkeypatch.setattr(history_module, "MAX_SNAPSHOTS", 16)
     copies = []
     monkeypatch.setattr(Document, "_state", lambda self, _s=Document._state: copies.append(1)

@@ -4,10 +4,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from test_history_support import PROPERTY, REFS, TINY
-from texeditor.actions import (CropCanvas, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
+from texeditor.recipe.actions import (CropCanvas, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
                                Synthesize)
-from texeditor.history import replay
-from texeditor.logopt import optimize
+from texeditor.recipe.history import replay
+from texeditor.recipe.logopt import optimize
 
 GREY3 = ((0, 0, 0), (128, 128, 128), (255, 255, 255))
 RED3 = ((255, 0, 0), (128, 128, 128), (255, 255, 255))

@@ -8,9 +8,9 @@ from hypothesis import strategies as st
 
 from test_history_pending import SETTINGS, long_log
 from test_history_support import PROPERTY, REFS, TINY
-from texeditor.actions import NewCanvas, SetLevels, SetPalette, Synthesize, replace_params
-from texeditor.history import History
-from texeditor.region_actions import Copy, Fill, Translate
+from texeditor.recipe.actions import NewCanvas, SetLevels, SetPalette, Synthesize, replace_params
+from texeditor.recipe.history import History
+from texeditor.regions.actions import Copy, Fill, Translate
 
 
 def state(history: History) -> tuple:

@@ -11,12 +11,12 @@ import numpy as np
 from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
 
-from texeditor.actions import (CropCanvas, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
+from texeditor.recipe.actions import (CropCanvas, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
                                Synthesize)
-from texeditor.document import Document, dpj_ref
-from texeditor.dpj import DPJ
+from texeditor.recipe.document import Document, dpj_ref
+from texeditor.markov.dpj import DPJ
 from texeditor.errors import InputError
-from texeditor.history import History
+from texeditor.recipe.history import History
 
 PROPERTY = settings(max_examples=75, deadline=None, derandomize=True,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])

@@ -12,17 +12,17 @@ import sys
 import numpy as np
 import pytest
 
-from texeditor.actions import NewCanvas
+from texeditor.recipe.actions import NewCanvas
 from texeditor.errors import InputError
-from texeditor.history import replay
-from texeditor.spot_actions import _STAMPS, PlaceSpot
-from texeditor.spots import Envelope, Perturbation, Placement, _cut, real_spot
+from texeditor.recipe.history import replay
+from texeditor.spots.actions import _STAMPS, PlaceSpot
+from texeditor.spots.envelope import Envelope, Perturbation, Placement, _cut, real_spot
 
 CHILD = r"""
 import json, re, sys, time
-from texeditor.actions import action_from_json
+from texeditor.recipe.actions import action_from_json
 from texeditor.errors import TexeditorError
-from texeditor.history import replay
+from texeditor.recipe.history import replay
 actions = [action_from_json(a) for a in json.loads(sys.argv[1])]
 t = time.perf_counter()
 try:
@@ -94,7 +94,7 @@ def test_a_clipped_spot_has_exactly_the_whole_spots_points_in_the_box():
 
 def test_spots_partly_off_the_canvas_replay_as_before():
     """The document a placement gives equals the one given by the whole stamp's pieces."""
-    from texeditor.spots import blend, pieces, spot_levels
+    from texeditor.spots.envelope import blend, pieces, spot_levels
     rng = np.random.default_rng(8)
     for k in range(30):
         env = ENVELOPES[k % len(ENVELOPES)]
@@ -145,7 +145,7 @@ def test_a_stroke_mostly_off_the_canvas_is_cheap():
 def _reference_stroke(brush, shape, points, level, choices, seed, wrap):
     """The stroke as painted before clipping: every dab, then last wins."""
     import math
-    from texeditor.brushes import PathWalker, last_wins, on_canvas
+    from texeditor.paint.brushes import PathWalker, last_wins, on_canvas
     fp = brush.footprint()
     rng = np.random.default_rng(seed)
     walker = PathWalker(brush.step)
@@ -164,7 +164,7 @@ def _reference_stroke(brush, shape, points, level, choices, seed, wrap):
 
 
 def test_clipped_strokes_paint_what_unclipped_strokes_painted():
-    from texeditor import brushes
+    from texeditor.paint import brushes
     rng = np.random.default_rng(3)
     for k in range(60):
         brush = brushes.Brush(size=int(rng.integers(1, 12)),
@@ -181,7 +181,7 @@ def test_clipped_strokes_paint_what_unclipped_strokes_painted():
 
 
 def test_the_painted_points_fold_exactly_onto_a_grid():
-    from texeditor import brushes
+    from texeditor.paint import brushes
     rng = np.random.default_rng(4)
     painted, parts = brushes.Painted((20, 30)), []
     painted.FOLD = 50
@@ -197,7 +197,7 @@ def test_the_painted_points_fold_exactly_onto_a_grid():
 
 
 def test_grains_clipped_as_before():
-    from texeditor.paint_actions import PlaceGrains
+    from texeditor.paint.actions import PlaceGrains
     rng = np.random.default_rng(6)
     for k in range(40):
         points = tuple(tuple(map(int, p)) for p in rng.integers(-50, 80, (int(rng.integers(1, 6)), 2)))

@@ -21,15 +21,16 @@ import numpy as np
 import pytest
 
 from texeditor import fileio
-from texeditor.actions import _MEMO, Synthesize
-from texeditor.bank import Bank, BankError
-from texeditor.document import Document, dpj_ref
-from texeditor.dpj import DPJ, bytes_ref
+from texeditor.recipe.actions import _MEMO, Synthesize
+from texeditor.bank.store import Bank, BankError
+from texeditor.recipe.document import Document, dpj_ref
+from texeditor.markov.dpj import DPJ, bytes_ref
 from texeditor.errors import FormatError, ImageError, InputError
-from texeditor.history import History
-from texeditor import journal, texturefile as tf
-from texeditor.synthesis import synthesize
-from texeditor.texture_actions import render_recipe, synthesis_recipe
+from texeditor.recipe.history import History
+from texeditor.recipe import journal
+from texeditor.recipe import texturefile as tf
+from texeditor.markov.synthesis import synthesize
+from texeditor.texture.actions import render_recipe, synthesis_recipe
 from texeditor.userdata import read_library
 
 from test_history_support import REFS, TINY_DPJS
@@ -252,7 +253,7 @@ def test_every_reader_refuses_special_files_without_blocking(tmp_path):
     readers = [(DPJ.load, FormatError), (tf.read_texture, FormatError),
                (journal.recover, FormatError),
                (lambda p: read_library(p, "texeditor-grains"), FormatError),
-               (lambda p: __import__("texeditor.levels").levels.load_image(p), ImageError)]
+               (lambda p: __import__("texeditor.markov.levels").markov.levels.load_image(p), ImageError)]
     for read, error in readers:
         for target in (fifo, Path("/dev/zero"), tmp_path):
             with pytest.raises(error, match="not a regular file|is a folder"):
@@ -260,7 +261,7 @@ def test_every_reader_refuses_special_files_without_blocking(tmp_path):
 
 
 def test_an_image_that_is_a_device_is_not_called_empty(tmp_path):
-    from texeditor.levels import load_image
+    from texeditor.markov.levels import load_image
     fifo = tmp_path / "photo.png"
     os.mkfifo(fifo)
     for target, kind in ((Path("/dev/zero"), "character device"), (fifo, "FIFO")):
@@ -314,13 +315,13 @@ def test_json_bombs_are_refused_everywhere_before_parsing(tmp_path):
     lib.write_bytes(b'{"format": "texeditor-grains", "version": 1, "items": ' + bomb() + b"}")
     with pytest.raises(FormatError, match="nests"):
         within(30, read_library, lib, "texeditor-grains")
-    from texeditor.bank import parse_log
+    from texeditor.bank.store import parse_log
     with pytest.raises(FormatError, match="nests"):
         within(30, parse_log, '{"actions": ' + bomb().decode() + "}", "entry 1")
-    from texeditor.texture_actions import parse_recipe
+    from texeditor.texture.actions import parse_recipe
     with pytest.raises(InputError, match="nests"):
         within(30, parse_recipe, '{"actions": ' + bomb(2**16).decode() + "}")
-    from texeditor.spots import Envelope
+    from texeditor.spots.envelope import Envelope
     with pytest.raises(InputError, match="nests"):
         within(30, Envelope.loads, bomb(2**16).decode())
 
@@ -406,7 +407,7 @@ def test_a_write_never_replaces_a_device_or_a_fifo(tmp_path):
 
 def test_a_planar_rgb_tiff_is_read_like_an_interleaved_one(tmp_path):
     import tifffile
-    from texeditor.levels import load_image
+    from texeditor.markov.levels import load_image
     rng = np.random.default_rng(4)
     rgb = (rng.random((30, 40, 3)) * 255).astype(np.uint8)
     tifffile.imwrite(tmp_path / "planar.tif", np.moveaxis(rgb, -1, 0), photometric="rgb",
@@ -434,7 +435,7 @@ def test_a_negative_schema_version_is_called_invalid(tmp_path):
 def test_a_read_only_bank_is_listed_searched_and_opened(tmp_path, monkeypatch, capsys):
     """A bank file and folder this user may only read (the tests run as root, who may write
     anything: the permission check is told the truth for another user)."""
-    from texeditor import bank as bank_module
+    from texeditor.bank import store as bank_module
     from texeditor.cli import main
     folder = tmp_path / "ro"
     folder.mkdir()

@@ -5,7 +5,7 @@ import sys
 
 import pytest
 
-from texeditor import peano
+from texeditor.paint import peano
 
 
 def run_cli(*args, timeout=60):
@@ -53,11 +53,11 @@ LONE = "moss\udc80"
 
 
 def test_a_lone_surrogate_given_to_the_python_api_is_an_input_error(tmp_path):
-    from texeditor.actions import NewCanvas
-    from texeditor.bank import Bank, check_description, check_name, normalize_tags, parse_query
-    from texeditor.document import Document
+    from texeditor.recipe.actions import NewCanvas
+    from texeditor.bank.store import Bank, check_description, check_name, normalize_tags, parse_query
+    from texeditor.recipe.document import Document
     from texeditor.errors import InputError
-    from texeditor.texturefile import save_texture
+    from texeditor.recipe.texturefile import save_texture
     for call in (lambda: normalize_tags([LONE]), lambda: normalize_tags(LONE + ",stone"),
                  lambda: check_name(LONE), lambda: check_description(LONE),
                  lambda: parse_query(f"tag:{LONE}")):
@@ -83,10 +83,10 @@ def test_a_lone_surrogate_escaped_in_a_texture_manifest_is_a_format_error(tmp_pa
     import json
     import zipfile
     from texeditor.errors import FormatError
-    from texeditor.texturefile import parse_texture
-    from texeditor.actions import NewCanvas
-    from texeditor.document import Document
-    from texeditor.texturefile import texture_bytes
+    from texeditor.recipe.texturefile import parse_texture
+    from texeditor.recipe.actions import NewCanvas
+    from texeditor.recipe.document import Document
+    from texeditor.recipe.texturefile import texture_bytes
     doc = Document()
     doc.apply(NewCanvas(8, 8, 2))
     data, _ = texture_bytes(doc, doc.actions)

@@ -6,9 +6,9 @@ import signal
 import numpy as np
 
 from texeditor import estimate_dpj
-from texeditor.actions import SetLevels, SetPalette, Synthesize
-from texeditor.history import History, replay
-from texeditor.journal import Journal, orphans, recover
+from texeditor.recipe.actions import SetLevels, SetPalette, Synthesize
+from texeditor.recipe.history import History, replay
+from texeditor.recipe.journal import Journal, orphans, recover
 
 
 def _history():

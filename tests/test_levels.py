@@ -7,7 +7,7 @@ import pytest
 from PIL import Image
 from skimage import data, io
 
-from texeditor import levels as lv
+from texeditor.markov import levels as lv
 from texeditor.errors import ImageError, InputError
 
 

@@ -11,11 +11,14 @@ import zipfile
 import numpy as np
 import pytest
 
-from texeditor import DPJ, journal, synthesis, texturefile
-from texeditor.actions import NewCanvas, SetLevels, Synthesize
-from texeditor.document import Document
+from texeditor import DPJ
+from texeditor.recipe import journal
+from texeditor.markov import synthesis
+from texeditor.recipe import texturefile
+from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize
+from texeditor.recipe.document import Document
 from texeditor.errors import FormatError, InputError
-from texeditor.texturefile import load_texture, read_texture, save_texture
+from texeditor.recipe.texturefile import load_texture, read_texture, save_texture
 
 
 def random_dpj(entries: int, seed: int, levels: int = 4, window=(2, 2)) -> DPJ:
@@ -113,8 +116,8 @@ def test_journal_recovery_of_thousands_of_records_ends_at_the_line_cut_short(tmp
 
 def test_a_large_16_bit_colour_picture_is_refused_with_its_decoded_size(tmp_path, monkeypatch):
     import tifffile
-    from texeditor import levels
-    from texeditor.levels import ImageError, load_image
+    from texeditor.markov import levels
+    from texeditor.markov.levels import ImageError, load_image
     path = tmp_path / "deep.tif"
     tifffile.imwrite(path, np.full((64, 64, 4), 40000, np.uint16))
     monkeypatch.setattr(levels, "MAX_IMAGE_BYTES", 64 * 64 * 4 * 2 - 1)

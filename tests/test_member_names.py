@@ -1,7 +1,7 @@
 """Issue 17, class 3: a name ending in a newline never passes a `^…$` pattern (`$` matches
 before a final newline): member names and references are matched whole (fullmatch)."""
 
-from texeditor import texturefile as tf
+from texeditor.recipe import texturefile as tf
 
 
 def test_a_trailing_newline_is_not_a_reference_or_member():

@@ -13,19 +13,19 @@ import numpy as np
 import pytest
 
 from test_history_support import REFS, TINY, TINY_DPJS, all_windows_dpj
-from texeditor import actions as actions_module
-from texeditor import texture_actions
-from texeditor.actions import NewCanvas, SetLevels, Synthesize, action_from_json, dpj_refs
-from texeditor.bank import Bank
-from texeditor.composition import convert_levels, fit, mix
-from texeditor.document import dpj_ref
+from texeditor.recipe import actions as actions_module
+from texeditor.texture import actions as texture_actions
+from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize, action_from_json, dpj_refs
+from texeditor.bank.store import Bank
+from texeditor.texture.composition import convert_levels, fit, mix
+from texeditor.recipe.document import dpj_ref
 from texeditor.errors import FormatError, InputError, ReplayError
-from texeditor.history import History, replay
-from texeditor.spot_actions import PlaceSpot, ScatterSpots, spot_ref
-from texeditor.spots import Envelope
-from texeditor.texture_actions import (MAX_RECIPE_DEPTH, MAX_RECIPE_DPJS, Incrust, Mix,
+from texeditor.recipe.history import History, replay
+from texeditor.spots.actions import PlaceSpot, ScatterSpots, spot_ref
+from texeditor.spots.envelope import Envelope
+from texeditor.texture.actions import (MAX_RECIPE_DEPTH, MAX_RECIPE_DPJS, Incrust, Mix,
                                        bank_source, parse_recipe, recipe_of, synthesis_recipe)
-from texeditor.texturefile import (load_texture, parse_texture, read_texture, save_texture,
+from texeditor.recipe.texturefile import (load_texture, parse_texture, read_texture, save_texture,
                                    texture_bytes)
 
 THIRD_DPJ = all_windows_dpj(2, (1, 2), seed=3)

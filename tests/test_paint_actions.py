@@ -6,14 +6,14 @@ import json
 import numpy as np
 import pytest
 
-from texeditor import zones
-from texeditor.actions import action_from_json
-from texeditor.brushes import Brush
-from texeditor.document import Document
+from texeditor.paint import zones
+from texeditor.recipe.actions import action_from_json
+from texeditor.paint.brushes import Brush
+from texeditor.recipe.document import Document
 from texeditor.errors import FormatError, InputError
-from texeditor.grains import GrainType
-from texeditor.history import History, replay
-from texeditor.paint_actions import (DuplicateZone, PeanoLevels, PlaceGrains, ScrambleFrontier,
+from texeditor.paint.grains import GrainType
+from texeditor.recipe.history import History, replay
+from texeditor.paint.actions import (DuplicateZone, PeanoLevels, PlaceGrains, ScrambleFrontier,
                                      Stroke)
 
 SPRAY = dict(size=7, shape="disc", distribution="cloud", density=0.4)

@@ -5,9 +5,9 @@ import doctest
 import numpy as np
 import pytest
 
-from texeditor import peano
+from texeditor.paint import peano
 from texeditor.errors import InputError
-from texeditor.peano import DominanceError, assign_levels, dominance_ranks, parse_dominance
+from texeditor.paint.peano import DominanceError, assign_levels, dominance_ranks, parse_dominance
 
 THESIS = "6:7(2(1,2(2,3)),6:7(4,5,6:7(6,7),8))"
 

@@ -9,14 +9,15 @@ from hypothesis import strategies as st
 
 from test_history_support import PROPERTY, REFS, TINY, TINY_DPJS, draw_action
 from test_regions import T, grid, same
-from texeditor import regions, transforms
-from texeditor.actions import (REGISTRY, registry, NewCanvas, SetLevels, Synthesize, action_from_json,
+from texeditor.regions import extractext as regions
+from texeditor.regions import transforms
+from texeditor.recipe.actions import (REGISTRY, registry, NewCanvas, SetLevels, Synthesize, action_from_json,
                                param_specs)
-from texeditor.document import dpj_ref
+from texeditor.recipe.document import dpj_ref
 from texeditor.errors import FormatError, InputError, ReplayError
-from texeditor.history import History, replay
-from texeditor.logopt import optimize
-from texeditor.region_actions import (REGION_ACTIONS, Affinity, ChangeLevel, Copy,
+from texeditor.recipe.history import History, replay
+from texeditor.recipe.logopt import optimize
+from texeditor.regions.actions import (REGION_ACTIONS, Affinity, ChangeLevel, Copy,
                                       DeleteSelection, Fill, FlipSelection, Identity, Isometry,
                                       RotateSelection, ScaleSelection, Similarity, Translate)
 
@@ -210,7 +211,7 @@ def test_the_undo_record_holds_only_what_changed():
 
 
 def test_changed_boxes_cut_along_empty_bands():
-    from texeditor.region_actions import changed_boxes
+    from texeditor.regions.actions import changed_boxes
     changed = np.zeros((40, 40), bool)
     assert changed_boxes(changed) == []
     changed[0, 0] = changed[30, 35] = changed[2, 37] = True

@@ -15,9 +15,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from test_history_support import PROPERTY
-from texeditor import regions
+from texeditor.regions import extractext as regions
 from texeditor.errors import InputError
-from texeditor.regions import (change_level, compresser, copy, delete, difference, enclosed,
+from texeditor.regions.extractext import (change_level, compresser, copy, delete, difference, enclosed,
                                etendre, extract_neighbours, extract_partial,
                                extract_region_in_region, extract_regions_in_region, extractext,
                                fill, flip, move, neighbour_labels, rotate, scale, select,

@@ -6,14 +6,14 @@ import numpy as np
 import pytest
 
 from test_history_support import REFS, TINY, TINY_DPJS
-from texeditor.actions import NewCanvas, SetLevels, Synthesize, action_from_json, param_specs
+from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize, action_from_json, param_specs
 from texeditor.errors import FormatError, InputError, ReplayError
-from texeditor.history import History, replay
-from texeditor.logopt import optimize
-from texeditor.spot_actions import (DeleteSpot, PlaceSpot, ScatterSpots, placed_spots,
+from texeditor.recipe.history import History, replay
+from texeditor.recipe.logopt import optimize
+from texeditor.spots.actions import (DeleteSpot, PlaceSpot, ScatterSpots, placed_spots,
                                     replay_without, spot_at, spot_ref)
-from texeditor.spot_library import FILE_NAME, SpotLibrary, standard_spots
-from texeditor.spots import Envelope, Perturbation, Placement, real_spot
+from texeditor.spots.library import FILE_NAME, SpotLibrary, standard_spots
+from texeditor.spots.envelope import Envelope, Perturbation, Placement, real_spot
 
 DISC = Envelope.ellipse(12, 12).dumps()
 LONG = Envelope.ellipse(20, 8).dumps()
@@ -351,7 +351,7 @@ def test_a_big_scatter_is_rasterised_ahead_with_progress_and_can_be_cancelled():
 
 
 def test_a_log_with_a_deleted_spot_saves_and_reopens(tmp_path):
-    from texeditor.texturefile import load_texture, save_texture
+    from texeditor.recipe.texturefile import load_texture, save_texture
 
     history = canvas(base=1)
     history.apply(PlaceSpot(DISC, 16, 16, level=2, seed=5))    # step 2

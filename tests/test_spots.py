@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from texeditor.errors import InputError
-from texeditor.spots import (KINDS, Envelope, Meridian, Parallel, Perturbation, Placement, Stamp,
+from texeditor.spots.envelope import (KINDS, Envelope, Meridian, Parallel, Perturbation, Placement, Stamp,
                              blend, midpoint_displacement, pieces, place, polygon_area,
                              polygon_mask, real_spot, spot_levels, tile)
 

@@ -9,9 +9,10 @@ from hypothesis import given, settings, strategies as st
 from scipy.stats import chisquare
 from skimage import data
 
-from texeditor import DPJ, estimate_dpj, quantize, synthesis, synthesize
+from texeditor import DPJ, estimate_dpj, quantize, synthesize
+from texeditor.markov import synthesis
 from texeditor.errors import Cancelled, InputError
-from texeditor.estimation import window_codes
+from texeditor.markov.estimation import window_codes
 
 PHOTOS = ["brick", "grass", "gravel"]
 

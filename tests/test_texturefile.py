@@ -14,11 +14,11 @@ from hypothesis import strategies as st
 
 from test_history_support import PROPERTY, REFS, TINY, TINY_DPJS, random_history
 from texeditor import fileio
-from texeditor import texturefile as tf
-from texeditor.actions import NewCanvas, SetLevels, SetPalette, Synthesize
-from texeditor.document import Document
+from texeditor.recipe import texturefile as tf
+from texeditor.recipe.actions import NewCanvas, SetLevels, SetPalette, Synthesize
+from texeditor.recipe.document import Document
 from texeditor.errors import FormatError, InputError, ReplayError
-from texeditor.history import History, replay
+from texeditor.recipe.history import History, replay
 
 
 def sample_history() -> History:

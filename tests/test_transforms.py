@@ -10,10 +10,10 @@ from hypothesis import strategies as st
 
 from test_history_support import PROPERTY
 from test_regions import grid, grids, same
-from texeditor import transforms
+from texeditor.regions import transforms
 from texeditor.errors import InputError
-from texeditor.regions import shift_mask
-from texeditor.transforms import (affinity, identity, isometry, rotation_matrix, selection_centre,
+from texeditor.regions.extractext import shift_mask
+from texeditor.regions.transforms import (affinity, identity, isometry, rotation_matrix, selection_centre,
                                   similarity, transform_mask, warp)
 
 G = grid("""

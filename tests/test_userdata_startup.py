@@ -6,8 +6,9 @@ import re
 
 import pytest
 
-from texeditor.journal import orphans, recover
-from texeditor.userdata import check_libraries, set_aside
+from texeditor.recipe.journal import orphans, recover
+from texeditor.libraries import check_libraries
+from texeditor.userdata import set_aside
 
 
 def test_good_libraries_are_left_alone(tmp_path):

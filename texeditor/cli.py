@@ -43,8 +43,8 @@ def _output(path: str, allowed: tuple[str, ...]) -> Path:
 
 
 def cmd_acquire(args) -> int:
-    from .estimation import estimate_dpj
-    from .levels import load_image, quantize
+    from .markov.estimation import estimate_dpj
+    from .markov.levels import load_image, quantize
 
     u, v = _pair(args.window, "the window")
     out = _output(args.output, (".dpj",))
@@ -58,9 +58,9 @@ def cmd_acquire(args) -> int:
 
 
 def cmd_synth(args) -> int:
-    from .dpj import DPJ
+    from .markov.dpj import DPJ
     from .export import write_npy, write_png
-    from .synthesis import synthesize
+    from .markov.synthesis import synthesize
 
     width, height = _pair(args.size, "the size")
     out = _output(args.output, SYNTH_OUTPUTS)
@@ -78,7 +78,7 @@ def cmd_synth(args) -> int:
 
 
 def _synth_texture(dpj, width, height, seed, out) -> int:
-    from .texturefile import save_texture, synthesize_texture
+    from .recipe.texturefile import save_texture, synthesize_texture
 
     history = synthesize_texture(dpj, width, height, seed=seed)
     save_texture(out, history)
@@ -88,7 +88,7 @@ def _synth_texture(dpj, width, height, seed, out) -> int:
 
 def cmd_render(args) -> int:
     from .export import write_npy, write_png
-    from .texturefile import render_texture
+    from .recipe.texturefile import render_texture
 
     out = _output(args.output, (".png", ".npy"))
     doc = render_texture(args.texture)  # replays and checks the stored hash
@@ -102,7 +102,7 @@ def cmd_render(args) -> int:
 
 
 def cmd_log(args) -> int:
-    from .texturefile import describe_log, optimize_texture, read_texture
+    from .recipe.texturefile import describe_log, optimize_texture, read_texture
 
     if args.optimize:
         if not args.output:
@@ -118,28 +118,17 @@ def cmd_log(args) -> int:
 
 
 def cmd_dpj_info(args) -> int:
-    from .dpj import DPJ
+    from .markov.dpj import DPJ
 
     report = DPJ.load(args.dpj).report()
     print(json.dumps(report.to_dict(), indent=2) if args.json else "\n".join(report.lines()))
     return 0
 
 
-def cmd_gui(args) -> int:
-    from app.main import run
-
-    argv = []
-    if args.screenshot:
-        argv += ["--screenshot", args.screenshot]
-    if args.open:
-        argv += ["--open", args.open]
-    if args.size:
-        argv += ["--size", args.size]
-    return run(argv)
-
-
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="texeditor", description="Interactive texture synthesis after Olejnik (1984).")
+    p = _Parser(prog="texeditor", description="Interactive texture synthesis after Olejnik (1984).",
+                epilog="`texeditor` alone, or `texeditor gui [--open F] [--screenshot OUT.png]`, "
+                       "opens the application window (the `app` package).")
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
 
     a = sub.add_parser("acquire", help="estimate a DPJ from a photo")
@@ -175,21 +164,20 @@ def build_parser() -> argparse.ArgumentParser:
     lg.add_argument("-o", "--output", help="NEW.texture, with --optimize")
     lg.set_defaults(func=cmd_log)
 
-    from .bank_cli import add_parser as add_bank_parser
+    from .bank.cli import add_parser as add_bank_parser
     add_bank_parser(sub)                     # texeditor bank list|search|show|render|…
 
-    g = sub.add_parser("gui", help="open the application window")
-    g.add_argument("--screenshot", help="render the window offscreen to this PNG and exit")
-    g.add_argument("--open", help="a .texture file to open")
-    g.add_argument("--size", help="window size for --screenshot, WIDTHxHEIGHT (default 1280x800)")
-    g.set_defaults(func=cmd_gui)
     return p
 
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     try:
-        args = build_parser().parse_args(argv or ["gui"])
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help(sys.stderr)
+            return 2
         if getattr(args, "seed", 0) is not None and getattr(args, "seed", 0) < 0:
             raise InputError("the seed must be a non-negative integer")
         return args.func(args)

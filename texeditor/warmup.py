@@ -31,9 +31,9 @@ _result: dict = {"seconds": None, "error": None}
 def _compile() -> None:
     """Call every kernel once on tiny inputs of the types real work passes (so nothing compiles
     again later). First the small ones the GUI thread may call, then the synthesis."""
-    from . import grain_render
-    from .dpj import DPJ
-    from .synthesis import synthesize
+    from .texture import grain_render
+    from .markov.dpj import DPJ
+    from .markov.synthesis import synthesize
 
     grain_render.render(np.ones((2, 2), np.uint8), "square", 2)
     for kernel in _first:
@@ -119,7 +119,7 @@ def needs_kernels(action, doc) -> bool:
     """Whether applying ``action`` to ``doc`` may call a numba kernel: a synthesis whose result is
     not at hand, a grain rendering, or any step naming one of the document's DPJs (a spot or
     source texture drawn from it). Conservative: such a step only waits, never fails."""
-    from .actions import Synthesize, _MEMO, dpj_refs
+    from .recipe.actions import Synthesize, _MEMO, dpj_refs
 
     if isinstance(action, Synthesize):
         return _MEMO.get(action._key()) is None

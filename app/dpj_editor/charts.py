@@ -1,7 +1,7 @@
 """Charts of the DPJ being edited (pyqtgraph): the probabilities sorted on a log scale, the law of
 single levels, and the horizontal chain's transition matrix as a heat map.
 
-They only read the DPJ (the numbers come from texeditor.dpj_edit); a hidden tab is redrawn when
+They only read the DPJ (the numbers come from texeditor.markov.dpj_edit); a hidden tab is redrawn when
 it is shown, so editing a large DPJ does not pay for charts nobody looks at.
 """
 
@@ -11,7 +11,7 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6 import QtCore, QtWidgets
 
-from texeditor import dpj_edit
+from texeditor.markov import dpj_edit
 
 from .table import config_text
 

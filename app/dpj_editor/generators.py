@@ -1,7 +1,7 @@
 """Generators of a hand-made DPJ (thesis §5.2.2, digest §8, §11): from a seed, the weights of the
 empty and all-maximum configurations, the grey scale's extremes, merging levels.
 
-Each control produces a new DPJ through texeditor.dpj_edit and hands it to the editor as an edit;
+Each control produces a new DPJ through texeditor.markov.dpj_edit and hands it to the editor as an edit;
 a slider drag is one gesture, so it becomes one undo step.
 """
 
@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore, QtWidgets
 
-from texeditor import dpj_edit
+from texeditor.markov import dpj_edit
 
 from ..palette_dock import grey_scale
 from ..params_form import SeedEdit

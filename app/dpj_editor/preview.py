@@ -14,7 +14,7 @@ import shiboken6
 from PySide6 import QtCore, QtWidgets
 
 from texeditor.errors import TexeditorError
-from texeditor.synthesis import synthesize
+from texeditor.markov.synthesis import synthesize
 
 from ..canvas import colourize
 from ..params_form import SeedEdit

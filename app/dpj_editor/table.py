@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor import dpj_edit
-from texeditor.dpj import DPJ
+from texeditor.markov import dpj_edit
+from texeditor.markov.dpj import DPJ
 
 from ..canvas import colourize
 from ..images import qimage_from_rgb

@@ -13,8 +13,8 @@ import numpy as np
 import shiboken6
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor import dpj_edit
-from texeditor.dpj import DPJ, MAX_LEVELS, MAX_SIDE, decode
+from texeditor.markov import dpj_edit
+from texeditor.markov.dpj import DPJ, MAX_LEVELS, MAX_SIDE, decode
 from texeditor.errors import TexeditorError
 
 from ..synthesis_worker import TaskRunner

@@ -10,11 +10,11 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor import brushes
-from texeditor.actions import replace_params
-from texeditor.brushes import Brush
+from texeditor.paint import brushes
+from texeditor.recipe.actions import replace_params
+from texeditor.paint.brushes import Brush
 from texeditor.errors import TexeditorError
-from texeditor.paint_actions import Stroke
+from texeditor.paint.actions import Stroke
 
 from ..params_form import new_seed
 from . import Tool

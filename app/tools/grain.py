@@ -11,10 +11,10 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore, QtWidgets
 
-from texeditor.actions import replace_params
+from texeditor.recipe.actions import replace_params
 from texeditor.errors import TexeditorError
-from texeditor.grains import GrainLibrary, GrainType, standard_grains
-from texeditor.paint_actions import PlaceGrains
+from texeditor.paint.grains import GrainLibrary, GrainType, standard_grains
+from texeditor.paint.actions import PlaceGrains
 
 from ..grain_editor import GrainEditor
 from ..params_form import new_seed

@@ -1,7 +1,7 @@
 """The region tools of thesis §3.4: Fill, Translate, Copy and Extract (the selection and what
 can be done to it: recolour, delete, flip, scale, rotate, duplicate, global transforms).
 
-Each click or drag becomes one Action of `texeditor.region_actions`; the canvas overlay shows the
+Each click or drag becomes one Action of `texeditor.regions.actions`; the canvas overlay shows the
 ghost of a moved region and the current selection, never the document itself.
 """
 
@@ -10,8 +10,9 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore, QtWidgets
 
-from texeditor import region_actions as ra
-from texeditor import regions, transforms
+from texeditor.regions import actions as ra
+from texeditor.regions import extractext as regions
+from texeditor.regions import transforms
 from texeditor.errors import TexeditorError
 
 from ..canvas import palette_lut

@@ -1,7 +1,7 @@
 """The Spot tool (thesis §3.3.3b): compose spots on the canvas — place the spot of the spot
 editor (a drag turns and sizes it), scatter many in a rectangle, delete one.
 
-Every gesture becomes one Action of `texeditor.spot_actions`. The ghost of the spot under the
+Every gesture becomes one Action of `texeditor.spots.actions`. The ghost of the spot under the
 pointer (or of the spot about to be deleted) is a vector outline drawn over the canvas; the
 document only changes when an Action is submitted. A "Bank texture…" fill opens the bank
 picker; the chosen entry becomes a recipe (`texture_actions.bank_source`) the placements carry.
@@ -15,8 +15,8 @@ import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.errors import TexeditorError
-from texeditor.spot_actions import DeleteSpot, PlaceSpot, ScatterSpots, spot_at, spot_ref
-from texeditor.spots import Placement, placed_outline
+from texeditor.spots.actions import DeleteSpot, PlaceSpot, ScatterSpots, spot_at, spot_ref
+from texeditor.spots.envelope import Placement, placed_outline
 
 from ..bank_picker import choose_bank_entry, load_bank_source
 from ..spot_editor import SpotEditorDock

@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtWidgets
 
-from texeditor import zones
+from texeditor.paint import zones
 from texeditor.errors import TexeditorError
-from texeditor.paint_actions import DuplicateZone, ScrambleFrontier
+from texeditor.paint.actions import DuplicateZone, ScrambleFrontier
 
 from ..params_form import new_seed
 from . import Tool

@@ -11,7 +11,7 @@ import sys
 
 import numpy as np
 
-from texeditor.spots import Envelope
+from texeditor.spots.envelope import Envelope
 
 CASES = int(os.environ.get("TEXEDITOR_FUZZ_EXAMPLES", "300")) // 10
 FAR = 2**20
@@ -51,9 +51,9 @@ def escaping_action(rng: np.random.Generator) -> dict:
 CHILD = r"""
 import json, resource, sys
 resource.setrlimit(resource.RLIMIT_AS, (2 * 2**30, 2 * 2**30))
-from texeditor.actions import action_from_json
+from texeditor.recipe.actions import action_from_json
 from texeditor.errors import TexeditorError
-from texeditor.history import replay
+from texeditor.recipe.history import replay
 canvas = {"type": "new_canvas", "version": 1, "width": 64, "height": 64, "levels": 4,
           "palette": None}
 for line in sys.stdin:

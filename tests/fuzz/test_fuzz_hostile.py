@@ -17,11 +17,12 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-from texeditor import DPJ, journal
+from texeditor import DPJ
+from texeditor.recipe import journal
 from texeditor.errors import TexeditorError
 from texeditor.fileio import MAX_JSON_DEPTH, json_depth, load_json
-from texeditor.levels import load_image
-from texeditor.texturefile import parse_texture, read_texture
+from texeditor.markov.levels import load_image
+from texeditor.recipe.texturefile import parse_texture, read_texture
 from texeditor.userdata import read_library
 
 from test_hostile_inputs import within
@@ -138,13 +139,13 @@ def test_json_bombs_are_refused_or_loaded_in_bounded_time(tmp_path_factory, text
         box = ends(journal.recover, _journal_with(text, folder))
         return                    # a damaged line ends the recovery: no error to see
     elif where == "recipe":
-        from texeditor.texture_actions import parse_recipe
+        from texeditor.texture.actions import parse_recipe
         box = ends(parse_recipe, '{"actions": ' + text + "}")
     elif where == "envelope":
-        from texeditor.spots import Envelope
+        from texeditor.spots.envelope import Envelope
         box = ends(Envelope.loads, text)
     else:
-        from texeditor.bank import parse_log
+        from texeditor.bank.store import parse_log
         box = ends(parse_log, '{"actions": ' + text + "}", "entry 1")
     if deep:
         assert "error" in box and ("nests" in str(box["error"])
@@ -204,7 +205,7 @@ def confused(kind: str):
 @pytest.fixture(scope="module")
 def bank_seed(tmp_path_factory):
     from test_bank import drawn, synthesised
-    from texeditor.bank import Bank
+    from texeditor.bank.store import Bank
     path = tmp_path_factory.mktemp("bank") / "seed.sqlite"
     with Bank(path, builtins=False) as bank:
         ids = [bank.add(synthesised(2) if k == 1 else drawn([(0, 0, 4, 4 + k, 1)]), f"entry {k}",
@@ -215,10 +216,10 @@ def bank_seed(tmp_path_factory):
 
 def _every_reader(path):
     """What the bank's commands and browser do with a bank: list, search, show, open, verify."""
-    from texeditor.bank import Bank
+    from texeditor.bank.store import Bank
     from argparse import Namespace
     from contextlib import redirect_stdout
-    from texeditor.bank_cli import cmd_list, cmd_show
+    from texeditor.bank.cli import cmd_list, cmd_show
     with Bank(path, builtins=False) as bank, redirect_stdout(io.StringIO()):
         cmd_list(bank, Namespace(trash=False))
         found = bank.search()

@@ -20,9 +20,9 @@ from skimage import data
 
 from texeditor import DPJ, estimate_dpj, quantize
 from texeditor.errors import TexeditorError
-from texeditor.history import History
-from texeditor.levels import load_image
-from texeditor.texturefile import parse_texture, texture_bytes
+from texeditor.recipe.history import History
+from texeditor.markov.levels import load_image
+from texeditor.recipe.texturefile import parse_texture, texture_bytes
 
 EXAMPLES = int(os.environ.get("TEXEDITOR_FUZZ_EXAMPLES", "300"))
 CORPUS = Path(__file__).parent / "corpus"
@@ -43,8 +43,8 @@ DPJ_BYTES = _dpj().to_bytes()
 
 
 def _texture() -> bytes:
-    from texeditor.actions import SetLevels, SetPalette, Synthesize
-    from texeditor.region_actions import Copy, Fill
+    from texeditor.recipe.actions import SetLevels, SetPalette, Synthesize
+    from texeditor.regions.actions import Copy, Fill
 
     history = History()
     ref = history.add_dpj(_dpj())
@@ -59,8 +59,8 @@ TEXTURE_BYTES = _texture()
 
 def _recipe_texture() -> bytes:
     """A texture whose steps carry recipes of two DPJs, one of them nested two deep."""
-    from texeditor.actions import Synthesize
-    from texeditor.texture_actions import Incrust, Mix, recipe_of, store_dpj, synthesis_recipe
+    from texeditor.recipe.actions import Synthesize
+    from texeditor.texture.actions import Incrust, Mix, recipe_of, store_dpj, synthesis_recipe
 
     history = History()
     ref = history.add_dpj(_dpj())
@@ -323,14 +323,14 @@ def load_image_bytes(blob):
 def _bank_bytes() -> bytes:
     import tempfile
 
-    from texeditor.bank import Bank, make_record
+    from texeditor.bank.store import Bank, make_record
 
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "bank.sqlite"
         bank = Bank(path, builtins=False)
         history = History()
         ref = history.add_dpj(_dpj())
-        from texeditor.actions import Synthesize
+        from texeditor.recipe.actions import Synthesize
         history.apply(Synthesize(ref, 16, 16, 1))
         bank.insert(make_record(history, "seed entry", tags=("fuzz",)))
         bank.close()
@@ -342,7 +342,7 @@ BANK_BYTES = _bank_bytes()
 
 def load_bank(blob: bytes, tmp_dir: Path) -> None:
     """Open a mutated bank file, list and search it, open and verify every entry."""
-    from texeditor.bank import Bank
+    from texeditor.bank.store import Bank
 
     path = tmp_dir / "bank.sqlite"
     for stale in tmp_dir.glob("bank.sqlite*"):

@@ -49,7 +49,7 @@ def window(qtbot, small_dpj, photo_path, monkeypatch):
     from app import resources
     from app.dpj_editor import DPJEditor
     from app.main_window import MainWindow
-    from texeditor.history import History
+    from texeditor.recipe.history import History
 
     monkeypatch.setattr(resources, "sample_images", lambda: [photo_path])
     errors = []      # error dialogs are recorded instead of blocking the test

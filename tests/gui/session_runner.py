@@ -116,7 +116,7 @@ def open_window(recorder: Recorder):
 
     from app import resources
     from app.main_window import MainWindow
-    from texeditor.history import History
+    from texeditor.recipe.history import History
 
     QtWidgets.QApplication.instance() or QtWidgets.QApplication(["texeditor-session"])
     recorder.install()

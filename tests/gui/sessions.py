@@ -17,10 +17,10 @@ from app.tools.grain import GrainTool
 from app.tools.regions import CopyTool, ExtractTool, FillTool, TranslateTool
 from app.tools.spot import SpotTool
 from app.tools.zone import ScrambleTool, ZoneTool
-from texeditor import region_actions as ra
-from texeditor.actions import SetPalette
-from texeditor.paint_actions import DuplicateZone, PlaceGrains, ScrambleFrontier, Stroke
-from texeditor.spot_actions import DeleteSpot, PlaceSpot, ScatterSpots
+from texeditor.regions import actions as ra
+from texeditor.recipe.actions import SetPalette
+from texeditor.paint.actions import DuplicateZone, PlaceGrains, ScrambleFrontier, Stroke
+from texeditor.spots.actions import DeleteSpot, PlaceSpot, ScatterSpots
 
 from .session_runner import Hand, Recorder, close_window, open_window, report, same_document, state
 

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from PySide6 import QtCore, QtGui, QtTest, QtWidgets
 
-from texeditor.actions import NewCanvas, SetLevels
-from texeditor.bank import Bank, make_record
-from texeditor.history import History
+from texeditor.recipe.actions import NewCanvas, SetLevels
+from texeditor.bank.store import Bank, make_record
+from texeditor.recipe.history import History
 
 from .events import cell_pos, click
 

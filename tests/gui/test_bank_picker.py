@@ -9,14 +9,14 @@ from PySide6 import QtCore, QtTest, QtWidgets
 
 from app.bank_picker import EMPTY, BankPicker
 from test_history_support import REFS, TINY_DPJS
-from texeditor.actions import NewCanvas, SetLevels, Synthesize
-from texeditor.bank import Bank, default_path
-from texeditor.composition import fit
-from texeditor.document import dpj_ref
-from texeditor.history import History
-from texeditor.spot_actions import PlaceSpot
-from texeditor.texture_actions import Incrust, Mix, store_dpj, synthesis_recipe
-from texeditor.texturefile import load_texture, save_texture
+from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize
+from texeditor.bank.store import Bank, default_path
+from texeditor.texture.composition import fit
+from texeditor.recipe.document import dpj_ref
+from texeditor.recipe.history import History
+from texeditor.spots.actions import PlaceSpot
+from texeditor.texture.actions import Incrust, Mix, store_dpj, synthesis_recipe
+from texeditor.recipe.texturefile import load_texture, save_texture
 
 from .events import cell_pos, click, press_key
 from .test_spot_tools import spot_tool

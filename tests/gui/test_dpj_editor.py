@@ -10,7 +10,7 @@ from app.dpj_editor import DPJEditor
 from app.dpj_editor.checks import BAD, OK, WARN
 from app.dpj_editor.table import CHAIN, PROB
 from texeditor import DPJ
-from texeditor import dpj_edit as E
+from texeditor.markov import dpj_edit as E
 
 from .events import drag
 

@@ -11,7 +11,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 from app.files import recent_files
 from app.main import run
-from texeditor.actions import SetPalette
+from texeditor.recipe.actions import SetPalette
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -6,10 +6,10 @@ import threading
 import numpy as np
 import pytest
 
-from texeditor import bank as bk
+from texeditor.bank import store as bk
 from texeditor import warmup
-from texeditor.actions import _MEMO, Synthesize
-from texeditor.bank import Bank, picture_bytes
+from texeditor.recipe.actions import _MEMO, Synthesize
+from texeditor.bank.store import Bank, picture_bytes
 
 
 @pytest.fixture

@@ -5,8 +5,8 @@ nothing adds no step. Asserts are on the document and on what the History list s
 import numpy as np
 from PySide6 import QtCore
 
-from texeditor.actions import SetLevels, SetPalette
-from texeditor.region_actions import Fill
+from texeditor.recipe.actions import SetLevels, SetPalette
+from texeditor.regions.actions import Fill
 
 from .events import cell_pos, click
 from .test_main_window import type_into

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from PySide6 import QtCore, QtWidgets
 
-from texeditor.actions import SetPalette, Synthesize
+from texeditor.recipe.actions import SetPalette, Synthesize
 
 from .events import move, wheel
 
@@ -288,8 +288,8 @@ def test_status_bar_shows_a_busy_bar_until_a_task_reports_progress(qtbot, window
 
 def test_zoom_is_shown_only_once_there_is_a_texture(qtbot, window):
     from app.main_window import MainWindow
-    from texeditor.actions import NewCanvas
-    from texeditor.history import History
+    from texeditor.recipe.actions import NewCanvas
+    from texeditor.recipe.history import History
     empty = MainWindow()
     qtbot.addWidget(empty)
     empty.show()

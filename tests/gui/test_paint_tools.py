@@ -11,7 +11,7 @@ from app.brush_dock import open_peano
 from app.tools.brush import BrushTool, SprayTool
 from app.tools.grain import GrainTool
 from app.tools.zone import ScrambleTool, ZoneTool
-from texeditor.paint_actions import (DuplicateZone, PeanoLevels, PlaceGrains, ScrambleFrontier,
+from texeditor.paint.actions import (DuplicateZone, PeanoLevels, PlaceGrains, ScrambleFrontier,
                                      Stroke)
 
 from .events import cell_pos, click, press_key

@@ -10,7 +10,7 @@ import numpy as np
 from PySide6 import QtWidgets
 
 from app.recovery import offer_recovery
-from texeditor.journal import orphans
+from texeditor.recipe.journal import orphans
 
 N = 6
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -19,8 +19,8 @@ CHILD = textwrap.dedent(f"""
     from PySide6 import QtWidgets
     app = QtWidgets.QApplication([])
     from app.main_window import MainWindow
-    from texeditor.actions import NewCanvas, SetLevels
-    from texeditor.history import History
+    from texeditor.recipe.actions import NewCanvas, SetLevels
+    from texeditor.recipe.history import History
     window = MainWindow()
     window.show()
     window.set_history(History())

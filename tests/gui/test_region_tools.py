@@ -5,7 +5,7 @@ import pytest
 from PySide6 import QtCore
 
 from app.tools.regions import CopyTool, ExtractTool, FillTool, TranslateTool
-from texeditor.actions import NewCanvas, SetLevels
+from texeditor.recipe.actions import NewCanvas, SetLevels
 
 from .events import cell_pos, click, drag, mouse, press_key
 
@@ -104,7 +104,7 @@ def test_extract_neighbours_selects_every_region_touching_the_clicked_one(board,
 
 
 def test_global_operators_dialog_rotates_the_whole_texture_or_the_selection(board, qtbot):
-    from texeditor import transforms
+    from texeditor.regions import transforms
 
     before = board.document.levels.copy()
     qtbot.keyClick(board, QtCore.Qt.Key.Key_G, QtCore.Qt.KeyboardModifier.ControlModifier)

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from PySide6 import QtCore, QtWidgets
 
-from texeditor.actions import SetLevels, SetPalette, Synthesize
-from texeditor.document import dpj_ref
-from texeditor.history import History, replay
+from texeditor.recipe.actions import SetLevels, SetPalette, Synthesize
+from texeditor.recipe.document import dpj_ref
+from texeditor.recipe.history import History, replay
 
 from .test_dpj_editor import new_dpj, paint, set_probability
 from .test_main_window import CTRL, LEFT, type_into

@@ -9,9 +9,9 @@ from PySide6 import QtCore, QtGui, QtTest, QtWidgets
 
 from app.tools.handles import Change, scale_factor, turn_angle
 from app.tools.regions import GHOST_REST_MS, ExtractTool, ghost_overlay
-from texeditor import region_actions as ra
-from texeditor import regions
-from texeditor.actions import NewCanvas, SetLevels
+from texeditor.regions import actions as ra
+from texeditor.regions import extractext as regions
+from texeditor.recipe.actions import NewCanvas, SetLevels
 
 from .events import cell_pos, click, move, press_key
 

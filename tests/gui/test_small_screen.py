@@ -8,7 +8,7 @@ import pytest
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from app.widgets import DECORATIONS
-from texeditor.actions import SetPalette
+from texeditor.recipe.actions import SetPalette
 
 SCREEN = QtCore.QSize(1280, 800)
 USABLE = SCREEN - DECORATIONS          # what a window may take once the window manager framed it

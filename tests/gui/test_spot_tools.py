@@ -7,8 +7,8 @@ import pytest
 from PySide6 import QtCore, QtTest, QtWidgets
 
 from app.tools.spot import SpotTool
-from texeditor.spot_actions import DeleteSpot, PlaceSpot, ScatterSpots
-from texeditor.spots import Envelope
+from texeditor.spots.actions import DeleteSpot, PlaceSpot, ScatterSpots
+from texeditor.spots.envelope import Envelope
 
 from .events import cell_pos, click, drag, mouse, move, press_key
 

@@ -3,7 +3,7 @@
 from PySide6 import QtCore
 
 from app.tools import HandTool, Tool
-from texeditor.actions import SetLevels
+from texeditor.recipe.actions import SetLevels
 
 from .events import cell_pos, click, drag, press_key
 

@@ -1,0 +1,303 @@
+"""Levels & palettes: turn a photo into a matrix of G grey levels and a palette (thesis §5.2.1).
+
+It sits at the start of the data flow, photo → levels → DPJ: acquisition counts the windows of the
+level matrix made here, and synthesis paints its levels with the palette made here.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+from typing import NamedTuple
+
+import imageio.v3 as iio
+import numpy as np
+from PIL import Image
+import skimage as ski     # its subpackages load on first use, not at start-up
+
+from ..errors import ImageError, InputError
+from ..fileio import check_regular
+
+MIN_LEVELS = 2
+MAX_LEVELS = 16
+MAX_PIXELS = 64 * 2**20
+# Decoded, at most a 64-megapixel RGBA photo of 8 bits: acquiring one peaks at 1.9 GB (measured,
+# benchmarks/bench_limits.py); 16-bit or float colour pictures that large would pass 2 GiB.
+MAX_IMAGE_BYTES = 256 * 2**20
+BAND = (5.0, 95.0)
+MAX_LLOYD_ITERATIONS = 100
+METHODS = ("band", "lloyd")
+# Greys and thresholds are rounded to 1e-6, finer than a 16-bit step (1.5e-5) but coarser than the
+# noise between the same photo stored as uint8, uint16, float32 or float64 (at most 6e-8), so that
+# noise cannot move a pixel lying on a threshold across it.
+_DECIMALS = 6
+
+
+class Quantization(NamedTuple):
+    """A quantised photo: what acquisition (levels) and synthesis (palette) need."""
+
+    levels: np.ndarray      # (H, W) uint8, every value < G
+    palette: np.ndarray     # (G, 3) uint8 RGB: the photo's mean colour in each level
+    thresholds: np.ndarray  # (G-1,) float64 on the [0, 1] grey scale; a grey equal to one goes up
+
+
+# -- reading a photo ---------------------------------------------------------------------------
+def load_image(path) -> np.ndarray:
+    """Read an image file as stored: (H, W) grey or (H, W, C) with C = 1..4, dtype preserved.
+
+    Palette images come back as RGB(A). A multi-page file (animated GIF, TIFF stack) gives its
+    first page. The declared size is checked against MAX_PIXELS before decoding, so a
+    decompression bomb is refused without allocating it. Every failure is an ImageError naming
+    the file, and no reader warning escapes.
+    """
+    path = Path(path)
+    _check_file(path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        warnings.simplefilter("error", Image.DecompressionBombWarning)
+        size, pages, mode = _declared_size(path)
+        image = _decode_cmyk(path) if mode == "CMYK" else _decode(path)
+    if pages > 1 and image.ndim >= 3 and size is not None and image.shape[1:3] == size:
+        image = image[0]
+    image = _interleaved(image, size, mode)
+    return _check_decoded(image, path)
+
+
+def _interleaved(image: np.ndarray, size, mode) -> np.ndarray:
+    """A planar-configuration TIFF (one plane per channel) comes back from tifffile as
+    (C, H, W); the header's size and mode say so: make it (H, W, C) like every other picture."""
+    if image.ndim != 3 or size is None or mode is None:
+        return image
+    try:
+        bands = Image.getmodebands(mode)
+    except (KeyError, ValueError):
+        return image
+    if image.shape == (bands, *size) and image.shape != (*size, bands):
+        return np.moveaxis(image, 0, -1)
+    return image
+
+
+def _check_file(path: Path) -> None:
+    """A regular file with something in it: a FIFO would block the decoder forever and a
+    device (``/dev/zero``) never ends; both say 0 bytes, which is not what they are."""
+    st = check_regular(path, "image", error=ImageError)
+    if st.st_size == 0:
+        raise ImageError(f"{path}: the file is empty (0 bytes), not an image")
+
+
+def _declared_size(path: Path) -> tuple[tuple[int, int] | None, int, str | None]:
+    """(height, width), page count and Pillow's mode from the header, or (None, 1, None) if
+    Pillow does not know the format."""
+    try:
+        with Image.open(path) as im:
+            width, height = im.size
+            pages = int(getattr(im, "n_frames", 1) or 1)
+            mode = im.mode
+    except (Image.DecompressionBombWarning, Image.DecompressionBombError):
+        raise ImageError(f"{path}: the image is too large to open safely "
+                         f"(more than {MAX_PIXELS // 2**20} megapixels)") from None
+    except (Image.UnidentifiedImageError, SyntaxError, ValueError):
+        return None, 1, None  # maybe a format only imageio's other plugins can read
+    except OSError as exc:
+        raise ImageError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    _check_pixels(height, width, path)
+    return (height, width), pages, mode
+
+
+def _decode_cmyk(path: Path) -> np.ndarray:
+    """A CMYK picture (print JPEGs, TIFFs) as RGB: its four channels are not RGBA."""
+    try:
+        with Image.open(path) as im:
+            return np.asarray(im.convert("RGB"))
+    except Exception as exc:  # as in _decode: one message for every way a reader fails
+        raise ImageError(f"{path}: cannot read it as an image "
+                         "(a damaged or truncated CMYK file)") from exc
+
+
+def _decode(path: Path) -> np.ndarray:
+    try:
+        return np.asarray(iio.imread(path, index=0))
+    except (Image.DecompressionBombWarning, Image.DecompressionBombError):
+        raise ImageError(f"{path}: the image is too large to open safely") from None
+    except MemoryError:
+        raise ImageError(f"{path}: not enough memory to decode this image") from None
+    except Exception as exc:  # every reader fails differently; the user needs one message
+        raise ImageError(f"{path}: cannot read it as an image "
+                         "(unknown format, or a damaged or truncated file)") from exc
+
+
+def _check_pixels(height: int, width: int, path: Path) -> None:
+    if height * width == 0:
+        raise ImageError(f"{path}: the image has no pixels ({width}x{height})")
+    if height * width > MAX_PIXELS:
+        raise ImageError(f"{path}: the image is {width}x{height}, more than "
+                         f"{MAX_PIXELS // 2**20} megapixels: reduce it first")
+
+
+def _check_decoded(image: np.ndarray, path: Path) -> np.ndarray:
+    try:
+        _check_shape(image)
+    except ImageError as exc:
+        raise ImageError(f"{path}: {exc}") from None
+    _check_pixels(image.shape[0], image.shape[1], path)
+    if image.nbytes > MAX_IMAGE_BYTES:
+        h, w = image.shape[:2]
+        channels = 1 if image.ndim == 2 else image.shape[2]
+        kind = "floats" if image.dtype.kind == "f" else "integers"
+        raise ImageError(f"{path}: the image is {w}x{h} with {channels} channel(s) of "
+                         f"{image.dtype.itemsize * 8}-bit {kind}: "
+                         f"{image.nbytes / 2**20:.0f} MiB decoded, more than "
+                         f"{MAX_IMAGE_BYTES // 2**20} MiB; reduce it or save it with 8 bits "
+                         "per channel")
+    return image
+
+
+def _check_shape(image: np.ndarray) -> None:
+    """Grey (H, W) or (H, W, C) with C = 1 grey, 2 grey+alpha, 3 RGB, 4 RGBA; numbers only."""
+    if not (image.ndim == 2 or (image.ndim == 3 and 1 <= image.shape[2] <= 4)):
+        raise ImageError(f"an image of shape {image.shape} is not supported: expected grey, "
+                         "grey + alpha, RGB or RGBA pixels")
+    if image.dtype.kind not in "biuf":
+        raise ImageError(f"pixels of type {image.dtype} are not supported: expected bool, "
+                         "integer or float")
+
+
+# -- grey -------------------------------------------------------------------------------------
+def to_grey(image) -> np.ndarray:
+    """Grey (H, W) float64 in [0, 1] of any supported image; RGBA is laid on white first.
+
+    Integer types are scaled by their range (uint16 65535 → 1); negative or > 1 floats are clipped.
+    Converted by bands of rows: a 64-megapixel RGBA photo as float64 would take 2 GB at once
+    (every step is per pixel, so the result is the same as in one go).
+    """
+    image = np.asarray(image)
+    _check_shape(image)
+    grey = np.empty(image.shape[:2], np.float64)
+    for top in range(0, image.shape[0], _BAND_ROWS):
+        grey[top:top + _BAND_ROWS] = _grey_band(image[top:top + _BAND_ROWS])
+    return grey
+
+
+_BAND_ROWS = 256
+
+
+def _grey_band(image: np.ndarray) -> np.ndarray:
+    img = _as_unit_float(image)
+    if img.ndim == 2:
+        return img
+    if img.shape[2] <= 2:
+        return img[..., 0]
+    if img.shape[2] == 4:
+        img = ski.color.rgba2rgb(img)
+    return ski.color.rgb2gray(img)
+
+
+def _as_unit_float(image) -> np.ndarray:
+    image = np.asarray(image)
+    _check_shape(image)
+    img = ski.util.img_as_float64(image)
+    if img.dtype.kind == "f" and image.dtype.kind == "f" and not np.all(np.isfinite(img)):
+        raise ImageError("the image holds NaN or infinite values")
+    if np.shares_memory(img, image):
+        return np.clip(img, 0.0, 1.0)
+    return np.clip(img, 0.0, 1.0, out=img)     # a converted copy: clipped where it is
+
+
+# -- quantisation -----------------------------------------------------------------------------
+def quantize(image, levels: int, method: str = "band") -> Quantization:
+    """Cut a photo into G levels ("band": the thesis's; "lloyd": minimum mean-square error)."""
+    levels = check_levels(levels)
+    if method not in METHODS:
+        raise InputError(f"unknown quantisation method {method!r}: choose one of {', '.join(METHODS)}")
+    grey = to_grey(image)
+    np.round(grey, _DECIMALS, out=grey)
+    _check_contrast(grey)
+    find = _band_thresholds if method == "band" else _lloyd_thresholds
+    thresholds = np.round(find(grey, levels), _DECIMALS)
+    index = np.searchsorted(thresholds, grey, side="right").astype(np.uint8)
+    return Quantization(index, _palette(image, grey, index, thresholds), thresholds)
+
+
+def check_levels(levels) -> int:
+    """G as an int in MIN_LEVELS..MAX_LEVELS (the DPJ's codes and the palette depend on it)."""
+    try:
+        if isinstance(levels, bool):
+            raise TypeError
+        g = int(levels)
+        if g != levels:
+            raise TypeError
+    except (TypeError, ValueError):
+        raise InputError(f"the number of levels must be an integer, got {levels!r}") from None
+    if not MIN_LEVELS <= g <= MAX_LEVELS:
+        raise InputError(f"G = {g} levels is out of range: choose {MIN_LEVELS}..{MAX_LEVELS}")
+    return g
+
+
+def _check_contrast(grey: np.ndarray) -> None:
+    if grey.size == 0:
+        raise ImageError("the image is empty (0 pixels): nothing to quantise")
+    if grey.min() == grey.max():
+        raise ImageError(f"the image is constant: it has a single grey ({grey.flat[0]:.3g}), "
+                         "nothing to quantise; choose a photo with some contrast")
+
+
+def _band_thresholds(grey: np.ndarray, levels: int) -> np.ndarray:
+    """Thesis §5.2.1: G equal intervals across the central band holding 90% of the pixels.
+
+    When that band is a single grey (a mostly flat image with a few outliers), the whole range
+    min..max is cut instead, so the outliers still get levels of their own.
+    """
+    lo, hi = np.percentile(grey, BAND)
+    if hi <= lo:
+        lo, hi = grey.min(), grey.max()
+    return lo + (hi - lo) * np.arange(1, levels) / levels
+
+
+def _lloyd_thresholds(grey: np.ndarray, levels: int) -> np.ndarray:
+    """Lloyd–Max: alternate cell centroids and mid-point thresholds until the cells stop changing.
+
+    Starts from the band thresholds. The values are sorted once, so each iteration is G binary
+    searches and G differences of a cumulative sum; an empty cell keeps its previous centroid.
+    """
+    thresholds = _band_thresholds(grey, levels)    # first: its percentile copy is gone by now
+    values = np.sort(grey, axis=None)
+    sums = np.empty(values.size + 1)           # [0, cumsum]: no second copy of a large photo
+    sums[0] = 0.0
+    np.cumsum(values, out=sums[1:])
+    edges = np.concatenate([[values[0]], thresholds, [values[-1]]])
+    centroids = (edges[:-1] + edges[1:]) / 2
+    bounds = None
+    for _ in range(MAX_LLOYD_ITERATIONS):
+        cuts = np.searchsorted(values, thresholds, side="left")
+        if bounds is not None and np.array_equal(cuts, bounds):
+            break
+        bounds = cuts
+        cuts = np.concatenate([[0], cuts, [values.size]])
+        counts = np.diff(cuts)
+        totals = np.diff(sums[cuts])
+        centroids = np.where(counts > 0, totals / np.maximum(counts, 1), centroids)
+        thresholds = np.round((centroids[:-1] + centroids[1:]) / 2, _DECIMALS)
+    return thresholds
+
+
+def _palette(image, grey: np.ndarray, index: np.ndarray, thresholds: np.ndarray) -> np.ndarray:
+    """Each level's mean colour in the photo (alpha ignored), so a texture looks like the photo.
+
+    A level no pixel falls in gets the grey at the centre of its interval of the grey scale.
+    """
+    levels = thresholds.size + 1
+    image = np.asarray(image)
+    colour = image.ndim == 3 and image.shape[2] >= 3
+    flat = index.ravel()
+    counts = np.bincount(flat, minlength=levels)
+    edges = np.concatenate([[0.0], thresholds, [1.0]])
+    means = np.repeat(((edges[:-1] + edges[1:]) / 2)[:, None], 3, axis=1)
+    seen = counts > 0
+    for c in range(3):
+        if colour:       # one channel at a time as float64 (not the whole RGB photo at once)
+            values = _as_unit_float(image[..., c]).ravel()
+        else:
+            values = grey.ravel()
+        sums = np.bincount(flat, weights=values, minlength=levels)
+        means[seen, c] = sums[seen] / counts[seen]
+    return np.round(means * 255).astype(np.uint8)

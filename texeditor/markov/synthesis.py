@@ -1,0 +1,610 @@
+"""Synthesis from a DPJ (thesis ch. 4, digest §6): the 2-D Markov process, top-down.
+
+DPJ → normalised level matrix. The first v rows follow the horizontal chain of column states;
+every later row is drawn exactly given the v-1 rows above it, by forward filtering and backward
+sampling over the row. The numba kernels release the GIL, so a worker thread leaves a GUI live.
+
+Dead ends (a window position that no configuration of the DPJ can continue, given the rows
+above and the points already chosen to its left) never raise and never hang:
+1. a segment of the rows above around the dead end is redrawn from its exact law given
+   everything around it, and the row's forward pass resumes just before it — wider and deeper
+   segments as tries fail, up to ``max_redraws`` tries; every window stays a DPJ entry, and
+   the cost stays local, so time grows linearly with the number of points;
+2. failing that, the position *backs off* to the DPJ marginal with one context row fewer, down
+   to the plain horizontal chain of the bottom row (at worst a restart of it); each such
+   position counts as one repair."""
+
+from __future__ import annotations
+
+import threading
+import weakref
+from dataclasses import dataclass
+from typing import Callable, NamedTuple
+
+import numpy as np
+from numba import njit
+
+from .dpj import DPJ, encode
+from ..errors import Cancelled, InputError
+
+MAX_PIXELS = 2**28
+ROWS_PER_CALL_PIXELS = 2**16   # work per kernel call: how often progress and cancel are checked
+DIRECT_INDEX_MAX = 2**20       # context spaces up to this size get a direct look-up table
+MAX_REDRAW_DEPTH = 4           # rows above a dead end that may be redrawn together
+
+
+@dataclass(frozen=True)
+class SynthesisResult:
+    levels: np.ndarray    # (H, W) uint8
+    repairs: int          # window positions drawn from a backed-off (smaller) context
+    redraws: int          # rows redrawn to get past a dead end
+    seed: int
+
+
+def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
+               progress: Callable[[float], None] | None = None,
+               cancel: Callable[[], bool] | None = None, max_redraws: int = 16) -> SynthesisResult:
+    """Draw an (H, W) level matrix from ``dpj``; same DPJ and seed → same matrix.
+
+    ``progress(fraction)`` is called between bands of rows; ``cancel()`` returning True stops the
+    work with :class:`Cancelled`. ``shape`` is (height, width).
+    """
+    h, w = _check_request(dpj, shape)
+    t = _tables(dpj)
+    out = np.zeros((h, w), dtype=np.uint8)
+    state = np.random.SeedSequence(_check_seed(seed)).generate_state(1, np.uint64)
+    band = max(t.v, ROWS_PER_CALL_PIXELS // w)
+    repairs = redraws = 0
+    for r0 in range(0, h, band):
+        if cancel is not None and cancel():
+            raise Cancelled("synthesis cancelled")
+        rep, red = _sample_rows(out, r0, min(h, r0 + band), t, state, max_redraws)
+        repairs += rep
+        redraws += red
+        if progress is not None:
+            progress(min(h, r0 + band) / h)
+    return SynthesisResult(out, int(repairs), int(redraws), int(seed))
+
+
+def _check_seed(seed) -> int:
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError(f"the seed must be a non-negative integer, got {seed!r}")
+    return int(seed)
+
+
+def _check_request(dpj: DPJ, shape) -> tuple[int, int]:
+    if not isinstance(dpj, DPJ):
+        raise InputError("synthesis needs a DPJ")
+    try:
+        h, w = (int(x) for x in shape)
+    except (TypeError, ValueError):
+        raise InputError(f"size must be (height, width), got {shape!r}") from None
+    u, v = dpj.window
+    if h < v or w < u:
+        raise InputError(f"a {w}x{h} texture is smaller than the DPJ's {u}x{v} window")
+    if h * w > MAX_PIXELS:
+        raise InputError(f"{w}x{h} is more than {MAX_PIXELS} points: choose a smaller size")
+    p = dpj.probs
+    if len(dpj) == 0 or not np.all(np.isfinite(p)) or np.any(p < 0) or p.sum() <= 0:
+        raise InputError("the DPJ has no usable probabilities (empty, negative, NaN or zero sum)")
+    return h, w
+
+
+# -- tables: the DPJ rearranged for the kernels ------------------------------------------------
+
+class _Tables(NamedTuple):
+    """The DPJ and its back-off marginals, flattened into a few arrays for numba.
+
+    The entries of every back-off level k (the DPJ marginal over its bottom v-k rows) are
+    concatenated, grouped by context (the rows above the bottom row), and within a context by
+    their last u-1 points, so backward sampling reads one contiguous block.
+    """
+    levels: int
+    u: int
+    v: int
+    ient: np.ndarray           # (4, entries) int64: HEAD, TAIL, BCODE, ROT of each entry
+    fent: np.ndarray           # (2, entries) float64: Q (probability), M (horizontal transition)
+    ctx: np.ndarray            # (3, contexts) int64: CODE (sorted per level), START, END entries
+    lvl: np.ndarray            # (2, v) int64: OFF and LEN of each level's contexts in ctx
+    direct: np.ndarray         # level-0 context code → index in ctx (-1: unseen), when small
+    first_q: np.ndarray        # the full model's q, its cumulative sum and configurations:
+    first_cum: np.ndarray      # the first v rows are its horizontal chain
+    first_configs: np.ndarray
+    pfx: np.ndarray            # (3, states) int64: CODE of the first u-1 columns, START, END
+    pfx_entry: np.ndarray      # full-model entries grouped by their first u-1 columns
+
+
+# rows of the packed tables
+HEAD, TAIL, BCODE, ROT = 0, 1, 2, 3
+Q, M = 0, 1
+CODE, START, END = 0, 1, 2
+OFF, LEN = 0, 1
+LO, HI, TOFF = 0, 1, 2  # rows of the per-position work array: entries weighed, where T starts
+
+
+# DPJ id → (weakref, tables, bytes), the latest last. The latest DPJ's tables are always kept;
+# older ones only within TABLES_MEMORY (a document with many large DPJs would keep 0.6 GB each).
+_cache: dict[int, tuple[weakref.ref, _Tables, int]] = {}
+_cache_lock = threading.Lock()       # workers and the GUI thread synthesise at once
+TABLES_MEMORY = 256 * 2**20
+
+
+def _tables(dpj: DPJ) -> _Tables:
+    """Build (or reuse) the kernel tables of a DPJ; DPJs are immutable so id + weakref is safe."""
+    with _cache_lock:
+        hit = _cache.pop(id(dpj), None)
+        if hit is not None and hit[0]() is dpj:
+            _cache[id(dpj)] = hit
+            return hit[1]
+        for key in [k for k, (ref, _, _) in _cache.items() if ref() is None]:
+            del _cache[key]
+        _evict(TABLES_MEMORY)     # before building: old tables need not stay during the build
+    positive = dpj.probs > 0
+    tables = _build_tables(DPJ(dpj.configs[positive], dpj.probs[positive], dpj.levels).normalized())
+    size = sum(a.nbytes for a in tables if isinstance(a, np.ndarray))
+    with _cache_lock:
+        _cache[id(dpj)] = (weakref.ref(dpj), tables, size)
+        _evict(TABLES_MEMORY, keep=1)
+    return tables
+
+
+def _evict(budget: int, keep: int = 0) -> None:
+    """Forget the oldest tables until those left take ≤ budget bytes (the newest ``keep``
+    stay whatever their size)."""
+    while len(_cache) > keep and sum(size for _, _, size in _cache.values()) > budget:
+        del _cache[next(iter(_cache))]
+
+
+def _build_tables(dpj: DPJ) -> _Tables:
+    u, v = dpj.window
+    g = dpj.levels
+    gu = g ** u
+    bcode, rot, q, m, ctx, start, end, off, length = [], [], [], [], [], [], [], [], []
+    base = 0
+    for k in range(v):  # level k: the DPJ marginal over its bottom v-k rows
+        model = dpj if k == 0 else dpj.marginal(rows=slice(k, v))
+        ctx_k, b_k = np.divmod(model.codes, gu)
+        # within a context, group entries by their last u-1 points: backward sampling
+        # then reads one contiguous block instead of filtering the whole context
+        order = np.lexsort((_rotated(b_k, g, u), ctx_k))
+        ctx_k, b_k = ctx_k[order], b_k[order]
+        bcode.append(b_k)
+        rot.append(_rotated(b_k, g, u))
+        q.append(model.probs[order])
+        m.append(_transitions(model)[order])
+        uctx, first = np.unique(ctx_k, return_index=True)
+        ctx.append(uctx)
+        start.append(first + base)
+        end.append(np.append(first[1:], len(ctx_k)) + base)
+        off.append(sum(len(c) for c in ctx[:-1]))
+        length.append(len(uctx))
+        base += len(ctx_k)
+    pfx = encode(np.ascontiguousarray(dpj.configs[:, :, : u - 1]), g) if u > 1 else np.zeros(len(dpj), np.int64)
+    order = np.argsort(pfx, kind="stable")
+    upfx, pfirst = np.unique(pfx[order], return_index=True)
+    cat = np.concatenate
+    bcode = cat(bcode)
+    ient = np.stack([bcode // g, bcode % g ** (u - 1), bcode, cat(rot)])
+    ctx_table = np.stack([cat(ctx), cat(start), cat(end)]).astype(np.int64)
+    return _Tables(
+        levels=g, u=u, v=v, ient=ient, fent=np.stack([cat(q), cat(m)]), ctx=ctx_table,
+        lvl=np.array([off, length], np.int64), direct=_direct_index(ctx[0], g ** (u * (v - 1))),
+        first_q=dpj.probs, first_cum=np.cumsum(dpj.probs), first_configs=dpj.configs,
+        pfx=np.stack([upfx, pfirst, np.append(pfirst[1:], len(pfx))]).astype(np.int64),
+        pfx_entry=order.astype(np.int64))
+
+
+def _direct_index(contexts: np.ndarray, space: int) -> np.ndarray:
+    """A look-up table from every possible context code, when they are few (no binary search
+    in the hot loop); empty otherwise."""
+    if space > DIRECT_INDEX_MAX:
+        return np.zeros(0, np.int64)
+    table = np.full(space, -1, np.int64)
+    table[contexts] = np.arange(len(contexts))
+    return table
+
+
+def _rotated(bcode: np.ndarray, g: int, u: int) -> np.ndarray:
+    """Bottom-row code with its first point moved last: (b_1..b_{u-1}, b_0)."""
+    head, tail = np.divmod(bcode, g ** (u - 1))
+    return tail * g + head
+
+
+def _transitions(model: DPJ) -> np.ndarray:
+    """m(c_1..c_{u-1} → c_u) = q / μ(c_1..c_{u-1}) for every entry of the model."""
+    u = model.window[0]
+    if u == 1:
+        return model.probs / model.probs.sum()
+    left = encode(np.ascontiguousarray(model.configs[:, :, :-1]), model.levels)
+    states, inverse = np.unique(left, return_inverse=True)
+    mu = np.bincount(inverse.ravel(), weights=model.probs, minlength=len(states))
+    return model.probs / mu[inverse.ravel()]
+
+
+# -- kernels --------------------------------------------------------------------------------
+# In a row, T_n (the forward filter at window position n) is kept unnormalised in the T buffer
+# tb, one block per position; R (T_n summed over its first point, indexed by the code of its
+# last u-1 points) is normalised, which keeps the numbers in range along a row of any width.
+# Per-position functions take plain arrays, not the _Tables tuple: reading a tuple's field costs
+# a reference-count update each time, which would dominate the inner loops.
+# Compile time (a first start waits for it): numba compiles a function, and all it calls, once
+# more for each literal constant passed to it, so integer arguments are np.int64 except the row
+# pass's column bounds (0, folded into the hottest loop); arrays are copied with plain loops, as
+# slice assignment compiles numba's broadcasting checks. Both cut the first compile from ~40 s to
+# ~20 s on a 2-core machine; the results are unchanged.
+
+@njit(cache=True, nogil=True, inline="always")
+def _uniform(state):
+    """SplitMix64: a tiny, explicit, machine-independent generator (state is one uint64)."""
+    state[0] += np.uint64(0x9E3779B97F4A7C15)
+    z = state[0]
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    z = z ^ (z >> np.uint64(31))
+    return np.float64(z >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+
+
+@njit(cache=True, nogil=True)
+def _lower_bound(codes, a, b, key):
+    """First index in the sorted codes[a:b] whose code is >= key."""
+    while a < b:
+        mid = (a + b) >> 1
+        if codes[mid] < key:
+            a = mid + 1
+        else:
+            b = mid
+    return a
+
+
+@njit(cache=True, nogil=True)
+def _find(codes, lo, n, key):
+    """Index of ``key`` in the sorted codes[lo:lo+n], or -1."""
+    a = _lower_bound(codes, lo, lo + n, key)
+    return a if a < lo + n and codes[a] == key else -1
+
+
+@njit(cache=True, nogil=True)
+def _draw_first(first_cum, state):
+    e = np.searchsorted(first_cum, _uniform(state) * first_cum[-1], side="right")
+    return min(e, len(first_cum) - 1)
+
+
+@njit(cache=True, nogil=True)
+def _first_rows(out, t, state):
+    """Rows 0..v-1: the horizontal chain of whole column states (first window from q)."""
+    g, u, v = t.levels, t.u, t.v
+    first_q, first_cum, configs, pfx, pfx_entry = (t.first_q, t.first_cum, t.first_configs,
+                                                   t.pfx, t.pfx_entry)
+    repairs = 0
+    e = _draw_first(first_cum, state)
+    for i in range(v):
+        for j in range(u):
+            out[i, j] = configs[e, i, j]
+    for c in range(u, out.shape[1]):
+        key = 0
+        for i in range(v):
+            for j in range(c - u + 1, c):
+                key = key * g + out[i, j]
+        p = _find(pfx[CODE], 0, pfx.shape[1], key)
+        if p < 0:  # a state the chain cannot leave (non-stationary DPJ): draw afresh
+            repairs += 1
+            e = _draw_first(first_cum, state)
+        else:
+            lo, hi = pfx[START, p], pfx[END, p]
+            total = 0.0
+            for k in range(lo, hi):
+                total += first_q[pfx_entry[k]]
+            x = _uniform(state) * total
+            e = pfx_entry[hi - 1]
+            for k in range(lo, hi):
+                x -= first_q[pfx_entry[k]]
+                if x < 0.0:
+                    e = pfx_entry[k]
+                    break
+        for i in range(v):
+            out[i, c] = configs[e, i, u - 1]
+    return repairs
+
+
+@njit(cache=True, nogil=True)
+def _context(out, r, n, u, rows, g):
+    """Code of the ``rows`` rows just above row r, columns n..n+u-1 (row-major, base G)."""
+    key = 0
+    for i in range(r - rows, r):
+        for j in range(n, n + u):
+            key = key * g + out[i, j]
+    return key
+
+
+@njit(cache=True, nogil=True)
+def _reserve(tb, used, extra):
+    if used + extra <= len(tb):
+        return tb
+    grown = np.empty(2 * (used + extra), np.float64)
+    for i in range(used):
+        grown[i] = tb[i]
+    return grown
+
+
+OK, DEAD_END, GROW = 0, 1, 2
+
+
+@njit(cache=True, nogil=True)
+def _chain_weights(tb, toff, lo, hi, big_r, head, m):
+    """T_n(e) = R(first u-1 points of e) · m(e)."""
+    total = 0.0
+    for e in range(lo, hi):
+        x = big_r[head[e]] * m[e]
+        tb[toff + e - lo] = x
+        total += x
+    return total
+
+
+@njit(cache=True, nogil=True)
+def _plain_weights(tb, toff, lo, hi, weight):
+    """T_n(e) = q(e) at a row's start or a restart, m(e) after fixed points."""
+    total = 0.0
+    for e in range(lo, hi):
+        tb[toff + e - lo] = weight[e]
+        total += weight[e]
+    return total
+
+
+@njit(cache=True, nogil=True)
+def _keep_fixed(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode):
+    """Zero the weight of entries disagreeing with the fixed points (outside [c0, c1))."""
+    total = 0.0
+    for e in range(lo, hi):
+        code = bcode[e]
+        for j in range(u - 1, -1, -1):
+            col = n + j
+            if (col < c0 or col >= c1) and out[r, col] != code % g:
+                tb[toff + e - lo] = 0.0
+                break
+            code //= g
+        total += tb[toff + e - lo]
+    return total
+
+
+@njit(cache=True, nogil=True)
+def _accumulate(big_r, tail, tb, toff, lo, hi, scale):
+    """R(last u-1 points) += T_n(e) / sum T_n: the filter carried to the next position."""
+    for e in range(lo, hi):
+        big_r[tail[e]] += tb[toff + e - lo] * scale
+
+
+@njit(cache=True, nogil=True)
+def _clear(big_r, tail, lo, hi):
+    """Zero what entries lo..hi wrote into R: sparsely, or all of R when that is shorter."""
+    if len(big_r) <= hi - lo:
+        big_r[:] = 0.0
+    else:
+        for e in range(lo, hi):
+            big_r[tail[e]] = 0.0
+
+
+@njit(cache=True, nogil=True)
+def _forward(out, r, n, n_first, c0, c1, lenient_at, t, work):
+    """The forward filter over row r from position n to the last window touching [c0, c1).
+
+    Positions before n must already be in ``work`` (a resumed pass). Returns (status, n,
+    repairs): OK, or DEAD_END / GROW at position n. Only at ``lenient_at`` may a position back
+    off to the DPJ marginal with fewer rows above, and at worst restart the bottom-row chain.
+    """
+    g, u, v, direct, lvl = t.levels, t.u, t.v, t.direct, t.lvl
+    head, tail, bcode = t.ient[HEAD], t.ient[TAIL], t.ient[BCODE]
+    q, m = t.fent[Q], t.fent[M]
+    code, start, end = t.ctx[CODE], t.ctx[START], t.ctx[END]
+    big_r, pos, inv, tb = work.big_r, work.pos, work.inv, work.tb[0]
+    n_last = min(out.shape[1] - u, c1 - 1)
+    repairs = 0
+    while n <= n_last:
+        toff = pos[TOFF, n]
+        total, lo, hi = 0.0, 0, 0
+        levels = v if n == lenient_at else 1
+        for k in range(levels + (n == lenient_at)):
+            restart = k == levels
+            key = 0 if restart else _context(out, r, n, u, v - 1 - k, g)
+            if k == 0 and len(direct):
+                ci = direct[key]
+            else:
+                kk = v - 1 if restart else k
+                ci = _find(code, lvl[OFF, kk], lvl[LEN, kk], key)
+            if ci < 0:
+                continue
+            lo, hi = start[ci], end[ci]
+            if toff + hi - lo > len(tb):
+                pos[HI, n] = toff + hi - lo  # the room needed
+                return GROW, n, repairs
+            if n == 0 or restart:
+                total = _plain_weights(tb, toff, lo, hi, q)
+            elif n == n_first:
+                total = _plain_weights(tb, toff, lo, hi, m)
+            else:
+                total = _chain_weights(tb, toff, lo, hi, big_r, head, m)
+            if n < c0 or n + u > c1:
+                total = _keep_fixed(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode)
+            if total > 0.0:
+                repairs += k > 0
+                break
+        if total == 0.0:
+            return DEAD_END, n, repairs
+        if n > n_first:
+            _clear(big_r, tail, pos[LO, n - 1], pos[HI, n - 1])
+        pos[LO, n], pos[HI, n], inv[n] = lo, hi, 1.0 / total
+        _accumulate(big_r, tail, tb, toff, lo, hi, 1.0 / total)
+        if n + 1 < pos.shape[1]:
+            pos[TOFF, n + 1] = toff + hi - lo
+        n += 1
+    _clear(big_r, tail, pos[LO, n_last], pos[HI, n_last])
+    return OK, n_last, repairs
+
+
+@njit(cache=True, nogil=True)
+def _mass(tb, off, count):
+    total = 0.0
+    for i in range(off, off + count):
+        total += tb[i]
+    return total
+
+
+@njit(cache=True, nogil=True)
+def _pick(tb, off, lo, hi, state):
+    """Draw an entry of [lo, hi) with probability ∝ its weight tb[off + e - lo]."""
+    x = _uniform(state) * _mass(tb, off, hi - lo)
+    last = lo
+    for e in range(lo, hi):
+        w = tb[off + e - lo]
+        if w > 0.0:
+            last = e
+            x -= w
+            if x < 0.0:
+                return e
+    return last
+
+
+@njit(cache=True, nogil=True)
+def _backward(out, r, n_last, c0, t, work, state):
+    """Draw the last window from T, then each earlier new point given the u-1 points after it."""
+    g, u, bcode, rot = t.levels, t.u, t.ient[BCODE], t.ient[ROT]
+    pos, tb = work.pos, work.tb[0]
+    gu1 = g ** (u - 1)
+    code = bcode[_pick(tb, pos[TOFF, n_last], pos[LO, n_last], pos[HI, n_last], state)]
+    for j in range(u - 1, -1, -1):  # fixed points among these agree: _keep_fixed saw to it
+        out[r, n_last + j] = code % g
+        code //= g
+    for n in range(n_last - 1, c0 - 1, -1):
+        need = 0
+        for j in range(n + 1, n + u):
+            need = need * g + out[r, j]
+        lo, hi = pos[LO, n], pos[HI, n]
+        a = _lower_bound(rot, lo, hi, need * g)
+        b = _lower_bound(rot, a, hi, need * g + g)
+        off = pos[TOFF, n] + a - lo
+        if a == b or _mass(tb, off, b - a) == 0.0:
+            a, b, off = lo, hi, pos[TOFF, n]  # the far side was a restart: any point
+        out[r, n] = bcode[_pick(tb, off, a, b, state)] // gu1
+
+
+class _Work(NamedTuple):
+    big_r: np.ndarray     # R, indexed by the code of u-1 points
+    pos: np.ndarray       # (3, positions) int64: LO, HI entries weighed, TOFF of their T in tb
+    inv: np.ndarray       # per position: 1 / sum T_n
+    tb: list              # the T buffer, in a list so it can grow in place
+    saved: np.ndarray     # rows above as they were, to restore after a failed redraw
+
+
+@njit(cache=True, nogil=True)
+def _new_work(g, u, w, depth):
+    npos = w - u + 1
+    return _Work(np.zeros(g ** (u - 1), np.float64), np.zeros((3, npos), np.int64),
+                 np.zeros(npos, np.float64), [np.empty(npos * 8, np.float64)],
+                 np.empty((depth, w), np.uint8))
+
+
+@njit(cache=True, nogil=True)
+def _run(out, r, n, n_first, c0, c1, lenient_at, t, work):
+    """_forward, growing the T buffer as often as it asks."""
+    while True:
+        status, n, repairs = _forward(out, r, n, n_first, c0, c1, lenient_at, t, work)
+        if status != GROW:
+            return status, n, repairs
+        pos = work.pos
+        work.tb[0] = _reserve(work.tb[0], pos[TOFF, n], pos[HI, n] - pos[TOFF, n])
+
+
+@njit(cache=True, nogil=True)
+def _redraw_segment(out, r, c0, c1, t, work, state):
+    """Redraw row r on columns [c0, c1) from its exact law given everything around it.
+
+    Returns ok; on a dead end the row is left untouched.
+    """
+    n_first = max(0, c0 - t.u + 1)
+    work.pos[TOFF, n_first] = 0
+    status, n, _ = _run(out, r, n_first, n_first, c0, c1, np.int64(-1), t, work)
+    if status == DEAD_END:
+        if n > n_first:
+            _clear(work.big_r, t.ient[TAIL], work.pos[LO, n - 1], work.pos[HI, n - 1])
+        return False
+    _backward(out, r, n, max(c0, n_first), t, work, state)
+    return True
+
+
+@njit(cache=True, nogil=True)
+def _copy_rows(src, s0, dst, d0, rows, c0, c1):
+    """dst[d0:d0+rows, c0:c1] = src[s0:s0+rows, c0:c1] (plain loops: see the kernels' note)."""
+    for i in range(rows):
+        for j in range(c0, c1):
+            dst[d0 + i, j] = src[s0 + i, j]
+
+
+@njit(cache=True, nogil=True)
+def _redraw_above(out, r, n, tries, t, seg, state):
+    """A dead end at position n of row r: redraw a segment of the rows above around n, wider
+    and deeper as tries fail. Returns the first column changed, or -1 if nothing changed."""
+    u = t.u
+    depth = min(1 + tries // 4, MAX_REDRAW_DEPTH, r - t.v + 1)
+    half = u * (2 + 2 * (tries // 4))
+    c0, c1 = max(0, n - half), min(out.shape[1], n + u + half)
+    _copy_rows(out, r - depth, seg.saved, 0, depth, c0, c1)
+    for ra in range(r - depth, r):
+        if not _redraw_segment(out, ra, c0, c1, t, seg, state):
+            _copy_rows(seg.saved, 0, out, r - depth, depth, c0, c1)
+            return -1
+    return c0
+
+
+@njit(cache=True, nogil=True)
+def _draw_row(out, r, t, work, seg, state, max_redraws):
+    """Draw row r given the v-1 rows above it. Returns (repairs, redraws).
+
+    A dead end at position n redraws the rows above around n and resumes the forward pass just
+    before the redrawn columns (the filter there is unchanged); after ``max_redraws`` failed
+    tries at the same place, that position backs off instead.
+    """
+    u, w = t.u, out.shape[1]
+    tail, pos = t.ient[TAIL], work.pos
+    repairs = redraws = tries = np.int64(0)
+    n, lenient_at, frontier = np.int64(0), np.int64(-1), np.int64(-1)
+    pos[TOFF, 0] = 0
+    while True:
+        status, n, rep = _run(out, r, n, 0, 0, w, lenient_at, t, work)   # literal: folded
+        repairs += rep
+        if status == OK:
+            break
+        if n > frontier:  # a dead end further along the row: a fresh budget of tries
+            frontier, tries = n, 0
+        if tries >= max_redraws or t.v == 1:
+            lenient_at = n  # resume at n (R still holds the filter of n - 1), backing off
+            continue
+        c0 = _redraw_above(out, r, n, tries, t, seg, state)
+        tries += 1
+        redraws += 1
+        resume = n if c0 < 0 else max(0, min(n, c0 - u + 1))
+        if n > 0:  # R back to the filter just before the resumed position
+            _clear(work.big_r, tail, pos[LO, n - 1], pos[HI, n - 1])
+        if resume > 0:
+            p = resume - 1
+            _accumulate(work.big_r, tail, work.tb[0], pos[TOFF, p], pos[LO, p], pos[HI, p],
+                        work.inv[p])
+        n = resume
+    _backward(out, r, w - u, 0, t, work, state)
+    return repairs, redraws
+
+
+@njit(cache=True, nogil=True)
+def _sample_rows(out, r0, r1, t, state, max_redraws):
+    """Rows r0..r1-1 (the first call, r0 = 0, also draws the first v rows)."""
+    w = out.shape[1]
+    work = _new_work(t.levels, t.u, w, np.int64(1))
+    seg = _new_work(t.levels, t.u, w, np.int64(MAX_REDRAW_DEPTH))
+    repairs = redraws = 0
+    start = r0
+    if r0 == 0:
+        repairs += _first_rows(out, t, state)
+        start = t.v
+    for r in range(start, r1):
+        rep, red = _draw_row(out, r, t, work, seg, state, max_redraws)
+        repairs += rep
+        redraws += red
+    return repairs, redraws

@@ -1,0 +1,3 @@
+"""paint"""
+
+from . import actions  # noqa: F401

@@ -1,0 +1,596 @@
+"""Actions: every change to a Document is a small immutable record of plain parameters.
+
+The action log is a texture's recipe (thesis §5.4, digest §10): files, the bank, undo and replay all
+walk it. A new kind of edit is one small ``@register``-ed dataclass whose fields are ``param(...)``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+import threading
+from collections import OrderedDict
+from dataclasses import dataclass
+from typing import Any, Callable, ClassVar
+
+import numpy as np
+
+from ..markov.dpj import MAX_LEVELS, grey_ramp
+from ..errors import FormatError, InputError, check_unicode
+
+MAX_CANVAS_SIDE = 16384
+MAX_CANVAS_PIXELS = 2**26
+MAX_SEED = 2**63 - 1
+MAX_POINTS = 1_000_000
+MAX_REFS = 64                  # a "refs" parameter without its own bound (a .texture's limit)
+_REF = re.compile(r"^[0-9a-f]{16}$")
+
+REGISTRY: dict[str, type["Action"]] = {}
+
+
+# -- parameters -----------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """What a form needs to edit one parameter: its name, kind, bounds, value and a hint."""
+
+    name: str
+    kind: str            # int, float, bool, str, ref, refs, seed, palette, points
+    minimum: float | None
+    maximum: float | None
+    optional: bool
+    value: Any
+    doc: str
+
+
+def param(kind: str, lo=None, hi=None, *, default=dataclasses.MISSING, optional=False, doc=""):
+    """A dataclass field with the metadata that drives validation, JSON and edit forms."""
+    if kind not in _KINDS:
+        raise ValueError(f"unknown parameter kind {kind!r}")
+    meta = {"kind": kind, "lo": lo, "hi": hi, "optional": optional, "doc": doc}
+    return dataclasses.field(default=default, metadata=meta)
+
+
+def _int(name, value, lo, hi):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{name} must be an integer, got {value!r}")
+    value = int(value)
+    if (lo is not None and value < lo) or (hi is not None and value > hi):
+        raise InputError(f"{name} = {value} is out of range {_range(lo, hi)}")
+    return value
+
+
+def _float(name, value, lo, hi):
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InputError(f"{name} must be a number, got {value!r}")
+    value = float(value)
+    if not np.isfinite(value) or (lo is not None and value < lo) or (hi is not None and value > hi):
+        raise InputError(f"{name} = {value} is out of range {_range(lo, hi)}")
+    return value
+
+
+def _bool(name, value, lo, hi):
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} must be true or false, got {value!r}")
+    return bool(value)
+
+
+def _str(name, value, lo, hi):
+    if not isinstance(value, str) or len(value) > (hi or 10_000):
+        raise InputError(f"{name} must be a text of at most {hi or 10_000} characters")
+    return check_unicode(value, name)
+
+
+def _ref(name, value, lo, hi):
+    if not isinstance(value, str) or not _REF.match(value):
+        raise InputError(f"{name} must be a DPJ reference (16 hex digits), got {value!r}")
+    return value
+
+
+def _refs(name, value, lo, hi):
+    """A tuple of distinct DPJ references (the DPJs a texture recipe uses), at most ``hi``."""
+    most = hi or MAX_REFS
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if not isinstance(value, (list, tuple)):
+        raise InputError(f"{name} must be a list of DPJ references (16 hex digits each), "
+                         f"got {_short(value)}")
+    if len(value) > most:
+        raise InputError(f"{name} names {len(value)} DPJs; at most {most} are allowed")
+    refs = tuple(_ref(f"each of {name}", v, None, None) for v in value)
+    if len(set(refs)) != len(refs):
+        raise InputError(f"{name} names a DPJ more than once")
+    return refs
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _palette(name, value, lo, hi):
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if not isinstance(value, (list, tuple)) or not 2 <= len(value) <= MAX_LEVELS:
+        raise InputError(f"{name} must list 2..{MAX_LEVELS} colours (r, g, b)")
+    colours = []
+    for colour in value:
+        if isinstance(colour, np.ndarray):
+            colour = colour.tolist()
+        if not isinstance(colour, (list, tuple)) or len(colour) != 3:
+            raise InputError(f"{name}: each colour must be three components (r, g, b)")
+        colours.append(tuple(_int(f"{name} component", c, 0, 255) for c in colour))
+    return tuple(colours)
+
+
+def _points(name, value, lo, hi):
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if not isinstance(value, (list, tuple)) or len(value) > MAX_POINTS:
+        raise InputError(f"{name} must be a list of at most {MAX_POINTS} (row, col) points")
+    points = []
+    for p in value:
+        if not isinstance(p, (list, tuple)) or len(p) != 2:
+            raise InputError(f"{name}: each point must be (row, col)")
+        points.append((_int(f"{name} row", p[0], lo, hi), _int(f"{name} col", p[1], lo, hi)))
+    return tuple(points)
+
+
+_KINDS: dict[str, Callable] = {
+    "int": _int, "seed": lambda n, v, lo, hi: _int(n, v, 0, MAX_SEED), "float": _float,
+    "bool": _bool, "str": _str, "ref": _ref, "refs": _refs, "palette": _palette,
+    "points": _points,
+}
+
+
+def _range(lo, hi) -> str:
+    return f"{'-inf' if lo is None else lo}..{'inf' if hi is None else hi}"
+
+
+def _check_field(f: dataclasses.Field, value):
+    meta = f.metadata
+    if value is None and meta["optional"]:
+        return None
+    return _KINDS[meta["kind"]](f.name, value, meta["lo"], meta["hi"])
+
+
+def _to_plain(value):
+    if isinstance(value, tuple):
+        return [_to_plain(v) for v in value]
+    return value
+
+
+# -- the base class and the registry --------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Action:
+    """An immutable edit. Subclasses set TYPE, VERSION, EFFECT and define apply() and label().
+
+    EFFECT tells the log optimiser what an action may touch: "reset" (the result does not depend
+    on the state before: NewCanvas, Synthesize), "levels" (changes only level values; shape and
+    palette stay), "palette" (changes only colours), "canvas" (changes the shape, not by content:
+    define canvas_shape), "other" (anything: the optimiser never moves or drops across it).
+    """
+
+    TYPE: ClassVar[str] = ""
+    VERSION: ClassVar[int] = 1
+    EFFECT: ClassVar[str] = "other"
+
+    def __post_init__(self):
+        for f in dataclasses.fields(self):
+            object.__setattr__(self, f.name, _check_field(f, getattr(self, f.name)))
+        self._validate()
+
+    def _validate(self) -> None:
+        """Checks across parameters (a subclass hook)."""
+
+    def prepare(self, doc, progress=None, cancel=None) -> None:
+        """Do the slow part ahead of apply() (in a worker thread, cancellable); optional."""
+
+    def apply(self, doc) -> None:
+        raise NotImplementedError
+
+    def label(self) -> str:
+        return self.TYPE
+
+    def canvas_shape(self, shape: tuple[int, int]) -> tuple[int, int]:
+        """The canvas shape after this action, from the shape before (for "canvas"/"reset")."""
+        return shape
+
+    def picked_region(self, levels) -> str | None:
+        """A digest of the region this step picks from the levels before it (None: it picks
+        none). An edit of an earlier step can change it: History then marks the step."""
+        return None
+
+    def covers(self, shape: tuple[int, int]) -> bool:
+        """True when this action overwrites every level of a canvas of this shape."""
+        return False
+
+    def to_json(self) -> dict:
+        params = {f.name: _to_plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
+        return {"type": self.TYPE, "version": self.VERSION, **params}
+
+    @classmethod
+    def upgrade(cls, version: int, params: dict) -> dict:
+        """Turn the parameters of an older VERSION into current ones (override when bumping)."""
+        raise FormatError(f"action {cls.TYPE!r} version {version} is not supported "
+                          f"(this program reads version {cls.VERSION})")
+
+
+def register(cls: type[Action]) -> type[Action]:
+    """Class decorator: make an Action type known to the JSON reader."""
+    if not cls.TYPE or cls.TYPE in REGISTRY:
+        raise ValueError(f"action type {cls.TYPE!r} is empty or already registered")
+    REGISTRY[cls.TYPE] = cls
+    return cls
+
+
+def registry() -> dict[str, type["Action"]]:
+    """Every Action type by name. Complete as soon as any engine module is imported: the
+    `texeditor` package imports every operator package (each registers its Actions)."""
+    return REGISTRY
+
+
+def action_from_json(obj) -> Action:
+    """Build an Action from its JSON object, checking type, version and every parameter."""
+    if not isinstance(obj, dict):
+        raise FormatError(f"an action must be a JSON object, got {type(obj).__name__}")
+    kind, version = obj.get("type"), obj.get("version")
+    known = REGISTRY
+    cls = known.get(kind) if isinstance(kind, str) else None
+    if cls is None:
+        raise FormatError(f"unknown action type {kind!r}: this program knows "
+                          f"{', '.join(sorted(known))}")
+    if isinstance(version, bool) or not isinstance(version, int):
+        raise FormatError(f"action {kind!r} has no integer version")
+    params = {k: v for k, v in obj.items() if k not in ("type", "version")}
+    if version != cls.VERSION:
+        if not 1 <= version < cls.VERSION:
+            raise FormatError(f"action {kind!r} version {version} is not supported "
+                              f"(this program reads version {cls.VERSION})")
+        params = cls.upgrade(version, params)
+    names = {f.name for f in dataclasses.fields(cls)}
+    unknown = sorted(set(params) - names)
+    if unknown:
+        raise FormatError(f"action {kind!r} has unexpected parameters {unknown}")
+    try:
+        return cls(**params)
+    except InputError as exc:
+        raise FormatError(f"action {kind!r}: {exc}") from None
+    except TypeError:
+        missing = sorted(f.name for f in dataclasses.fields(cls)
+                         if f.name not in params and f.default is dataclasses.MISSING)
+        raise FormatError(f"action {kind!r} lacks parameters {missing}") from None
+
+
+def action_params(action: Action) -> dict:
+    """The parameters as a dict of plain values (name → value), in declaration order."""
+    return {f.name: getattr(action, f.name) for f in dataclasses.fields(action)}
+
+
+def param_specs(action: Action | type[Action]) -> list[ParamSpec]:
+    """Each parameter's name, kind, bounds and current (or default) value: an edit form's rows."""
+    specs = []
+    for f in dataclasses.fields(action):
+        m = f.metadata
+        value = getattr(action, f.name) if isinstance(action, Action) else (
+            None if f.default is dataclasses.MISSING else f.default)
+        lo, hi = (0, MAX_SEED) if m["kind"] == "seed" else (m["lo"], m["hi"])
+        specs.append(ParamSpec(f.name, m["kind"], lo, hi, m["optional"], value, m["doc"]))
+    return specs
+
+
+def dpj_refs(actions) -> list[str]:
+    """The DPJ references a log uses (parameters of kind "ref" and "refs"), in order of first
+    use. A step that carries a texture recipe names every DPJ the recipe needs, at any depth
+    (`texture_actions.check_recipe`), so this list is complete without opening recipes."""
+    seen: dict[str, None] = {}
+    for a in actions:
+        for f in dataclasses.fields(a):
+            kind, value = f.metadata.get("kind"), getattr(a, f.name)
+            if kind == "ref" and value is not None:
+                seen.setdefault(value)
+            elif kind == "refs":
+                for ref in value or ():
+                    seen.setdefault(ref)
+    return list(seen)
+
+
+def replace_params(action: Action, **changes) -> Action:
+    """A copy with some parameters changed, validated like a new action (for "edit step k")."""
+    try:
+        return dataclasses.replace(action, **changes)
+    except TypeError as exc:
+        raise InputError(f"{action.TYPE}: {exc}") from None
+
+
+# -- helpers ---------------------------------------------------------------------------------------
+
+def _check_canvas(width: int, height: int) -> None:
+    if width * height > MAX_CANVAS_PIXELS:
+        raise InputError(f"a {width}x{height} canvas has more than {MAX_CANVAS_PIXELS} points")
+
+
+def clip_rect(top, left, height, width, shape) -> tuple[int, int, int, int]:
+    """A rectangle intersected with the canvas: (top, left, height, width), maybe empty."""
+    H, W = shape
+    t, l = min(max(top, 0), H), min(max(left, 0), W)
+    b, r = min(max(top + height, 0), H), min(max(left + width, 0), W)
+    return t, l, max(b - t, 0), max(r - l, 0)
+
+
+def _side(doc="") -> dataclasses.Field:
+    return param("int", 1, MAX_CANVAS_SIDE, doc=doc)
+
+
+def _coord(doc="") -> dataclasses.Field:
+    return param("int", -MAX_CANVAS_SIDE, MAX_CANVAS_SIDE, doc=doc)
+
+
+# -- the first actions -----------------------------------------------------------------------------
+
+@register
+@dataclass(frozen=True)
+class NewCanvas(Action):
+    """A blank canvas (every point level 0, the background) of G levels."""
+
+    TYPE: ClassVar[str] = "new_canvas"
+    EFFECT: ClassVar[str] = "reset"
+    width: int = _side("points across")
+    height: int = _side("points down")
+    levels: int = param("int", 2, MAX_LEVELS, doc="number of levels G")
+    palette: tuple | None = param("palette", default=None, optional=True,
+                                  doc="G colours (r, g, b); grey ramp when empty")
+
+    def _validate(self):
+        _check_canvas(self.width, self.height)
+        if self.palette is not None and len(self.palette) != self.levels:
+            raise InputError(f"the palette has {len(self.palette)} colours for G = {self.levels}")
+
+    def apply(self, doc) -> None:
+        palette = grey_ramp(self.levels) if self.palette is None else self.palette
+        doc._set_levels(np.zeros((self.height, self.width), np.uint8), palette, copy=False)
+
+    def canvas_shape(self, shape):
+        return (self.height, self.width)
+
+    def covers(self, shape):
+        return True
+
+    def label(self) -> str:
+        return f"New canvas {self.width}×{self.height}, G = {self.levels}"
+
+
+@register
+@dataclass(frozen=True)
+class Synthesize(Action):
+    """A new canvas drawn from a DPJ by the 2-D Markov process (thesis ch. 4); palette = DPJ's."""
+
+    TYPE: ClassVar[str] = "synthesize"
+    EFFECT: ClassVar[str] = "reset"
+    dpj: str = param("ref", doc="reference of a DPJ of the document")
+    width: int = _side("points across")
+    height: int = _side("points down")
+    seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
+
+    def _validate(self):
+        _check_canvas(self.width, self.height)
+
+    def render(self, dpj, progress=None, cancel=None) -> np.ndarray:
+        """Synthesise (slow; safe in a worker thread) and remember the result for apply()."""
+        self._check_dpj(dpj)
+        levels = _MEMO.get(self._key())
+        return levels if levels is not None else self._synthesize(dpj, progress, cancel)
+
+    def render_result(self, dpj, progress=None, cancel=None):
+        """Like render() but always synthesises and returns the SynthesisResult (repairs...)."""
+        from ..markov.synthesis import synthesize
+        self._check_dpj(dpj)
+        result = synthesize(dpj, (self.height, self.width), seed=self.seed,
+                            progress=progress, cancel=cancel)
+        result.levels.flags.writeable = False
+        _MEMO.put(self._key(), result.levels)
+        return result
+
+    def remember(self, levels) -> bool:
+        """Take ``levels`` as this step's result without synthesising (a stored picture the
+        caller has checked against a recorded hash). False, and nothing changed, when the result
+        is already at hand or ``levels`` is not an (H, W) uint8 matrix; ``forget()`` undoes it."""
+        levels = np.asarray(levels)
+        if (levels.dtype != np.uint8 or levels.shape != (self.height, self.width)
+                or _MEMO.get(self._key()) is not None):
+            return False
+        levels = levels.copy()
+        levels.flags.writeable = False
+        _MEMO.put(self._key(), levels)
+        return True
+
+    def forget(self) -> None:
+        """Drop the result kept for this step (the next apply() synthesises)."""
+        _MEMO.discard(self._key())
+
+    def _check_dpj(self, dpj) -> None:
+        """The memo is keyed by reference: only the DPJ the reference names may fill it."""
+        if not dpj.has_ref(self.dpj):
+            raise InputError(f"this DPJ is not {self.dpj}, the one the action refers to")
+
+    def prepare(self, doc, progress=None, cancel=None) -> None:
+        if _MEMO.get(self._key()) is None:
+            self._synthesize(self._dpj_of(doc), progress, cancel)
+
+    def apply(self, doc) -> None:
+        dpj = self._dpj_of(doc)
+        levels = _MEMO.get(self._key())
+        if levels is None:
+            levels = self._synthesize(dpj)
+        doc._set_levels(levels, dpj.palette)
+        doc._set_dpj(self.dpj)
+
+    def _dpj_of(self, doc):
+        dpj = doc.dpjs.get(self.dpj)
+        if dpj is None:
+            raise InputError(f"DPJ {self.dpj} is not part of this document: add it first")
+        self._check_dpj(dpj)
+        return dpj
+
+    def _synthesize(self, dpj, progress=None, cancel=None) -> np.ndarray:
+        from ..markov.synthesis import synthesize
+        levels = synthesize(dpj, (self.height, self.width), seed=self.seed,
+                            progress=progress, cancel=cancel).levels
+        levels.flags.writeable = False
+        _MEMO.put(self._key(), levels)
+        return levels
+
+    def _key(self):
+        return (self.dpj, self.width, self.height, self.seed)
+
+    def canvas_shape(self, shape):
+        return (self.height, self.width)
+
+    def covers(self, shape):
+        return True
+
+    def label(self) -> str:
+        return f"Synthesise {self.width}×{self.height}, seed {self.seed}"
+
+
+@register
+@dataclass(frozen=True)
+class SetPalette(Action):
+    """New colours for the G levels (the levels themselves do not change)."""
+
+    TYPE: ClassVar[str] = "set_palette"
+    EFFECT: ClassVar[str] = "palette"
+    palette: tuple = param("palette", doc="G colours (r, g, b)")
+
+    def apply(self, doc) -> None:
+        if len(self.palette) != doc.num_levels:
+            raise InputError(f"the palette has {len(self.palette)} colours but the document "
+                             f"has G = {doc.num_levels} levels")
+        doc._set_palette(self.palette)
+
+    def label(self) -> str:
+        return f"Set palette ({len(self.palette)} colours)"
+
+
+@register
+@dataclass(frozen=True)
+class SetLevels(Action):
+    """Fill a rectangle with one level (clipped to the canvas): the generic point edit."""
+
+    TYPE: ClassVar[str] = "set_levels"
+    EFFECT: ClassVar[str] = "levels"
+    top: int = _coord("first row")
+    left: int = _coord("first column")
+    height: int = _side("rows")
+    width: int = _side("columns")
+    value: int = param("int", 0, MAX_LEVELS - 1, doc="the level written")
+
+    def apply(self, doc) -> None:
+        t, l, h, w = clip_rect(self.top, self.left, self.height, self.width, doc.shape)
+        if h and w:
+            doc._fill(t, l, h, w, self.value)
+        elif self.value >= doc.num_levels:
+            doc._check_values(self.value)
+
+    def covers(self, shape):
+        return clip_rect(self.top, self.left, self.height, self.width, shape)[2:] == shape
+
+    def label(self) -> str:
+        if self.height == self.width == 1:
+            return f"Set ({self.top}, {self.left}) to {self.value}"
+        return f"Set {self.width}×{self.height} at ({self.top}, {self.left}) to {self.value}"
+
+
+@register
+@dataclass(frozen=True)
+class CropCanvas(Action):
+    """Keep a rectangle of the canvas (clipped to it); it must overlap the canvas."""
+
+    TYPE: ClassVar[str] = "crop_canvas"
+    EFFECT: ClassVar[str] = "canvas"
+    top: int = _coord("first row kept")
+    left: int = _coord("first column kept")
+    height: int = _side("rows kept")
+    width: int = _side("columns kept")
+
+    def apply(self, doc) -> None:
+        t, l, h, w = clip_rect(self.top, self.left, self.height, self.width, doc.shape)
+        if not (h and w):
+            H, W = doc.shape
+            raise InputError(f"the crop {self.width}x{self.height} at ({self.top}, {self.left}) "
+                             f"lies outside the {W}x{H} canvas")
+        doc._set_levels(doc._levels[t:t + h, l:l + w].copy(), copy=False)
+
+    def canvas_shape(self, shape):
+        return clip_rect(self.top, self.left, self.height, self.width, shape)[2:]
+
+    def label(self) -> str:
+        return f"Crop to {self.width}×{self.height} at ({self.top}, {self.left})"
+
+
+@register
+@dataclass(frozen=True)
+class ResizeCanvas(Action):
+    """Change the canvas size, anchored top-left; new points get the level ``fill``."""
+
+    TYPE: ClassVar[str] = "resize_canvas"
+    EFFECT: ClassVar[str] = "canvas"
+    height: int = _side("rows")
+    width: int = _side("columns")
+    fill: int = param("int", 0, MAX_LEVELS - 1, default=0, doc="level of the new points")
+
+    def _validate(self):
+        _check_canvas(self.width, self.height)
+
+    def apply(self, doc) -> None:
+        doc._check_values(self.fill)
+        new = np.full((self.height, self.width), self.fill, dtype=np.uint8)
+        h, w = min(self.height, doc.shape[0]), min(self.width, doc.shape[1])
+        new[:h, :w] = doc._levels[:h, :w]
+        doc._set_levels(new, copy=False)
+
+    def canvas_shape(self, shape):
+        return (self.height, self.width)
+
+    def label(self) -> str:
+        return f"Resize canvas to {self.width}×{self.height}"
+
+
+# -- the synthesis memo ----------------------------------------------------------------------------
+
+class _Memo:
+    """The last few syntheses (read-only arrays), so apply() right after render() is instant."""
+
+    def __init__(self, max_items: int = 4, max_bytes: int = 256 * 2**20):
+        self.max_items, self.max_bytes = max_items, max_bytes
+        self._items: OrderedDict = OrderedDict()
+        self._lock = threading.Lock()
+
+    def get(self, key):
+        with self._lock:
+            value = self._items.get(key)
+            if value is not None:
+                self._items.move_to_end(key)
+            return value
+
+    def put(self, key, value) -> None:
+        if value.nbytes > self.max_bytes:
+            return
+        with self._lock:
+            self._items[key] = value
+            self._items.move_to_end(key)
+            while (len(self._items) > self.max_items
+                   or sum(v.nbytes for v in self._items.values()) > self.max_bytes):
+                self._items.popitem(last=False)
+
+    def discard(self, key) -> None:
+        with self._lock:
+            self._items.pop(key, None)
+
+    def clear(self) -> None:
+        with self._lock:
+            self._items.clear()
+
+
+_MEMO = _Memo()

@@ -1,0 +1,317 @@
+"""The Document: the level matrix, its palette, the DPJs it was made from and the log that made it.
+
+It sits at the end of the data flow (synthesis and every edit arrive here as Actions) and at the
+start of display, files and the bank. Only Actions change it, through the ``_set_*``/``_write*``
+methods, which also record what they overwrite so History can undo a step at the cost of its size.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import struct
+
+import numpy as np
+
+from ..markov.dpj import DPJ, bytes_ref, check_palette, grey_ramp  # noqa: F401 (bytes_ref)
+from ..errors import InputError
+
+EMPTY_LEVELS = 2            # the palette of a document no action has touched yet
+REF_LENGTH = 16             # hex characters of a DPJ reference
+HASH_TAG = b"texeditor-levels-v1"
+
+
+def dpj_ref(dpj: DPJ) -> str:
+    """A DPJ's reference in logs and files: the first 16 hex digits of SHA-256 of its file bytes
+    (the bytes it was read from, or its encoding; computed once per DPJ)."""
+    return dpj.ref
+
+
+def result_hash(levels: np.ndarray, palette: np.ndarray) -> str:
+    """SHA-256 of a tag, (H, W, G) as little-endian uint32, the levels (C order), the palette."""
+    h, w = levels.shape
+    digest = hashlib.sha256(HASH_TAG)
+    digest.update(struct.pack("<3I", h, w, len(palette)))
+    digest.update(np.ascontiguousarray(levels, dtype=np.uint8).tobytes())
+    digest.update(np.ascontiguousarray(palette, dtype=np.uint8).tobytes())
+    return digest.hexdigest()
+
+
+class Document:
+    """A texture being made: levels (H, W) uint8 with 0 = background, a (G, 3) palette, its DPJs.
+
+    ``Document()`` is the empty 0×0 document every log starts from; ``Document.new(...)`` is the
+    usual blank canvas. ``.actions`` is the recipe: replaying it on ``Document()`` with the same
+    DPJs gives this document bit for bit.
+    """
+
+    def __init__(self):
+        self._levels = np.zeros((0, 0), dtype=np.uint8)
+        self._palette = grey_ramp(EMPTY_LEVELS)
+        self._palette.flags.writeable = False
+        self._dpj_ref: str | None = None
+        self.dpjs: dict[str, DPJ] = {}
+        self._log: list = []
+        self._recorder: list | None = None
+
+    @classmethod
+    def new(cls, width: int, height: int, levels: int, palette=None) -> "Document":
+        """A blank canvas (every point background), made by a logged NewCanvas action."""
+        from .actions import NewCanvas
+        doc = cls()
+        doc.apply(NewCanvas(width, height, levels, palette))
+        return doc
+
+    # -- read access ----------------------------------------------------------------------------
+    @property
+    def levels(self) -> np.ndarray:
+        """The level matrix as a read-only view (it follows later edits; copy to keep a state)."""
+        view = self._levels.view()
+        view.flags.writeable = False
+        return view
+
+    @property
+    def palette(self) -> np.ndarray:
+        return self._palette
+
+    @property
+    def num_levels(self) -> int:
+        return len(self._palette)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self._levels.shape
+
+    @property
+    def dpj(self) -> DPJ | None:
+        """The current DPJ: the one last added or synthesised from (None for a hand-made canvas)."""
+        return self.dpjs.get(self._dpj_ref) if self._dpj_ref else None
+
+    @property
+    def dpj_ref(self) -> str | None:
+        return self._dpj_ref
+
+    @property
+    def actions(self) -> tuple:
+        """The log that made this document, oldest first."""
+        return tuple(self._log)
+
+    @property
+    def nbytes(self) -> int:
+        return self._levels.nbytes + self._palette.nbytes
+
+    def result_hash(self) -> str:
+        return result_hash(self._levels, self._palette)
+
+    def __repr__(self) -> str:
+        h, w = self.shape
+        return f"<Document {w}x{h} G={self.num_levels} actions={len(self._log)}>"
+
+    # -- building -------------------------------------------------------------------------------
+    def add_dpj(self, dpj: DPJ) -> str:
+        """Register a DPJ so actions can refer to it; it becomes the current DPJ."""
+        if not isinstance(dpj, DPJ):
+            raise InputError("only a DPJ can be added to a document")
+        ref = dpj_ref(dpj)
+        self._add_dpj(dpj, ref)
+        return ref
+
+    def _add_dpj(self, dpj: DPJ, ref: str) -> None:
+        """Register under a known reference: the one a file stored it under, which names the
+        bytes it was read from (`DPJ.from_bytes` checked it; another machine's encoding of the
+        same arrays may differ). A reference that does not name the DPJ is refused: the
+        synthesis memo and every saved file trust a reference to name one content."""
+        if not isinstance(dpj, DPJ):
+            raise InputError("only a DPJ can be added to a document")
+        if not dpj.has_ref(ref):
+            raise InputError(f"DPJ reference {ref!r:.20} does not name this DPJ (its reference "
+                             f"is {dpj.ref})")
+        self.dpjs.setdefault(ref, dpj)
+        self._dpj_ref = ref
+
+    def apply(self, action) -> "Document":
+        """Apply an action and append it to the log (the logged way to change a document)."""
+        action.apply(self)
+        self._log.append(action)
+        return self
+
+    def copy(self) -> "Document":
+        """An independent copy (the DPJs, being immutable, are shared)."""
+        other = Document()
+        other._levels = self._levels.copy()
+        other._palette = self._palette
+        other._dpj_ref = self._dpj_ref
+        other.dpjs = dict(self.dpjs)
+        other._log = list(self._log)
+        return other
+
+    # -- the only mutators (called by Actions) --------------------------------------------------
+    def _set_levels(self, levels, palette=None, *, copy: bool = True) -> None:
+        """Replace the whole matrix (any new shape), and the palette with it when given.
+
+        ``copy=False`` hands over a fresh array the caller will not touch again.
+        """
+        levels = np.array(levels, dtype=np.uint8, copy=True) if copy else levels
+        if levels.ndim != 2 or levels.dtype != np.uint8:
+            raise InputError("a level matrix must be a 2-D uint8 array")
+        pal = self._palette if palette is None else check_palette(palette, len(palette))
+        if levels.size and int(levels.max()) >= len(pal):
+            raise InputError(f"the matrix uses level {int(levels.max())} but G = {len(pal)}")
+        self._record(_Matrix(self._levels))
+        if palette is not None:
+            self._set_palette(pal)
+        self._levels = np.ascontiguousarray(levels)
+
+    def _write(self, top: int, left: int, block) -> None:
+        """Write a block of levels at (top, left); the block must lie inside the canvas."""
+        block = np.asarray(block, dtype=np.uint8)
+        h, w = block.shape
+        H, W = self.shape
+        if top < 0 or left < 0 or top + h > H or left + w > W:
+            raise InputError(f"block {w}x{h} at ({top}, {left}) is outside the {W}x{H} canvas")
+        self._check_values(block)
+        region = (slice(top, top + h), slice(left, left + w))
+        self._record(_Patch(top, left, self._levels[region].copy()))
+        self._levels[region] = block
+
+    def _fill(self, top: int, left: int, height: int, width: int, value: int) -> None:
+        """Set a rectangle (already clipped to the canvas) to one level."""
+        self._check_values(np.uint8(value))
+        region = (slice(top, top + height), slice(left, left + width))
+        self._record(_Patch(top, left, self._levels[region].copy()))
+        self._levels[region] = value
+
+    def _write_where(self, mask, values) -> None:
+        """Set the points of an (H, W) bool mask to ``values`` (a level or an (H, W) array).
+
+        The undo record is the mask's bounding box, so a small stroke costs little.
+        """
+        mask = np.asarray(mask, dtype=bool)
+        if mask.shape != self.shape:
+            raise InputError(f"mask shape {mask.shape} differs from the canvas {self.shape}")
+        rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+        if not len(rows):
+            return
+        region = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+        values = np.asarray(values, dtype=np.uint8)
+        new = values if values.ndim == 0 else values[region][mask[region]]
+        self._check_values(new)
+        self._record(_Patch(int(rows[0]), int(cols[0]), self._levels[region].copy()))
+        self._levels[region][mask[region]] = new
+
+    def _set_palette(self, palette) -> None:
+        """Change the colours of the current G levels (G itself changes only with the matrix)."""
+        pal = check_palette(palette, len(palette))
+        self._record(_Palette(self._palette))
+        self._palette = pal
+
+    def _set_dpj(self, ref: str | None) -> None:
+        if ref is not None and ref not in self.dpjs:
+            raise InputError(f"DPJ {ref} is not part of this document: add it first")
+        self._record(_CurrentDPJ(self._dpj_ref))
+        self._dpj_ref = ref
+
+    def _check_values(self, values) -> None:
+        if np.size(values) and int(np.max(values)) >= self.num_levels:
+            raise InputError(f"level {int(np.max(values))} does not exist: G = {self.num_levels}, "
+                             f"levels are 0..{self.num_levels - 1}")
+
+    def _record(self, atom) -> None:
+        if self._recorder is not None:
+            self._recorder.append(atom)
+
+    # -- snapshots (History) -------------------------------------------------------------------
+    def _state(self) -> "State":
+        return State(self._levels.copy(), self._palette, self._dpj_ref)
+
+    def _restore(self, state: "State", *, copy: bool = True) -> None:
+        self._levels = state.levels.copy() if copy else state.levels
+        self._palette = state.palette
+        self._dpj_ref = state.dpj_ref
+
+
+class State:
+    """A saved document state (a History snapshot): levels copy, palette, current DPJ."""
+
+    __slots__ = ("levels", "palette", "dpj_ref")
+
+    def __init__(self, levels, palette, dpj_ref):
+        self.levels, self.palette, self.dpj_ref = levels, palette, dpj_ref
+
+    @property
+    def nbytes(self) -> int:
+        return self.levels.nbytes + self.palette.nbytes
+
+
+# -- undo atoms: each holds one old value and swaps it with the document's current one ----------
+# (``differs``: the old value is not the current one, so the step changed something).
+# A step's atoms undone in reverse order turn into its redo record, and redone in forward order
+# back into its undo record (napari's Labels history keeps (indices, old, new) the same way).
+
+class _Matrix:
+    __slots__ = ("levels",)
+
+    def __init__(self, levels):
+        self.levels = levels
+
+    def swap(self, doc: Document) -> None:
+        self.levels, doc._levels = doc._levels, self.levels
+
+    def differs(self, doc: Document) -> bool:
+        return not np.array_equal(self.levels, doc._levels)
+
+    @property
+    def nbytes(self) -> int:
+        return self.levels.nbytes
+
+
+class _Patch:
+    __slots__ = ("top", "left", "block")
+
+    def __init__(self, top, left, block):
+        self.top, self.left, self.block = top, left, block
+
+    def swap(self, doc: Document) -> None:
+        h, w = self.block.shape
+        region = (slice(self.top, self.top + h), slice(self.left, self.left + w))
+        current = doc._levels[region].copy()
+        doc._levels[region] = self.block
+        self.block = current
+
+    def differs(self, doc: Document) -> bool:
+        h, w = self.block.shape
+        return not np.array_equal(self.block, doc._levels[self.top:self.top + h,
+                                                          self.left:self.left + w])
+
+    @property
+    def nbytes(self) -> int:
+        return self.block.nbytes
+
+
+class _Palette:
+    __slots__ = ("palette",)
+
+    def __init__(self, palette):
+        self.palette = palette
+
+    def swap(self, doc: Document) -> None:
+        self.palette, doc._palette = doc._palette, self.palette
+
+    def differs(self, doc: Document) -> bool:
+        return not np.array_equal(self.palette, doc._palette)
+
+    nbytes = 48
+
+
+class _CurrentDPJ:
+    __slots__ = ("ref",)
+
+    def __init__(self, ref):
+        self.ref = ref
+
+    def swap(self, doc: Document) -> None:
+        self.ref, doc._dpj_ref = doc._dpj_ref, self.ref
+
+    def differs(self, doc: Document) -> bool:
+        return self.ref != doc._dpj_ref
+
+    nbytes = 16

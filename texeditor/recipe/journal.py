@@ -1,0 +1,221 @@
+"""Crash journals: every completed change of a document's log is appended, and flushed to disk,
+to a journal file of its own, so a crash loses at most the action that was being applied.
+
+It sits beside History: the GUI calls ``sync`` after every change, ``reset`` after a save and
+``discard`` when the window closes; on the next start ``orphans`` finds the journals of processes
+that died, and ``recover`` rebuilds their logs. One window, one file: a live journal is locked.
+
+A journal is JSON Lines. ``start`` (format, the document's file if any, time), then ``dpj`` records
+(a DPJ the log refers to, base64 of its `.dpj` bytes) and ``log`` records: keep the first ``keep``
+actions of the log as it was and append ``append`` (undo keeps n-1 and appends nothing; an edit of
+step k keeps k-1 and appends the rest). A line cut short by the crash is ignored.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+import os
+import time
+import uuid
+from dataclasses import dataclass
+from pathlib import Path
+
+from .actions import action_from_json
+from ..markov.dpj import DPJ
+from ..errors import FormatError, TexeditorError
+from ..fileio import load_json, read_limited
+from .texturefile import MAX_ACTIONS
+from ..userdata import data_dir
+
+try:
+    import fcntl
+except ImportError:          # not POSIX: journals still work, orphans are told by age
+    fcntl = None
+
+FORMAT = 1
+SUFFIX = ".journal"
+MAX_JOURNAL_BYTES = 256 * 2**20       # measured: recovery at the limit stays near 1 GiB
+MAX_START_TIME = 253402300799       # 9999-12-31 23:59:59 UTC: any later "time" is damage
+
+
+def journal_dir() -> Path:
+    return data_dir() / "journals"
+
+
+class Journal:
+    """The journal of one open document (one window)."""
+
+    def __init__(self, folder: Path | None = None):
+        self.folder = Path(folder) if folder is not None else journal_dir()
+        self.folder.mkdir(parents=True, exist_ok=True)
+        self.path = self.folder / f"{os.getpid()}-{uuid.uuid4().hex[:12]}{SUFFIX}"
+        self._file = open(self.path, "ab")
+        if fcntl is not None:     # held while this process lives: orphans() tells the dead
+            fcntl.flock(self._file.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        self._logged: tuple = ()
+        self._refs: set[str] = set()
+
+    def reset(self, actions, dpjs: dict, *, source=None) -> None:
+        """Start afresh from this log (a new or just-saved document): the old records go."""
+        self._file.seek(0)
+        self._file.truncate()
+        self._logged, self._refs = (), set()
+        self._write({"kind": "start", "format": FORMAT, "time": time.time(),
+                     "source": None if source is None else str(source)}, flush=False)
+        self.sync(actions, dpjs)
+
+    def sync(self, actions, dpjs: dict) -> None:
+        """Record how the log changed since the last call (nothing if it did not)."""
+        actions = tuple(actions)
+        if actions == self._logged:
+            return
+        keep = 0
+        for old, new in zip(self._logged, actions):
+            if old != new:
+                break
+            keep += 1
+        for ref, dpj in dpjs.items():
+            if ref not in self._refs:
+                self._write({"kind": "dpj", "ref": ref,
+                             "data": base64.b64encode(dpj.to_bytes()).decode("ascii")},
+                            flush=False)
+                self._refs.add(ref)
+        self._write({"kind": "log", "keep": keep,
+                     "append": [a.to_json() for a in actions[keep:]]})
+        self._logged = actions
+
+    def discard(self) -> None:
+        """The document was saved and closed, or dropped on purpose: nothing to recover."""
+        if not self._file.closed:
+            self._file.close()
+        self.path.unlink(missing_ok=True)
+
+    def _write(self, record: dict, *, flush: bool = True) -> None:
+        self._file.write(json.dumps(record, separators=(",", ":")).encode() + b"\n")
+        if flush:
+            self._file.flush()
+            os.fsync(self._file.fileno())
+
+
+@dataclass(frozen=True)
+class Recovered:
+    """What a dead process's journal holds: its log, the DPJs it needs, where it came from."""
+
+    path: Path
+    actions: tuple
+    dpjs: dict
+    source: str | None
+    started: float
+    changes: int          # changes of the log since the document was opened or saved
+
+
+def orphans(folder: Path | None = None) -> list[Path]:
+    """Journals left by processes that died (their lock is free), newest first."""
+    folder = Path(folder) if folder is not None else journal_dir()
+    if not folder.is_dir():
+        return []
+    found = [p for p in folder.glob(f"*{SUFFIX}") if not _alive(p)]
+    return sorted(found, key=_mtime, reverse=True)
+
+
+def _mtime(path: Path) -> float:
+    """When a journal last changed; a name that is no file (a dangling link) sorts last."""
+    try:
+        return path.lstat().st_mtime
+    except OSError:
+        return 0.0
+
+
+def _alive(path: Path) -> bool:
+    if not path.is_file():
+        return False         # a folder, a FIFO, a device or a dangling link: nobody's journal
+    if fcntl is None:
+        return time.time() - _mtime(path) < 5
+    try:
+        with open(path, "rb", opener=_nonblocking) as f:
+            try:
+                fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                return True
+            fcntl.flock(f.fileno(), fcntl.LOCK_UN)
+            return False
+    except FileNotFoundError:
+        return True      # gone meanwhile: not ours to recover
+    except OSError:
+        return False     # cannot be opened: recover() says why, and it is set aside
+
+
+def _nonblocking(path, flags):
+    return os.open(path, flags | getattr(os, "O_NONBLOCK", 0))
+
+
+def recover(path: Path) -> Recovered:
+    """Rebuild the log a journal describes, up to its last complete record.
+
+    Records are parsed and applied one at a time (a long session's journal holds millions of
+    small ones); the log may not grow past a .texture's MAX_ACTIONS, or it could never be saved.
+    """
+    path = Path(path)
+    data = read_limited(path, MAX_JOURNAL_BYTES, "journal")      # a regular file, bounded
+    lines = iter(io.BytesIO(data))     # one line at a time, no list of them all
+    start = _record(next(lines, b""))
+    if not isinstance(start, dict) or start.get("kind") != "start" or start.get("format") != FORMAT:
+        raise FormatError(f"{path}: not a texeditor journal")
+    actions, dpjs, logs = [], {}, 0
+    for line in lines:
+        record = _record(line)
+        try:
+            if record is None:
+                break        # the line the crash cut short (and anything after it)
+            _apply(record, actions, dpjs)
+        except (TexeditorError, KeyError, TypeError, ValueError, AttributeError,
+                ArithmeticError):
+            break            # keep what was complete before a damaged record
+        logs += record.get("kind") == "log"
+    source = start.get("source") if isinstance(start.get("source"), str) else None
+    return Recovered(path, tuple(actions), dpjs, source, _start_time(start.get("time")),
+                     max(0, logs - 1))
+
+
+def _record(line: bytes):
+    """One record, or None when the line is not one (cut short by the crash, or damaged)."""
+    try:
+        return load_json(line, "a journal record", limit=MAX_JOURNAL_BYTES, constants=True)
+    except FormatError:
+        return None
+
+
+def _start_time(value) -> float:
+    """The start record's time, or 0.0 when it is not a plausible time (10**400 does not even
+    convert to a float; NaN, infinities and years past 9999 cannot be shown as a date)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return 0.0
+    if isinstance(value, int) and not 0 <= value <= MAX_START_TIME:
+        return 0.0
+    value = float(value)
+    return value if 0.0 <= value <= MAX_START_TIME else 0.0     # False for NaN
+
+
+def _apply(record, actions: list, dpjs: dict) -> None:
+    kind = record["kind"] if isinstance(record, dict) else None
+    if kind == "dpj":
+        # the reference is the DPJ's name in the log (as in .texture files); its bytes must hash
+        # to it (DPJ.from_bytes checks), else the record is damaged and recovery stops here
+        ref = record["ref"]
+        if not isinstance(ref, str) or len(ref) > 64:
+            raise FormatError("a journal DPJ has no valid reference")
+        dpjs[ref] = DPJ.from_bytes(base64.b64decode(record["data"], validate=True),
+                                   f"journal DPJ {ref}", ref=ref)      # the bytes must be ref
+    elif kind == "log":
+        keep = record["keep"]
+        if isinstance(keep, bool) or not isinstance(keep, int) or not 0 <= keep <= len(actions):
+            raise FormatError("a journal record keeps more actions than there are")
+        if keep + len(record["append"]) > MAX_ACTIONS:
+            raise FormatError(f"a journal log of more than {MAX_ACTIONS} actions")
+        new = [action_from_json(obj) for obj in record["append"]]
+        del actions[keep:]
+        actions.extend(new)
+    else:
+        raise FormatError(f"unknown journal record {kind!r}")

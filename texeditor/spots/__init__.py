@@ -1,0 +1,3 @@
+"""spots"""
+
+from . import actions  # noqa: F401

@@ -1,0 +1,3 @@
+"""texture"""
+
+from . import actions  # noqa: F401

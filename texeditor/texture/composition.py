@@ -1,0 +1,215 @@
+"""Composition of textures (thesis §5.4.1): incrustation (a membership mask says which texture shows
+at each point) and mixing, T3 = not[(a op1 T1) op2 (b op3 T2)] op4 c.
+
+It sits after synthesis and before display: the Compose actions of `texture_actions` call these
+pure functions on level matrices; nothing here knows about documents, logs or files.
+
+Mixing is defined on the *grey scale* of each texture, so textures of different G mix sensibly:
+a level x of a G-level texture stands for x̂ = x / (G − 1) in [0, 1] (0 the background, 1 the top
+level); the weights a, b, c live on the same scale. The operators, for x, y in [0, 1]:
+
+=========  ====================================================================================
+and        bitwise AND of the level codes round(x·(G−1)) and round(y·(G−1)) — the raster
+           operations of a 1984 frame buffer; for G = 2 the truth table of logic
+or         bitwise OR of the codes, clipped to G − 1
+xor        bitwise XOR of the codes, clipped to G − 1
+min, max   the smaller, the larger
+add        x + y clipped to 1
+multiply   x · y (so "a multiply T1" takes a proportion a of T1: the thesis's proportions)
+replace    y where y > 0, else x: the right operand drawn over the left, its background clear
+=========  ====================================================================================
+
+``not`` is 1 − x (for G = 2^k it is the bitwise complement of the code). The result goes back to
+the target's G levels by rounding half up: level = floor(T3·(G−1) + 1/2). Codes (for the bitwise
+operators) are taken on the target's G. Because every input is one of at most 16 levels, the whole
+formula is evaluated once per pair of levels into a lookup table, then indexed: exact and fast.
+
+>>> import numpy as np
+>>> t1 = np.array([[0, 1], [0, 1]]); t2 = np.array([[0, 0], [1, 1]])
+>>> mix(t1, t2, levels=2, op2="xor")
+array([[0, 1],
+       [1, 0]], dtype=uint8)
+>>> incrust(np.array([[0, 1], [1, 0]]), [t1, t2])
+array([[0, 0],
+       [1, 1]], dtype=uint8)
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from ..errors import InputError
+
+OPS = ("and", "or", "xor", "min", "max", "add", "multiply", "replace")
+MAX_LEVELS = 16
+
+
+# -- levels on the grey scale ----------------------------------------------------------------------
+
+def to_scale(levels, num_levels: int) -> np.ndarray:
+    """Levels 0..G-1 as greys in [0, 1] (x / (G − 1))."""
+    return np.asarray(levels, dtype=np.float64) / (num_levels - 1)
+
+
+def from_scale(values, num_levels: int) -> np.ndarray:
+    """Greys in [0, 1] back to levels 0..G-1, rounding half up."""
+    return np.floor(np.clip(values, 0.0, 1.0) * (num_levels - 1) + 0.5 + 1e-9).astype(np.uint8)
+
+
+def convert_levels(levels, from_levels: int, to_levels: int) -> np.ndarray:
+    """A texture of G levels expressed in G' levels at the same place on the grey scale
+    (so a 4-level texture composed into an 8-level one keeps its greys)."""
+    levels = np.asarray(levels)
+    if from_levels == to_levels:
+        return levels.astype(np.uint8)
+    lut = from_scale(to_scale(np.arange(from_levels), from_levels), to_levels)
+    return lut[levels]
+
+
+def fit(levels, shape: tuple[int, int]) -> np.ndarray:
+    """A texture brought to ``shape``: repeated (tiled from the top-left) if smaller, cropped if
+    larger — textures are stationary, so a repeat is the natural way to cover more ground."""
+    levels = np.asarray(levels)
+    h, w = shape
+    if levels.shape == (h, w):
+        return levels
+    reps = (-(-h // levels.shape[0]), -(-w // levels.shape[1]))
+    return np.tile(levels, reps)[:h, :w]
+
+
+# -- the operators ---------------------------------------------------------------------------------
+
+def apply_op(op: str, x, y, num_levels: int) -> np.ndarray:
+    """``x op y`` on the grey scale of a G-level target (see the module's table)."""
+    x, y = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+    top = num_levels - 1
+    if op in ("and", "or", "xor"):
+        cx, cy = _codes(x, top), _codes(y, top)
+        bits = {"and": np.bitwise_and, "or": np.bitwise_or, "xor": np.bitwise_xor}[op](cx, cy)
+        return np.minimum(bits, top) / top
+    if op == "min":
+        return np.minimum(x, y)
+    if op == "max":
+        return np.maximum(x, y)
+    if op == "add":
+        return np.minimum(x + y, 1.0)
+    if op == "multiply":
+        return x * y
+    if op == "replace":
+        return np.where(y > 0, y, x)
+    raise InputError(f"unknown operator {op!r}: choose one of {', '.join(OPS)}")
+
+
+def _codes(values: np.ndarray, top: int) -> np.ndarray:
+    return np.floor(np.clip(values, 0.0, 1.0) * top + 0.5 + 1e-9).astype(np.int64)
+
+
+def check_op(op: str) -> str:
+    if op not in OPS:
+        raise InputError(f"unknown operator {op!r}: choose one of {', '.join(OPS)}")
+    return op
+
+
+def mix_table(levels1: int, levels2: int, levels: int, *, a: float = 1.0, op1: str = "multiply",
+              op2: str = "max", b: float = 1.0, op3: str = "multiply", negate: bool = False,
+              op4: str = "max", c: float = 0.0) -> np.ndarray:
+    """The (G1, G2) table of T3's level for each pair of levels (t1, t2)."""
+    for op in (op1, op2, op3, op4):
+        check_op(op)
+    for name, w in (("a", a), ("b", b), ("c", c)):
+        if not 0.0 <= w <= 1.0:
+            raise InputError(f"weight {name} = {w} must lie in 0..1 (a proportion of the grey "
+                             "scale: 0 the background, 1 the top level)")
+    t1 = to_scale(np.arange(levels1), levels1)[:, None]
+    t2 = to_scale(np.arange(levels2), levels2)[None, :]
+    inner = apply_op(op2, apply_op(op1, a, t1, levels), apply_op(op3, b, t2, levels), levels)
+    if negate:
+        inner = 1.0 - inner
+    inner = np.broadcast_to(inner, (levels1, levels2))
+    return from_scale(apply_op(op4, inner, c, levels), levels)
+
+
+def mix(t1, t2, *, levels: int, levels1: int | None = None, levels2: int | None = None,
+        **ops) -> np.ndarray:
+    """T3 = not[(a op1 T1) op2 (b op3 T2)] op4 c, point by point, as a G-level matrix.
+
+    ``levels1``/``levels2`` are the G of each source (default: the target's ``levels``); ``ops``
+    are a, op1, op2, b, op3, negate, op4, c of :func:`mix_table`. T1 and T2 must have one shape.
+    """
+    t1, t2 = np.asarray(t1), np.asarray(t2)
+    if t1.shape != t2.shape:
+        raise InputError(f"T1 {t1.shape} and T2 {t2.shape} must have the same shape")
+    g1, g2 = levels1 or levels, levels2 or levels
+    _check_levels(t1, g1, "T1")
+    _check_levels(t2, g2, "T2")
+    return mix_table(g1, g2, levels, **ops)[t1, t2]
+
+
+def incrust(membership, sources: Sequence) -> np.ndarray:
+    """Incrustation: at each point, the level of ``sources[membership]``.
+
+    A membership of 0..N−1 says which of N textures shows there; a boolean one picks
+    ``sources[1]`` where True, so the thesis's T3 = if bool then T1 else T2 is
+    ``incrust(bool, [T2, T1])``. All arrays have one shape.
+    """
+    membership = np.asarray(membership)
+    if membership.dtype == bool:
+        membership = membership.astype(np.uint8)
+    if membership.dtype.kind not in "ui" or membership.ndim != 2:
+        raise InputError("the membership must be a 2-D matrix of integers or booleans")
+    if not len(sources):
+        raise InputError("incrustation needs at least one texture")
+    stack = np.stack([np.asarray(s, dtype=np.uint8) for s in sources]) \
+        if all(np.shape(s) == membership.shape for s in sources) else None
+    if stack is None:
+        raise InputError(f"every texture must have the membership's shape {membership.shape}")
+    if membership.size and (membership.min() < 0 or membership.max() >= len(sources)):
+        raise InputError(f"the membership uses texture {int(membership.max())} but only "
+                         f"{len(sources)} are given (0..{len(sources) - 1})")
+    return np.take_along_axis(stack, membership[None].astype(np.intp), axis=0)[0]
+
+
+def parse_level_set(text: str, num_levels: int = MAX_LEVELS) -> frozenset[int]:
+    """"1,3-5" → {1, 3, 4, 5}: the levels of a mask texture that select a texture."""
+    chosen: set[int] = set()
+    for part in str(text).replace(" ", "").split(","):
+        if not part:
+            continue
+        lo, dash, hi = part.partition("-")
+        try:
+            lo_i, hi_i = int(lo), int(hi if dash else lo)
+        except ValueError:
+            raise InputError(f"levels {text!r}: write numbers and ranges like 1,3-5") from None
+        if not 0 <= lo_i <= hi_i < num_levels:
+            raise InputError(f"levels {text!r}: {part} is outside 0..{num_levels - 1}")
+        chosen.update(range(lo_i, hi_i + 1))
+    return frozenset(chosen)
+
+
+def membership_from_levels(levels, chosen) -> np.ndarray:
+    """True where the mask texture's level is one of ``chosen`` (a third texture's levels)."""
+    table = np.zeros(256, dtype=bool)
+    table[list(chosen)] = True
+    return table[np.asarray(levels, dtype=np.uint8)]
+
+
+def membership_from_points(points, shape: tuple[int, int]) -> np.ndarray:
+    """True at the listed (row, col) points (a painted mask, or a selection's points); points
+    outside the canvas are ignored, so a mask painted on a larger canvas still applies."""
+    mask = np.zeros(shape, dtype=bool)
+    if len(points):
+        p = np.asarray(points, dtype=np.int64).reshape(-1, 2)
+        keep = (p[:, 0] >= 0) & (p[:, 0] < shape[0]) & (p[:, 1] >= 0) & (p[:, 1] < shape[1])
+        mask[p[keep, 0], p[keep, 1]] = True
+    return mask
+
+
+def _check_levels(levels: np.ndarray, num_levels: int, name: str) -> None:
+    if not 2 <= num_levels <= MAX_LEVELS:
+        raise InputError(f"{name}: G = {num_levels} is outside 2..{MAX_LEVELS}")
+    if levels.dtype.kind not in "ui":
+        raise InputError(f"{name} must hold integer levels, got {levels.dtype}")
+    if levels.size and (levels.min() < 0 or levels.max() >= num_levels):
+        raise InputError(f"{name} holds levels outside 0..{num_levels - 1}")
