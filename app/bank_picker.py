@@ -14,7 +14,7 @@ from PySide6 import QtCore, QtWidgets
 
 from texeditor.bank.store import Bank
 from texeditor.errors import TexeditorError
-from texeditor.texture.actions import TextureSource, bank_source
+from texeditor.recipe.sources import TextureSource, bank_source
 
 from .bank_view import IdRole, ThumbnailGrid
 

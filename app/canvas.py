@@ -163,6 +163,23 @@ class PixelGrid(pg.GraphicsObject):
         painter.drawLines(lines)
 
 
+def _write_qimage(qimage: QtGui.QImage, row: int, col: int, patch: np.ndarray) -> bool:
+    """Write ``patch`` (levels for an indexed picture, RGB for a mip) into the picture's own
+    pixels at (row, col); False for a format this does not know."""
+    fmt = qimage.format()
+    depth = {QtGui.QImage.Format.Format_Indexed8: 1, QtGui.QImage.Format.Format_RGB888: 3}.get(fmt)
+    if depth is None or (patch.ndim == 3) != (depth == 3):
+        return False
+    h, w = patch.shape[:2]
+    if row + h > qimage.height() or col + w > qimage.width():
+        return False
+    stride = qimage.bytesPerLine()
+    pixels = np.frombuffer(qimage.bits(), np.uint8, count=qimage.sizeInBytes())
+    rows = pixels.reshape(qimage.height(), stride)[row:row + h, col * depth:(col + w) * depth]
+    rows[...] = patch.reshape(h, w * depth)
+    return True
+
+
 class CanvasView(pg.GraphicsView):
     """The central widget. ``hovered`` carries (x, y, level) under the cursor, or None outside."""
 
@@ -211,6 +228,43 @@ class CanvasView(pg.GraphicsView):
         if new_shape:
             self.fit()
         self._show_level()
+
+    def update_box(self, levels: np.ndarray, box) -> bool:
+        """Redraw only ``box`` (top, left, height, width) of a matrix of the shape shown, through
+        the palette shown: the cells (or their mip) in that box are written into the picture on
+        screen, nothing else is uploaded. False (nothing done) when a full ``set_image`` is
+        needed: another shape, no picture yet, or a picture format this does not patch."""
+        if (self._levels is None or levels.shape != self._levels.shape or box is None
+                or self._shown_level is None or self.image.qimage is None
+                or self.image.image is None):
+            return False
+        top, left, h, w = (int(v) for v in box)
+        if h <= 0 or w <= 0:
+            return True
+        k = self._shown_level
+        f = 1 << k
+        r0, c0 = top >> k, left >> k
+        r1, c1 = (top + h - 1) // f + 1, (left + w - 1) // f + 1
+        if k == 0:
+            patch = levels[r0:r1, c0:c1]
+        else:
+            patch = box_average(np.ascontiguousarray(levels[r0 * f:r1 * f, c0 * f:c1 * f]),
+                                self._lut, k)
+        if not _write_qimage(self.image.qimage, r0, c0, patch):
+            return False
+        self._levels = levels
+        shown = self.image.image
+        if k == 0 and shown is not levels:
+            self.image.image = levels          # a later re-render (a new palette) reads these
+        elif k:
+            shown = self._mips[k] = shown if shown.flags.writeable else shown.copy()
+            shown[r0:r1, c0:c1] = patch
+            self.image.image = shown
+        for other in [j for j in self._mips if j != k]:
+            del self._mips[other]
+        self.image.update(QtCore.QRectF(c0 * f, r0 * f, (c1 - c0) * f, (r1 - r0) * f))
+        self.echo.update()
+        return True
 
     def set_palette(self, palette) -> None:
         """Recolour without touching the matrix (used by the palette dock's live preview)."""

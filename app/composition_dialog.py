@@ -18,7 +18,8 @@ from PySide6 import QtCore, QtGui, QtWidgets
 from texeditor.texture import composition
 from texeditor.errors import TexeditorError
 from texeditor.recipe.actions import dpj_refs
-from texeditor.texture.actions import Incrust, Mix, check_recipe, recipe_of, synthesis_recipe
+from texeditor.texture.actions import Incrust, Mix
+from texeditor.recipe.sources import check_recipe, recipe_of, synthesis_recipe
 
 from .bank_picker import choose_bank_entry, load_bank_source
 from .images import qimage_from_rgb
@@ -461,7 +462,7 @@ class CompositionDialog(QtWidgets.QDialog):
         super().showEvent(ev)
         QtCore.QTimer.singleShot(0, self._document_changed)   # catch up with the document
 
-    def _document_changed(self) -> None:
+    def _document_changed(self, change=None) -> None:
         if self.main_window.history is not self._history or not self.isVisible():
             return
         self.source.reload()
@@ -495,7 +496,7 @@ class CompositionDialog(QtWidgets.QDialog):
     def _compose(self, action) -> None:
         scratch = self.main_window.document.copy()
         try:
-            action.apply(scratch)
+            scratch.apply(action)
         except TexeditorError as exc:
             self.status.setText(str(exc))
             self.apply_button.setEnabled(False)

@@ -16,7 +16,8 @@ from PySide6 import QtCore, QtWidgets
 from texeditor.markov import doubling
 from texeditor.errors import TexeditorError
 from texeditor.markov.levels import load_image
-from texeditor.texture.actions import DoubleLevels, store_dpj
+from texeditor.texture.actions import DoubleLevels
+from texeditor.recipe.sources import store_dpj
 
 from . import resources
 from .acquire_dialog import IMAGE_FILTER, QUANTISERS

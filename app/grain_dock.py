@@ -354,7 +354,7 @@ class GrainDensityDock(QtWidgets.QDockWidget):
             return doc.levels, doc.palette
         key = (id(history), tuple(history.actions[:i]))
         if key != self._base_key:
-            from texeditor.recipe.history import replay
+            from texeditor.recipe.replay import replay
             doc = replay(history.actions[:i], history.document.dpjs)
             self._base_key, self._base = key, (doc.levels.copy(), doc.palette)
         return self._base

@@ -14,7 +14,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 from texeditor import warmup
 from texeditor.recipe.actions import SetPalette, Synthesize
 from texeditor.errors import TexeditorError
-from texeditor.recipe.history import History
+from texeditor.recipe.history import EVERYTHING, History
 
 from . import dpj_editor, resources
 from .acquire_dialog import AcquireDialog
@@ -295,22 +295,32 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.mark_clean()
         self._history_changed()
 
-    def _history_changed(self) -> None:
+    def _history_changed(self, change=None) -> None:
+        """Show what a History change (a `Change`; None: everything) changed, and only that:
+        the canvas redraws the box a step touched, each dock refreshes on the kinds it shows."""
+        what = EVERYTHING if change is None else change.what
         doc = self.history.document
-        if doc.levels.size:
-            self.canvas.set_image(doc.levels, doc.palette)
-        else:
-            self.canvas.image.clear()
-        self.palette_dock.set_palette(doc.palette)
-        self.history_dock.refresh()
-        self.synthesis_dock.refresh(self.history)
-        self.density_dock.refresh()
+        if "levels" in what or "palette" in what:
+            self._show_document(doc, change)
+        if "palette" in what:
+            self.palette_dock.set_palette(doc.palette)
+        if what & {"log", "dpj"}:
+            self.history_dock.refresh()
+            self.synthesis_dock.refresh(self.history)
+            self.density_dock.refresh()
         self.act_undo.setEnabled(self.can_undo())
         self.act_redo.setEnabled(self.history.can_redo)
         moved = len(self.history.retargeted)
         self.retargeted_label.setText(f"⚠ {moved} step(s) re-targeted" if moved else "")
         self._update_title()
         self.journal_sync()
+
+    def _show_document(self, doc, change) -> None:
+        if not doc.levels.size:
+            self.canvas.image.clear()
+        elif (change is None or "palette" in change.what or change.box is None
+              or not self.canvas.update_box(doc.levels, change.box)):
+            self.canvas.set_image(doc.levels, doc.palette)
 
     # -- crash journal ------------------------------------------------------------------------------
     def journal_sync(self, *, reset: bool = False) -> None:
@@ -338,15 +348,17 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             self._journal.discard()
         self._journal = None
 
-    def submit(self, action) -> bool:
+    def submit(self, action, prepared=None) -> bool:
         """Apply an Action; a refused one is explained in a dialog and changes nothing. One that
-        would change nothing (a fill with the region's own level) adds no step, and says so."""
+        would change nothing (a fill with the region's own level) adds no step, and says so.
+        ``prepared``: the step's slow part, done in the worker (a synthesis's levels)."""
         if self.edits_locked():
             return False
-        if warmup.pending() and warmup.needs_kernels(action, self.history.document):
+        if (prepared is None and warmup.pending()
+                and warmup.needs_kernels(action, self.history.document)):
             return self._after_warm_up(action)
         try:
-            added = self.history.apply(action, if_changed=True)
+            added = self.history.apply(action, if_changed=True, prepared=prepared)
         except TexeditorError as exc:
             self.show_error("This change cannot be made", exc)
             return False
@@ -452,8 +464,8 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
     def _synthesis_done(self, history, action, result, start) -> None:
         if history is not self.history:
             return       # another document was opened meanwhile
-        _levels, repairs = result
-        if not self.submit(action):
+        levels, repairs = result
+        if not self.submit(action, prepared=levels):
             return
         seconds = time.perf_counter() - start
         self.repairs_label.setText(f"repairs {repairs:,}")

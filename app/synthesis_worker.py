@@ -132,9 +132,7 @@ class TaskRunner(QtCore.QObject):
 
 
 def render_synthesis(action, dpj, progress=None, cancel=None) -> tuple:
-    """Synthesise for a Synthesize action in the worker: (levels, repairs).
-
-    The engine keeps the result for the action's ``apply()`` on the GUI thread, which then costs
-    nothing."""
+    """Synthesise for a Synthesize action in the worker: (levels, repairs). The GUI thread
+    then applies these very levels (``History.apply(action, prepared=levels)``)."""
     result = action.render_result(dpj, progress=progress, cancel=cancel)
     return result.levels, result.repairs

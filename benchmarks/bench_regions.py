@@ -42,19 +42,16 @@ def timed(fn, points, repeat: int = 3) -> list[float]:
 
 def document_of(levels: np.ndarray, g: int) -> Document:
     doc = Document.new(levels.shape[1], levels.shape[0], g)
-    doc._set_levels(levels)
+    with doc.step():
+        doc.set_levels(levels)
     return doc
 
 
 def action_timer(doc: Document, make):
     """Time apply() of an Action with undo recording on, then swap the record back (undo)."""
     def run(p):
-        atoms: list = []
-        doc._recorder = atoms
-        try:
+        with doc.step(record=[]) as atoms:
             make(p).apply(doc)
-        finally:
-            doc._recorder = None
         for atom in reversed(atoms):
             atom.swap(doc)
     return run

@@ -15,7 +15,8 @@ from texeditor.recipe.actions import (_MEMO, CropCanvas, NewCanvas, ResizeCanvas
                                Synthesize)
 from texeditor.recipe.document import dpj_ref
 from texeditor.markov.dpj import DPJ
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 from texeditor.recipe.logopt import optimize
 
 SIDE = 512

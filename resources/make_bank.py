@@ -140,7 +140,7 @@ def main() -> None:
         check = History.from_log(shorter, doc.dpjs)
         assert check.document.result_hash() == doc.result_hash(), stem
         if doc.dpj is not None:      # the current DPJ travels with the file
-            check.document._add_dpj(doc.dpj, doc.dpj_ref)
+            check.document.add_dpj(doc.dpj, doc.dpj_ref)
         name = f"{k:02d}-{stem}.texture"
         save_texture(folder / name, check, tags=tags, description=description)
         print(f"{name}: {len(shorter)} actions")

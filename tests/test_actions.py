@@ -7,10 +7,10 @@ import pytest
 
 from test_history_support import REFS, TINY, TINY_DPJS
 from texeditor.markov import synthesis
-from texeditor.recipe.actions import (_MEMO, REGISTRY, CropCanvas, NewCanvas, ResizeCanvas, SetLevels,
-                               SetPalette, Synthesize, action_from_json, action_params,
-                               param_specs, register, replace_params)
+from texeditor.recipe.actions import (REGISTRY, CropCanvas, NewCanvas, ResizeCanvas, SetLevels, SetPalette, Synthesize, action_params, param_specs, register, replace_params)
+from texeditor.recipe.codec import action_from_json
 from texeditor.recipe.document import Document
+from texeditor.recipe.history import History
 from texeditor.errors import Cancelled, FormatError, InputError
 
 EXAMPLES = [
@@ -138,50 +138,43 @@ def test_synthesize_uses_the_dpj_palette_and_sets_the_current_dpj():
     assert np.array_equal(doc.levels, expected)
 
 
-def test_apply_right_after_render_does_not_synthesise_again(monkeypatch):
-    _MEMO.clear()
+def test_apply_takes_the_result_prepared_elsewhere_as_it_is(monkeypatch):
+    """The worker's synthesis is what gets applied: no memo between the thread and the GUI."""
     action = Synthesize(REFS[0], 9, 8, 11)
-    levels = action.render(TINY[REFS[0]])
+    levels = action.render_result(TINY[REFS[0]]).levels
     monkeypatch.setattr(synthesis, "synthesize", lambda *a, **k: pytest.fail("synthesised"))
-    doc = Document()
-    doc._add_dpj(TINY[REFS[0]], REFS[0])
-    action.apply(doc)
-    assert np.array_equal(doc.levels, levels)
+    history = History()
+    history.add_dpj(TINY[REFS[0]])
+    history.apply(action, prepared=levels)
+    assert np.array_equal(history.document.levels, levels)
+    assert history.document.dpj_ref == REFS[0]
+    with pytest.raises(InputError, match="must be a 9x8 uint8"):
+        History(history.document.copy()).apply(action, prepared=levels[:, :5])
 
 
-def test_apply_without_the_memo_synthesises_and_without_the_dpj_refuses():
-    _MEMO.clear()
+def test_apply_without_a_prepared_result_synthesises_and_without_the_dpj_refuses():
     doc = Document()
-    doc._add_dpj(TINY[REFS[0]], REFS[0])
-    Synthesize(REFS[0], 6, 6, 1).apply(doc)
+    doc.add_dpj(TINY[REFS[0]], REFS[0])
+    doc.apply(Synthesize(REFS[0], 6, 6, 1))
     assert doc.shape == (6, 6)
+    assert np.array_equal(doc.levels, synthesis.synthesize(TINY[REFS[0]], (6, 6), seed=1).levels)
     with pytest.raises(InputError, match="not part of this document"):
-        Synthesize(REFS[1], 6, 6, 1).apply(Document())
+        Document().apply(Synthesize(REFS[1], 6, 6, 1))
 
 
-def test_render_checks_the_dpj_and_passes_progress_and_cancel():
-    _MEMO.clear()
+def test_render_result_checks_the_dpj_and_passes_progress_and_cancel():
     action = Synthesize(REFS[0], 40, 40, 5)
     with pytest.raises(InputError, match="not .* the one"):
-        action.render(TINY[REFS[1]])
+        action.render_result(TINY[REFS[1]])
     with pytest.raises(Cancelled):
-        action.render(TINY[REFS[0]], cancel=lambda: True)
+        action.render_result(TINY[REFS[0]], cancel=lambda: True)
     seen = []
-    action.render(TINY[REFS[0]], progress=seen.append)
+    action.render_result(TINY[REFS[0]], progress=seen.append)
     assert seen and seen[-1] == 1.0
 
 
-def test_memo_is_bounded():
-    _MEMO.clear()
-    for seed in range(10):
-        Synthesize(REFS[0], 4, 4, seed).render(TINY[REFS[0]])
-    assert len(_MEMO._items) <= _MEMO.max_items
-
-
-def test_render_result_gives_the_repair_count_and_feeds_apply(monkeypatch):
-    _MEMO.clear()
+def test_render_result_gives_the_repair_count():
     action = Synthesize(REFS[1], 10, 6, 2)
     result = action.render_result(TINY[REFS[1]])
     assert result.repairs >= 0 and result.levels.shape == (6, 10)
-    monkeypatch.setattr(synthesis, "synthesize", lambda *a, **k: pytest.fail("synthesised"))
-    assert action.render(TINY[REFS[1]]) is result.levels
+

@@ -28,6 +28,7 @@ from texeditor.markov import doubling
 from texeditor.bank.store import Bank, BankError
 from texeditor.markov.levels import load_image
 from texeditor.resources import ROOT as RESOURCES
+from texeditor.recipe.codec import log_text
 from texeditor.recipe.document import dpj_ref
 from texeditor.errors import FormatError, InputError, ReplayError
 from texeditor.recipe.history import History
@@ -545,7 +546,7 @@ def test_migration_from_version_1_keeps_the_entries(tmp_path):
                  "modified) VALUES (?, 32, 32, 2, ?, ?, ?, ?, ?, ?, ?, ?, 1.0, 1.0)",
                  ("Old stripes", len(record.actions), record.sha256, a.contrast, a.granularity,
                   a.density, a.directivity, a.orientation, a.regularity))
-    conn.execute("INSERT INTO logs VALUES (1, ?)", (bk._log_json(record.actions),))
+    conn.execute("INSERT INTO logs VALUES (1, ?)", (log_text(record.actions),))
     conn.execute("INSERT INTO thumbnails VALUES (1, ?)", (record.thumbnail,))
     conn.execute("INSERT INTO tags VALUES (1, 'old')")
     conn.close()
@@ -619,7 +620,7 @@ def test_a_forged_dpj_reference_cannot_replace_a_stored_dpj(bank):
     bank.add(synthesised(1), "genuine")
     history = History()
     with pytest.raises(InputError, match="does not name this DPJ"):
-        history.document._add_dpj(TINY_DPJS[1], REFS[0])   # TINY_DPJS[1] posing as REFS[0]
+        history.document.add_dpj(TINY_DPJS[1], REFS[0])   # TINY_DPJS[1] posing as REFS[0]
     history.document.dpjs[REFS[0]] = TINY_DPJS[1]          # forged behind the document's back
     history.document._dpj_ref = REFS[0]
     history.apply(NewCanvas(4, 4, 3))

@@ -12,7 +12,8 @@ import pytest
 from texeditor.bank import store as bk
 from texeditor import warmup
 from texeditor.markov import synthesis
-from texeditor.recipe.actions import _MEMO, SetLevels, SetPalette, Synthesize
+from texeditor.recipe.actions import SetLevels, SetPalette, Synthesize
+from texeditor.recipe.codec import log_text
 from texeditor.bank.store import Bank, picture_bytes, read_picture, write_picture
 from texeditor.markov.dpj import DPJ
 from texeditor.recipe.history import History
@@ -32,9 +33,7 @@ def no_synthesis(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("a synthesis ran")
     monkeypatch.setattr(synthesis, "synthesize", refuse)
-    _MEMO.clear()
     yield
-    _MEMO.clear()
 
 
 @pytest.fixture
@@ -96,10 +95,8 @@ def test_a_forged_picture_is_refused_and_the_entry_replayed(builtin_bank, tmp_pa
     levels, palette = good[0].copy(), good[1]
     levels[5, 7] = (levels[5, 7] + 1) % entry.levels           # one point changed
     forge(bank.pictures / f"{entry.sha256}.npz", levels, palette)
-    _MEMO.clear()
     assert bank.stored_picture(entry) is None
     assert bank.open_stored(entry.id) is None
-    assert _MEMO.get(bank.recipe(entry.id).actions[0]._key()) is None    # nothing left behind
     assert bank.open(entry.id).document.result_hash() == entry.sha256     # replayed instead
     bank.close()
 
@@ -164,7 +161,6 @@ def test_open_stored_only_stands_for_a_synthesis(tmp_path):
         ids = [bank.add(h, name) for h, name in ((edited, "edited"), (coloured, "coloured"))]
         for h in (edited, coloured):
             write_picture(pictures, h.document.levels, h.document.palette)
-        _MEMO.clear()
         assert bank.open_stored(ids[0]) is None
         history = bank.open_stored(ids[1])
         assert history is not None and history.document.result_hash() == coloured.document.result_hash()
@@ -180,12 +176,10 @@ def test_a_log_that_does_not_give_the_picture_leaves_no_result_behind(tmp_path):
         h.apply(SetPalette(((10, 20, 30), (200, 100, 0))))
         entry_id = bank.add(h, "coloured")
         write_picture(pictures, h.document.levels, h.document.palette)
-        damaged = bk._log_json([h.actions[0], SetPalette(((0, 0, 0), (1, 1, 1)))])
+        damaged = log_text([h.actions[0], SetPalette(((0, 0, 0), (1, 1, 1)))])
         with bank._write() as conn:
             conn.execute("UPDATE logs SET actions = ? WHERE entry = ?", (damaged, entry_id))
-        _MEMO.clear()
         assert bank.open_stored(entry_id) is None
-        assert _MEMO.get(h.actions[0]._key()) is None
 
 
 def test_confirm_stored_finds_a_picture_its_recipe_does_not_give(tmp_path, monkeypatch):
@@ -238,10 +232,7 @@ def test_which_steps_need_the_kernels():
     from texeditor.texture.actions import RenderGrains
     doc = _synth(7).document
     ref = doc.dpj_ref
-    _MEMO.clear()
-    assert warmup.needs_kernels(Synthesize(ref, 20, 16, 7), doc)           # not at hand
-    Synthesize(ref, 20, 16, 7).render(doc.dpj)
-    assert not warmup.needs_kernels(Synthesize(ref, 20, 16, 7), doc)       # at hand
+    assert warmup.needs_kernels(Synthesize(ref, 20, 16, 7), doc)
     assert not warmup.needs_kernels(SetLevels(0, 0, 2, 2, 1), doc)
     assert not warmup.needs_kernels(SetPalette(((0, 0, 0), (9, 9, 9))), Document())
     assert warmup.needs_kernels(RenderGrains(), doc)

@@ -8,15 +8,17 @@ import numpy as np
 import pytest
 
 from test_history_support import REFS, TINY, TINY_DPJS
-from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize, action_from_json
+from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize
+from texeditor.recipe.codec import action_from_json
 from texeditor.bank.store import Bank, BankError
 from texeditor.texture.composition import convert_levels, fit
 from texeditor.errors import FormatError, InputError, ReplayError
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 from texeditor.spots.actions import DeleteSpot, PlaceSpot, ScatterSpots, spot_ref
 from texeditor.spots.envelope import Envelope
-from texeditor.texture.actions import (Incrust, Mix, bank_source, recipe_of, render_recipe,
-                                       store_dpj, synthesis_recipe)
+from texeditor.texture.actions import Incrust, Mix
+from texeditor.recipe.sources import (bank_source, recipe_of, render_recipe, store_dpj, synthesis_recipe)
 from texeditor.recipe.texturefile import load_texture, save_texture
 
 DISC = Envelope.ellipse(12, 12).dumps()

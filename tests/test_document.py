@@ -61,12 +61,11 @@ def test_add_dpj_reference_is_the_sha256_prefix_of_its_file_bytes():
 
 def test_writes_record_only_their_footprint():
     doc = Document.new(100, 100, 4)
-    doc._recorder = atoms = []
-    doc._fill(10, 10, 2, 3, 1)
     mask = np.zeros((100, 100), bool)
     mask[50, 60] = mask[52, 61] = True
-    doc._write_where(mask, 3)
-    doc._recorder = None
+    with doc.step(record=[]) as atoms:
+        doc.fill(10, 10, 2, 3, 1)
+        doc.write_where(mask, 3)
     assert sum(a.nbytes for a in atoms) == 6 + 6           # 2×3 and the mask's 3×2 box
     assert doc.levels[50, 60] == doc.levels[52, 61] == 3 and doc.levels[51, 60] == 0
     for atom in reversed(atoms):
@@ -76,9 +75,27 @@ def test_writes_record_only_their_footprint():
 
 def test_mutators_refuse_levels_beyond_g():
     doc = Document.new(3, 3, 2)
-    with pytest.raises(InputError, match="level 2"):
-        doc._write(0, 0, np.full((2, 2), 2))
-    with pytest.raises(InputError, match="outside"):
-        doc._write(2, 2, np.zeros((2, 2)))
-    with pytest.raises(InputError, match="uses level 5"):
-        doc._set_levels(np.full((2, 2), 5, np.uint8))
+    with doc.step():
+        with pytest.raises(InputError, match="level 2"):
+            doc.write(0, 0, np.full((2, 2), 2))
+        with pytest.raises(InputError, match="outside"):
+            doc.write(2, 2, np.zeros((2, 2)))
+        with pytest.raises(InputError, match="uses level 5"):
+            doc.set_levels(np.full((2, 2), 5, np.uint8))
+
+
+def test_only_an_action_changes_a_document():
+    """The edit interface works inside a step only: the GUI cannot write a document directly."""
+    doc = Document.new(3, 3, 2)
+    for edit in (lambda: doc.write(0, 0, np.ones((1, 1))), lambda: doc.fill(0, 0, 1, 1, 1),
+                 lambda: doc.set_levels(np.ones((2, 2), np.uint8)),
+                 lambda: doc.write_where(np.ones((3, 3), bool), 1),
+                 lambda: doc.set_palette(((0, 0, 0), (1, 1, 1))),
+                 lambda: doc.set_current_dpj(None)):
+        with pytest.raises(InputError, match="only through an Action"):
+            edit()
+    assert not doc.levels.any() and doc.actions == doc.actions[:1]
+    with doc.step():
+        with pytest.raises(InputError, match="already being applied"):
+            with doc.step():
+                pass

@@ -282,11 +282,15 @@ def test_banded_render_with_progress_is_the_same_picture_and_can_be_cancelled():
         action.render(t, progress=seen.append, cancel=lambda: len(seen) > 15)
     # a picture handed over from a worker is used once, only for the levels it was made from
     doc = Document()
-    doc._set_levels(t, np.zeros((4, 3), np.uint8))
+    with doc.step():
+        doc.set_levels(t, np.zeros((4, 3), np.uint8))
     action.use_result(t.copy(), np.full(banded.shape, 3, np.uint8))
-    action.apply(doc)
+    with doc.step():
+        action.apply(doc)
     assert np.all(doc.levels == 3)
-    doc._set_levels(t, np.zeros((4, 3), np.uint8))
+    with doc.step():
+        doc.set_levels(t, np.zeros((4, 3), np.uint8))
     action.use_result(t + 1, np.full(banded.shape, 3, np.uint8))   # stale: rendered again
-    action.apply(doc)
+    with doc.step():
+        action.apply(doc)
     assert np.array_equal(doc.levels, banded)

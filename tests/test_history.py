@@ -8,11 +8,12 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from test_history_support import PROPERTY, TINY, draw_action, random_history
-from texeditor.recipe.actions import (_MEMO, Action, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
+from texeditor.recipe.actions import (Action, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
                                Synthesize, param, register, replace_params)
 from texeditor.recipe.document import Document
 from texeditor.errors import InputError, ReplayError
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 from texeditor.recipe.logopt import optimize
 
 # Memory settings that force every path: records kept, no records (snapshots only), few snapshots.
@@ -36,7 +37,6 @@ def same(doc, other):
 @given(st.data())
 def test_replay_of_the_log_equals_the_live_result(data):
     history = random_history(data)
-    _MEMO.clear()                         # replay synthesises again: determinism, not the memo
     again = replay(history.actions, TINY)
     assert same(again, history.document)
     assert again.actions == history.document.actions == history.actions
@@ -119,7 +119,7 @@ def test_editing_an_early_step_equals_building_the_edited_log(data, options):
 def test_apply_undo_redo_and_the_redo_tail():
     history = History()
     calls = []
-    history.subscribe(lambda: calls.append(history.index))
+    history.subscribe(lambda change: calls.append(history.index))
     history.apply(NewCanvas(4, 3, 3))
     history.apply(SetLevels(0, 0, 2, 2, 1))
     history.apply(SetLevels(1, 1, 2, 2, 2))
@@ -137,7 +137,7 @@ def test_apply_undo_redo_and_the_redo_tail():
 def test_unsubscribe_stops_notifications():
     history = History()
     calls = []
-    stop = history.subscribe(lambda: calls.append(1))
+    stop = history.subscribe(lambda change: calls.append(1))
     history.apply(NewCanvas(2, 2, 2))
     stop()
     history.apply(NewCanvas(2, 2, 2))
@@ -186,9 +186,9 @@ class Counting(SetLevels):
     TYPE = "test_counting"
     calls = [0]
 
-    def apply(self, doc):
+    def apply(self, doc, prepared=None):
         Counting.calls[0] += 1
-        super().apply(doc)
+        super().apply(doc, prepared)
 
 
 def test_undo_at_depth_swaps_records_and_never_replays():
@@ -234,8 +234,8 @@ def test_a_long_replay_copies_few_states_and_keeps_snapshots_spread(monkeypatch)
     from texeditor.recipe import history as history_module
     monkeypatch.setattr(history_module, "MAX_SNAPSHOTS", 16)
     copies = []
-    monkeypatch.setattr(Document, "_state", lambda self, _s=Document._state: copies.append(1)
-                        or _s(self))
+    monkeypatch.setattr(Document, "state", lambda self, _s=Document.state, **kw: copies.append(1)
+                        or _s(self, **kw))
     n = 4000
     log = [NewCanvas(16, 16, 4)] + [SetLevels(k % 15, (k * 7) % 15, 2, 2, k % 4)
                                     for k in range(n - 1)]
@@ -276,10 +276,10 @@ class Invert(Action):
     EFFECT = "levels"
     rows: int = param("int", 1, 100)
 
-    def apply(self, doc):
+    def apply(self, doc, prepared=None):
         mask = np.zeros(doc.shape, bool)
         mask[:self.rows] = True
-        doc._write_where(mask, doc.num_levels - 1 - doc.levels)
+        doc.write_where(mask, doc.num_levels - 1 - doc.levels)
 
 
 def test_new_action_type_gets_undo_for_free():

@@ -6,7 +6,7 @@ from hypothesis import strategies as st
 from test_history_support import PROPERTY, REFS, TINY
 from texeditor.recipe.actions import (CropCanvas, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
                                Synthesize)
-from texeditor.recipe.history import replay
+from texeditor.recipe.replay import replay
 from texeditor.recipe.logopt import optimize
 
 GREY3 = ((0, 0, 0), (128, 128, 128), (255, 255, 255))

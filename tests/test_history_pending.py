@@ -9,7 +9,8 @@ import pytest
 from test_history_support import REFS, TINY
 from texeditor.recipe.actions import SetLevels, SetPalette, Synthesize, replace_params
 from texeditor.errors import Cancelled, InputError
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 
 # As in test_history: records kept; no records (snapshots only); snapshots squeezed by memory.
 SETTINGS = [dict(), dict(undo_memory=0, snapshot_every=3),

@@ -71,7 +71,7 @@ def random_history(data, max_steps: int = 14, **options) -> History:
     """A History built live from random actions (an action the document refuses is skipped)."""
     history = History(**options)
     for d in TINY_DPJS:
-        history.document._add_dpj(d, dpj_ref(d))
+        history.document.add_dpj(d, dpj_ref(d))
     history.document._dpj_ref = None
     for _ in range(data.draw(st.integers(1, max_steps))):
         try:

@@ -14,15 +14,15 @@ import pytest
 
 from texeditor.recipe.actions import NewCanvas
 from texeditor.errors import InputError
-from texeditor.recipe.history import replay
+from texeditor.recipe.replay import replay
 from texeditor.spots.actions import _STAMPS, PlaceSpot
 from texeditor.spots.envelope import Envelope, Perturbation, Placement, _cut, real_spot
 
 CHILD = r"""
 import json, re, sys, time
-from texeditor.recipe.actions import action_from_json
+from texeditor.recipe.codec import action_from_json
 from texeditor.errors import TexeditorError
-from texeditor.recipe.history import replay
+from texeditor.recipe.replay import replay
 actions = [action_from_json(a) for a in json.loads(sys.argv[1])]
 t = time.perf_counter()
 try:

@@ -7,7 +7,8 @@ import numpy as np
 
 from texeditor import estimate_dpj
 from texeditor.recipe.actions import SetLevels, SetPalette, Synthesize
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 from texeditor.recipe.journal import Journal, orphans, recover
 
 

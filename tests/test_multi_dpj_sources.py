@@ -13,18 +13,20 @@ import numpy as np
 import pytest
 
 from test_history_support import REFS, TINY, TINY_DPJS, all_windows_dpj
-from texeditor.recipe import actions as actions_module
-from texeditor.texture import actions as texture_actions
-from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize, action_from_json, dpj_refs
+from texeditor.recipe import sources
+from texeditor.recipe.cache import Cache
+from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize, dpj_refs
+from texeditor.recipe.codec import action_from_json
 from texeditor.bank.store import Bank
 from texeditor.texture.composition import convert_levels, fit, mix
 from texeditor.recipe.document import dpj_ref
 from texeditor.errors import FormatError, InputError, ReplayError
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 from texeditor.spots.actions import PlaceSpot, ScatterSpots, spot_ref
 from texeditor.spots.envelope import Envelope
-from texeditor.texture.actions import (MAX_RECIPE_DEPTH, MAX_RECIPE_DPJS, Incrust, Mix,
-                                       bank_source, parse_recipe, recipe_of, synthesis_recipe)
+from texeditor.texture.actions import Incrust, Mix
+from texeditor.recipe.sources import (MAX_RECIPE_DEPTH, MAX_RECIPE_DPJS, bank_source, parse_recipe, recipe_of, synthesis_recipe)
 from texeditor.recipe.texturefile import (load_texture, parse_texture, read_texture, save_texture,
                                    texture_bytes)
 
@@ -51,8 +53,7 @@ OLD_SPOT_REFS = ("61534f292aa91fea", "3c2a2667ef2efee0")
 def fresh_memos(monkeypatch):
     """Every test synthesises its sources itself: no memo from another test hides a missing
     DPJ."""
-    monkeypatch.setattr(texture_actions, "_RECIPES", texture_actions._RecipeMemo())
-    actions_module._MEMO.clear()
+    monkeypatch.setattr(sources, "_RECIPES", Cache(max_items=6))
 
 
 def levels_of(recipe: str) -> tuple[np.ndarray, int]:
@@ -191,7 +192,6 @@ def test_a_texture_file_carries_every_dpj_at_every_depth(tmp_path):
     tex = read_texture(path)
     assert set(tex.dpjs) == set(NESTED_REFS)
     assert tex.manifest.dpj == REFS[1] and THIRD in tex.manifest.dpjs
-    actions_module._MEMO.clear()
     again, _ = load_texture(path)                      # replays and checks the hash
     assert again.document.result_hash() == history.document.result_hash()
 
@@ -250,7 +250,6 @@ def test_a_bank_entry_of_two_dpjs_is_a_source(bank, tmp_path):
     save_texture(path, history)
     bank.trash(entry)
     bank.purge()
-    actions_module._MEMO.clear()
     again, _ = load_texture(path)
     assert again.document.result_hash() == history.document.result_hash()
 
@@ -272,7 +271,6 @@ def test_a_nested_texture_goes_to_the_bank_and_comes_back_as_a_deeper_source(ban
     bank.trash(entry)
     bank.purge()
     assert bank.entries() == []
-    actions_module._MEMO.clear()
     again, _ = load_texture(path)
     assert again.document.result_hash() == user.document.result_hash()
     assert set(again.document.dpjs) == set(NESTED_REFS)
@@ -300,7 +298,6 @@ def test_a_version_1_log_loads_replays_bit_for_bit_and_is_saved_as_version_2(tmp
     new = [a.to_json() for a in saved.actions]
     assert [o["version"] for o in new] == [1, 2, 2, 1, 1]
     assert new[2]["mask_dpjs"] == [REFS[0]] and "mask_dpj" not in new[2]
-    actions_module._MEMO.clear()
     again, _ = load_texture(path)
     assert again.document.result_hash() == OLD_HASH
 

@@ -7,12 +7,13 @@ import numpy as np
 import pytest
 
 from texeditor.paint import zones
-from texeditor.recipe.actions import action_from_json
+from texeditor.recipe.codec import action_from_json
 from texeditor.paint.brushes import Brush
 from texeditor.recipe.document import Document
 from texeditor.errors import FormatError, InputError
 from texeditor.paint.grains import GrainType
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 from texeditor.paint.actions import (DuplicateZone, PeanoLevels, PlaceGrains, ScrambleFrontier,
                                      Stroke)
 

@@ -11,11 +11,12 @@ from test_history_support import PROPERTY, REFS, TINY, TINY_DPJS, draw_action
 from test_regions import T, grid, same
 from texeditor.regions import extractext as regions
 from texeditor.regions import transforms
-from texeditor.recipe.actions import (REGISTRY, registry, NewCanvas, SetLevels, Synthesize, action_from_json,
-                               param_specs)
+from texeditor.recipe.actions import (REGISTRY, registry, NewCanvas, SetLevels, Synthesize, param_specs)
+from texeditor.recipe.codec import action_from_json
 from texeditor.recipe.document import dpj_ref
 from texeditor.errors import FormatError, InputError, ReplayError
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 from texeditor.recipe.logopt import optimize
 from texeditor.regions.actions import (REGION_ACTIONS, Affinity, ChangeLevel, Copy,
                                       DeleteSelection, Fill, FlipSelection, Identity, Isometry,
@@ -322,7 +323,7 @@ def mixed_history(data, steps: int = 10) -> History:
     """A synthesised texture, then random region actions mixed with the other actions."""
     history = History(snapshot_every=4)
     for d in TINY_DPJS:
-        history.document._add_dpj(d, dpj_ref(d))
+        history.document.add_dpj(d, dpj_ref(d))
     history.apply(Synthesize(data.draw(st.sampled_from(REFS)), data.draw(st.integers(2, 9)),
                              data.draw(st.integers(2, 9)), data.draw(st.integers(0, 3))))
     for _ in range(data.draw(st.integers(1, steps))):

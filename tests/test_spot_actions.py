@@ -6,9 +6,11 @@ import numpy as np
 import pytest
 
 from test_history_support import REFS, TINY, TINY_DPJS
-from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize, action_from_json, param_specs
+from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize, param_specs
+from texeditor.recipe.codec import action_from_json
 from texeditor.errors import FormatError, InputError, ReplayError
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 from texeditor.recipe.logopt import optimize
 from texeditor.spots.actions import (DeleteSpot, PlaceSpot, ScatterSpots, placed_spots,
                                     replay_without, spot_at, spot_ref)

@@ -10,15 +10,16 @@ from test_history_support import REFS, TINY, TINY_DPJS
 from texeditor.texture import composition
 from texeditor.markov import doubling
 from texeditor.texture import grain_render as gr
-from texeditor.recipe.actions import (REGISTRY, NewCanvas, SetLevels, SetPalette, Synthesize,
-                               action_from_json)
+from texeditor.recipe.actions import REGISTRY, NewCanvas, SetLevels, SetPalette, Synthesize
+from texeditor.recipe.codec import action_from_json
 from texeditor.errors import FormatError, InputError
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 from texeditor.markov.levels import load_image
 from texeditor.recipe.logopt import optimize, trace
 from texeditor.resources import ROOT
-from texeditor.texture.actions import (TEXTURE_ACTIONS, DoubleLevels, Incrust, Mix, RenderGrains,
-                                       recipe_of, render_recipe, store_dpj, synthesis_recipe)
+from texeditor.texture.actions import TEXTURE_ACTIONS, DoubleLevels, Incrust, Mix, RenderGrains
+from texeditor.recipe.sources import recipe_of, render_recipe, store_dpj, synthesis_recipe
 from texeditor.recipe.texturefile import load_texture, save_texture
 
 SYNTH = synthesis_recipe(REFS[0], 6, 5, 3)          # a 6×5 G = 2 texture

@@ -18,7 +18,8 @@ from texeditor.recipe import texturefile as tf
 from texeditor.recipe.actions import NewCanvas, SetLevels, SetPalette, Synthesize
 from texeditor.recipe.document import Document
 from texeditor.errors import FormatError, InputError, ReplayError
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 
 
 def sample_history() -> History:
@@ -339,7 +340,7 @@ def test_failed_saves_leave_the_existing_file_untouched(saved, monkeypatch):
     folder = sorted(os.listdir(saved.parent))
     doc = Document()
     doc.apply(NewCanvas(3, 3, 2))
-    doc._log.append(Synthesize(REFS[1], 4, 4, 0))        # a log naming a DPJ it does not hold
+    doc.append_log(Synthesize(REFS[1], 4, 4, 0))        # a log naming a DPJ it does not hold
     with pytest.raises(InputError, match="does not hold"):
         tf.save_texture(saved, doc)
     with pytest.raises(InputError, match="tags"):

@@ -116,13 +116,14 @@ def error() -> Exception | None:
 
 
 def needs_kernels(action, doc) -> bool:
-    """Whether applying ``action`` to ``doc`` may call a numba kernel: a synthesis whose result is
-    not at hand, a grain rendering, or any step naming one of the document's DPJs (a spot or
-    source texture drawn from it). Conservative: such a step only waits, never fails."""
-    from .recipe.actions import Synthesize, _MEMO, dpj_refs
+    """Whether applying ``action`` to ``doc`` (without a result prepared in a worker) may call a
+    numba kernel: a synthesis, a grain rendering, or any step naming one of the document's DPJs
+    (a spot or source texture drawn from it). Conservative: such a step only waits, never
+    fails."""
+    from .recipe.actions import Synthesize, dpj_refs
 
     if isinstance(action, Synthesize):
-        return _MEMO.get(action._key()) is None
+        return True
     if action.TYPE == "render_grains":
         return True
     return any(ref in doc.dpjs for ref in dpj_refs([action]))

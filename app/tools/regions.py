@@ -250,7 +250,7 @@ class ExtractTool(Tool):
         return regions.select(self.document.levels, (s["row"], s["col"]), kind=s["kind"],
                               scope=s["scope"], connectivity=s["connectivity"])
 
-    def refresh(self) -> None:
+    def refresh(self, change=None) -> None:
         """Redraw the selection over the current document (after any change, undo included)."""
         self._forget_ghost()
         if self.main_window.tool is not self:

@@ -51,9 +51,9 @@ def escaping_action(rng: np.random.Generator) -> dict:
 CHILD = r"""
 import json, resource, sys
 resource.setrlimit(resource.RLIMIT_AS, (2 * 2**30, 2 * 2**30))
-from texeditor.recipe.actions import action_from_json
+from texeditor.recipe.codec import action_from_json
 from texeditor.errors import TexeditorError
-from texeditor.recipe.history import replay
+from texeditor.recipe.replay import replay
 canvas = {"type": "new_canvas", "version": 1, "width": 64, "height": 64, "levels": 4,
           "palette": None}
 for line in sys.stdin:

@@ -60,7 +60,8 @@ TEXTURE_BYTES = _texture()
 def _recipe_texture() -> bytes:
     """A texture whose steps carry recipes of two DPJs, one of them nested two deep."""
     from texeditor.recipe.actions import Synthesize
-    from texeditor.texture.actions import Incrust, Mix, recipe_of, store_dpj, synthesis_recipe
+    from texeditor.texture.actions import Incrust, Mix
+    from texeditor.recipe.sources import recipe_of, store_dpj, synthesis_recipe
 
     history = History()
     ref = history.add_dpj(_dpj())

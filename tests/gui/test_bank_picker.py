@@ -15,7 +15,8 @@ from texeditor.texture.composition import fit
 from texeditor.recipe.document import dpj_ref
 from texeditor.recipe.history import History
 from texeditor.spots.actions import PlaceSpot
-from texeditor.texture.actions import Incrust, Mix, store_dpj, synthesis_recipe
+from texeditor.texture.actions import Incrust, Mix
+from texeditor.recipe.sources import store_dpj, synthesis_recipe
 from texeditor.recipe.texturefile import load_texture, save_texture
 
 from .events import cell_pos, click, press_key

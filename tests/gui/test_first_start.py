@@ -8,7 +8,7 @@ import pytest
 
 from texeditor.bank import store as bk
 from texeditor import warmup
-from texeditor.recipe.actions import _MEMO, Synthesize
+from texeditor.recipe.actions import Synthesize
 from texeditor.bank.store import Bank, picture_bytes
 
 
@@ -20,7 +20,6 @@ def slow_compile(monkeypatch, tmp_path):
     warmup._reset()
     gate = threading.Event()
     monkeypatch.setattr(warmup, "_compile", lambda: gate.wait(120))
-    _MEMO.clear()
     yield gate
     gate.set()
     assert warmup.wait(timeout=30)
@@ -85,7 +84,6 @@ def test_a_forged_picture_is_refused_and_the_entry_replayed(window, qtbot, tmp_p
     monkeypatch.setattr(bk, "PICTURES_DIR", forged)
     opened, real_open = [], Bank.open
     monkeypatch.setattr(Bank, "open", lambda self, i, **k: opened.append(i) or real_open(self, i, **k))
-    _MEMO.clear()
     window.start_default()
     assert window.runner.wait(120_000)
     dock = window.bank_dock

@@ -9,7 +9,7 @@ from app.grain_dock import grain_step
 from app.tools.regions import FillTool
 from texeditor.texture import grain_render as gr
 from texeditor.regions import extractext as regions
-from texeditor.recipe.history import replay
+from texeditor.recipe.replay import replay
 from texeditor.texture.actions import DoubleLevels, Incrust, Mix, RenderGrains
 
 from .events import cell_pos, click, drag, press_key
@@ -171,7 +171,7 @@ def test_incrust_a_synthesis_where_this_texture_is_background(window, qtbot):
     settled(window, qtbot)
     action = window.history.actions[-1]
     assert isinstance(action, Incrust) and action.mask == "levels"
-    from texeditor.texture.actions import render_recipe
+    from texeditor.recipe.sources import render_recipe
     t2, _ = render_recipe(action.source, {r: window.document.dpjs[r]
                                           for r in action.source_dpjs})
     assert np.array_equal(window.document.levels, np.where(before == 0, t2, before))

@@ -12,7 +12,8 @@ from PySide6 import QtCore, QtWidgets
 
 from texeditor.recipe.actions import SetLevels, SetPalette, Synthesize
 from texeditor.recipe.document import dpj_ref
-from texeditor.recipe.history import History, replay
+from texeditor.recipe.history import History
+from texeditor.recipe.replay import replay
 
 from .test_dpj_editor import new_dpj, paint, set_probability
 from .test_main_window import CTRL, LEFT, type_into
@@ -44,11 +45,11 @@ def long_log(window, small_dpj, monkeypatch):
     applied = []
     original = SetLevels.apply
 
-    def slow_apply(self, doc):
+    def slow_apply(self, doc, prepared=None):
         applied.append((threading.current_thread() is threading.main_thread(),
                         time.perf_counter()))
         time.sleep(STEP_SECONDS)
-        original(self, doc)
+        original(self, doc, prepared)
     monkeypatch.setattr(SetLevels, "apply", slow_apply)
     return applied
 

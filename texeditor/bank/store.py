@@ -24,16 +24,19 @@ from pathlib import Path
 import numpy as np
 
 from . import attributes as attrs
-from ..recipe.actions import Synthesize, action_from_json, dpj_refs
+from ..recipe.actions import Synthesize, dpj_refs
+from ..recipe.codec import log_text, read_log
 from ..recipe.document import Document, result_hash
 from ..markov.dpj import DPJ
 from ..errors import (Cancelled, FormatError, InputError, ReplayError, TexeditorError,
                      check_unicode)
 from ..fileio import atomic_write, atomic_write_bytes, load_json
-from ..recipe.history import History, replay
+from ..recipe.history import History
+from ..recipe.replay import replay
+from ..recipe.stored import Recipe, open_recipe
 from ..recipe.logopt import optimize
 from ..resources import ROOT as RESOURCES
-from ..recipe.texturefile import (MAX_ACTIONS, MAX_ACTIONS_BYTES, MAX_DESCRIPTION_CHARS, TextureFile,
+from ..recipe.texturefile import (MAX_ACTIONS, MAX_DESCRIPTION_CHARS, TextureFile,
                           read_texture, texture_bytes)
 
 BANK_ENV, DATA_ENV = "TEXEDITOR_BANK", "TEXEDITOR_DATA"
@@ -99,15 +102,6 @@ class Entry:
     def pending(self) -> bool:
         """Attributes and thumbnail not computed yet (built-ins on first run, after upgrades)."""
         return self.attributes is None
-
-
-@dataclass(frozen=True)
-class Recipe:
-    """What replays an entry: its log, the DPJs it refers to, the DPJ that was current."""
-
-    actions: tuple
-    dpjs: dict
-    main_dpj: str | None
 
 
 @dataclass(frozen=True)
@@ -415,7 +409,7 @@ class Bank:
                               f"VALUES ({', '.join('?' * len(values))})", tuple(values.values()))
         entry = cursor.lastrowid
         conn.execute("INSERT INTO logs (entry, actions) VALUES (?, ?)",
-                     (entry, _log_json(r.actions)))
+                     (entry, log_text(r.actions)))
         if r.thumbnail is not None:
             conn.execute("INSERT INTO thumbnails (entry, png) VALUES (?, ?)", (entry, r.thumbnail))
         for ref, dpj in r.dpjs.items():
@@ -443,10 +437,7 @@ class Bank:
         """Import a `.texture`: validate it, replay it (its hash must match), optimise its log,
         store it. A file that fails any check changes nothing in the bank."""
         tex = read_texture(path)
-        doc = replay(tex.actions, tex.dpjs, progress=progress, cancel=cancel)
-        _check_result(doc, tex.manifest.result_sha256, str(path))
-        if tex.manifest.dpj is not None:
-            doc._add_dpj(tex.dpjs[tex.manifest.dpj], tex.manifest.dpj)
+        doc = open_recipe(tex.recipe, progress=progress, cancel=cancel)
         record = make_record(doc, name or name_from_file(path),
                              tags=tex.manifest.tags if tags is None else tags,
                              description=(tex.manifest.description if description is None
@@ -619,15 +610,18 @@ class Bank:
 
     # -- opening ---------------------------------------------------------------------------------
     def recipe(self, entry_id: int) -> Recipe:
-        """The entry's log and DPJs, validated like a file (a damaged row is a FormatError)."""
-        rows = self._read("SELECT e.name, l.actions, e.main_dpj FROM entries e LEFT JOIN logs l "
-                          "ON l.entry = e.id WHERE e.id = ?", (entry_id,))
+        """The entry's log, DPJs, current DPJ and recorded SHA-256, validated like a file (a
+        damaged row is a FormatError)."""
+        rows = self._read("SELECT e.name, l.actions, e.main_dpj, e.sha256 FROM entries e "
+                          "LEFT JOIN logs l ON l.entry = e.id WHERE e.id = ?", (entry_id,))
         if not rows:
             raise BankError(f"the bank has no entry {entry_id}")
-        name, log, main = rows[0]
+        name, log, main, sha256 = rows[0]
         what = f"bank entry {entry_id} “{name}”" if isinstance(name, str) else \
             f"bank entry {entry_id}"
         actions = parse_log(log, what)
+        if not isinstance(sha256, str) or not _SHA256.match(sha256):
+            raise FormatError(f"{what}: its recorded SHA-256 is damaged")
         dpjs = {}
         for ref, data in self._read("SELECT d.ref, d.data FROM entry_dpjs x JOIN dpjs d "
                                     "ON d.ref = x.ref WHERE x.entry = ?", (entry_id,)):
@@ -639,18 +633,13 @@ class Bank:
             raise FormatError(f"{what}: its current DPJ is damaged (not a TEXT)")
         if main is not None and main not in dpjs:
             raise FormatError(f"{what}: its current DPJ {main} is missing")
-        return Recipe(actions, dpjs, main)
+        return Recipe(actions, dpjs, main, sha256, what)
 
     def open(self, entry_id: int, *, progress=None, cancel=None, **history_options) -> History:
         """Replay an entry into a History and check its hash: a texture that is not the one
         recorded is a ReplayError, never shown."""
-        entry, recipe = self.get(entry_id), self.recipe(entry_id)
-        history = History.from_log(recipe.actions, recipe.dpjs, progress=progress, cancel=cancel,
-                                   **history_options)
-        _check_result(history.document, entry.sha256, _what(entry))
-        if recipe.main_dpj is not None:
-            history.document._add_dpj(recipe.dpjs[recipe.main_dpj], recipe.main_dpj)
-        return history
+        return open_recipe(self.recipe(entry_id), history=True, progress=progress,
+                           cancel=cancel, **history_options)
 
     def stored_picture(self, entry: Entry):
         """The entry's texture, (levels, palette), read from ``pictures``/<its SHA-256>.npz
@@ -676,22 +665,14 @@ class Bank:
         picture = self.stored_picture(entry)
         if picture is None:
             return None
-        remembered = first.remember(picture[0])
         try:
-            history = History.from_log(recipe.actions, recipe.dpjs, **history_options)
-            _check_result(history.document, entry.sha256, _what(entry))
+            return open_recipe(recipe, history=True, prepared={0: picture[0]}, **history_options)
         except TexeditorError:
-            if remembered:
-                first.forget()          # never leave a wrong result where a synthesis looks
             return None
-        if recipe.main_dpj is not None:
-            history.document._add_dpj(recipe.dpjs[recipe.main_dpj], recipe.main_dpj)
-        return history
 
     def confirm_stored(self, entry_id: int, *, cancel=None) -> bool:
         """Synthesise the first step of an entry ``open_stored`` opened, for real (this needs
-        the kernels), and compare it with the stored picture that stood for it. The synthesis's
-        own result is then the one later replays use, whatever the answer."""
+        the kernels), and compare it with the stored picture that stood for it."""
         entry, recipe = self.get(entry_id), self.recipe(entry_id)
         first, picture = recipe.actions[0], self.stored_picture(entry)
         fresh = first.render_result(recipe.dpjs[first.dpj], cancel=cancel).levels
@@ -699,15 +680,7 @@ class Bank:
 
     def render(self, entry_id: int, *, progress=None, cancel=None) -> Document:
         """Replay an entry into a Document (hash checked), for export and verification."""
-        entry, recipe = self.get(entry_id), self.recipe(entry_id)
-        try:
-            doc = replay(recipe.actions, recipe.dpjs, progress=progress, cancel=cancel)
-        except ReplayError as exc:
-            raise ReplayError(f"{_what(entry)}: {exc}") from None
-        _check_result(doc, entry.sha256, _what(entry))
-        if recipe.main_dpj is not None:
-            doc._add_dpj(recipe.dpjs[recipe.main_dpj], recipe.main_dpj)
-        return doc
+        return open_recipe(self.recipe(entry_id), progress=progress, cancel=cancel)
 
     def export_texture(self, entry_id: int, path, *, progress=None, cancel=None) -> None:
         """Write an entry as a `.texture` (replayed and checked first; atomic)."""
@@ -1132,32 +1105,13 @@ def name_from_file(path) -> str:
 
 def parse_log(text, what: str) -> tuple:
     """A stored log back into Actions, validated like a file's actions.json."""
-    if not isinstance(text, str) or len(text) > MAX_ACTIONS_BYTES:
-        raise FormatError(f"{what}: its action log is damaged (not a text of at most "
-                          f"{MAX_ACTIONS_BYTES} bytes)")
-    try:
-        obj = load_json(text, "JSON", limit=MAX_ACTIONS_BYTES)     # size and depth bounded
-    except FormatError as exc:
-        raise FormatError(f"{what}: its action log is damaged ({exc})") from None
-    if (not isinstance(obj, dict) or set(obj) != {"actions"} or not isinstance(obj["actions"], list)
-            or len(obj["actions"]) > MAX_ACTIONS):
-        raise FormatError(f'{what}: its action log is damaged (not {{"actions": [...]}})')
-    actions = []
-    for k, item in enumerate(obj["actions"]):
-        try:
-            actions.append(action_from_json(item))
-        except FormatError as exc:
-            raise FormatError(f"{what}: action {k + 1} of its log: {exc}") from None
-    return tuple(actions)
+    if not isinstance(text, str):
+        raise FormatError(f"{what}: its action log is damaged (not a TEXT)")
+    return read_log(text, f"{what}: its action log is damaged", max_actions=MAX_ACTIONS)
 
 
 def _no_constant(token):
     raise ValueError(f"{token} is not allowed")
-
-
-def _log_json(actions) -> str:
-    return json.dumps({"actions": [a.to_json() for a in actions]}, ensure_ascii=False,
-                      allow_nan=False, separators=(",", ":"))
 
 
 MAX_GRAIN_CELL = 64 * 2**10        # the grain column's JSON (a few parameters: ~200 bytes)
@@ -1235,15 +1189,6 @@ def _split_tags(text) -> tuple:
 
 def _what(entry: Entry) -> str:
     return f"bank entry {entry.id} “{entry.name}”"
-
-
-def _check_result(doc: Document, expected: str, what: str) -> None:
-    got = doc.result_hash()
-    if got != expected:
-        h, w = doc.shape
-        raise ReplayError(f"{what}: replaying its log gives another texture ({w}x{h}, "
-                          f"SHA-256 {got[:12]}…) than the one recorded ({expected[:12]}…); "
-                          "it is not shown — the entry is damaged")
 
 
 def _features_changed(conn, *, added_only: bool = False) -> None:

@@ -267,7 +267,7 @@ class DPJ:
         right = encode(np.ascontiguousarray(self._configs[:, :, 1:]), self._levels)
         return left, right
 
-    def _chain_classes(self):
+    def chain_classes(self):
         """Strongly connected classes of the horizontal chain (§4.5, Massaloux).
 
         Returns (state codes, class of each state, ids of the closed classes, left, right ids).
@@ -296,7 +296,7 @@ class DPJ:
         if len(self):
             if u > 1:
                 hres = _residual(self.marginal(cols=slice(0, u - 1)), self.marginal(cols=slice(1, u)))
-                states_codes, label, closed, _, _ = self._chain_classes()
+                states_codes, label, closed, _, _ = self.chain_classes()
                 states = len(states_codes)
                 closed_count = len(closed)
                 transient = int(np.count_nonzero(~np.isin(label, closed)))
@@ -319,7 +319,7 @@ class DPJ:
         """
         if self._window[0] == 1 or not len(self):
             return self.normalized()
-        _, label, closed, li, _ = self._chain_classes()
+        _, label, closed, li, _ = self.chain_classes()
         if len(closed) == 0:
             raise InputError("the horizontal chain has no closed class: every path ends")
         mass = np.bincount(label[li], weights=self._probs, minlength=label.max() + 1)

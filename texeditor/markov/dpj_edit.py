@@ -275,7 +275,7 @@ def chain_roles(dpj: DPJ) -> np.ndarray:
     roles = np.full(len(dpj), MAIN, np.int8)
     if dpj.window[0] == 1 or not len(dpj):
         return roles
-    _, label, closed, li, _ = dpj._chain_classes()
+    _, label, closed, li, _ = dpj.chain_classes()
     if len(closed) == 0:
         roles[:] = TRANSIENT
         return roles

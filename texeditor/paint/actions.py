@@ -78,12 +78,12 @@ def commit_points(doc, rows, cols, values) -> None:
         else:
             idx = grid[t:b, l:r]
             block[idx > 0] = values[idx[idx > 0] - 1]
-        doc._write(int(t), int(l), block)
+        doc.write(int(t), int(l), block)
 
 
 def _check_levels(doc, *levels) -> None:
     for level in levels:
-        doc._check_values(np.uint8(level))
+        doc.check_levels(np.uint8(level))
 
 
 # -- brush strokes (§3.2.2) ------------------------------------------------------------------------
@@ -146,7 +146,7 @@ class Stroke(Action):
                                      choices=brushes.parse_levels(self.level_choices),
                                      seed=self.seed, wrap=self.wrap)
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         choices = brushes.parse_levels(self.level_choices)
         _check_levels(doc, self.level, *(choices or ()))
         rows, cols, values = brushes.paint_stroke(
@@ -218,7 +218,7 @@ class PlaceGrains(Action):
         """The painter a live preview feeds: the same grains as apply() will paint."""
         return GrainPainter(self, canvas_shape)
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         grain = self.grain()
         _check_levels(doc, grain.max_level(self.level))
         painter = GrainPainter(self, doc.shape, limit=brushes.MAX_DABS)
@@ -305,11 +305,11 @@ class DuplicateZone(Action):
         """The zone's points after the move (where the copy is, for scrambling its frontier)."""
         return tuple((r + self.offset_row, c + self.offset_col) for r, c in self.points)
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         new = zones.duplicate(doc.levels, self.mask(doc.shape),
                               (self.offset_row, self.offset_col), wrap=self.wrap)
         for t, l, b, r in changed_boxes(new != doc.levels):
-            doc._write(t, l, new[t:b, l:r])
+            doc.write(t, l, new[t:b, l:r])
 
     def label(self) -> str:
         return f"Duplicate {self.zone} zone by ({self.offset_row}, {self.offset_col})"
@@ -339,12 +339,12 @@ class ScrambleFrontier(Action):
         return zones.frontier_band(zones.zone_mask(canvas_shape, self.zone, self.points),
                                    self.band, wrap=self.wrap)
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         new = zones.scramble(doc.levels, self.band_mask(doc.shape), density=self.density,
                              grain_size=self.grain_size, reach=self.band, seed=self.seed,
                              wrap=self.wrap)
         for t, l, b, r in changed_boxes(new != doc.levels):
-            doc._write(t, l, new[t:b, l:r])
+            doc.write(t, l, new[t:b, l:r])
 
     def label(self) -> str:
         return f"Scramble the frontier of a {self.zone} zone ({self.band}-point band)"
@@ -398,7 +398,7 @@ class PeanoLevels(Action):
             raise InputError(f"level {high} does not exist: G = {num_levels}")
         return peano.assign_levels(self.expression, self.low, high)
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         assigned = self.levels_of(doc.num_levels)
         down, across = self.cells(doc.shape)
         last = max(assigned)
@@ -411,7 +411,7 @@ class PeanoLevels(Action):
             for index, level in assigned.items():
                 t, l, b, r = (int(v) for v in boxes[index - 1])
                 if b > t and r > l:
-                    doc._fill(t, l, b - t, r - l, level)
+                    doc.fill(t, l, b - t, r - l, level)
             return
         mask = grains.grain_mask(self.grain, self.grain_size or self.cell)
         rows, cols, values = [], [], []

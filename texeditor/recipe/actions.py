@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import dataclasses
 import re
-import threading
-from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any, Callable, ClassVar
 
@@ -184,10 +182,13 @@ class Action:
     def _validate(self) -> None:
         """Checks across parameters (a subclass hook)."""
 
-    def prepare(self, doc, progress=None, cancel=None) -> None:
-        """Do the slow part ahead of apply() (in a worker thread, cancellable); optional."""
+    def prepare(self, doc, progress=None, cancel=None):
+        """Do the slow part ahead of apply() (in a worker thread, cancellable); optional. What it
+        returns is handed to ``apply(doc, prepared)`` (None: apply does it all)."""
+        return None
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
+        """Change ``doc`` through its edit interface; ``prepared`` is what prepare() returned."""
         raise NotImplementedError
 
     def label(self) -> str:
@@ -229,38 +230,6 @@ def registry() -> dict[str, type["Action"]]:
     """Every Action type by name. Complete as soon as any engine module is imported: the
     `texeditor` package imports every operator package (each registers its Actions)."""
     return REGISTRY
-
-
-def action_from_json(obj) -> Action:
-    """Build an Action from its JSON object, checking type, version and every parameter."""
-    if not isinstance(obj, dict):
-        raise FormatError(f"an action must be a JSON object, got {type(obj).__name__}")
-    kind, version = obj.get("type"), obj.get("version")
-    known = REGISTRY
-    cls = known.get(kind) if isinstance(kind, str) else None
-    if cls is None:
-        raise FormatError(f"unknown action type {kind!r}: this program knows "
-                          f"{', '.join(sorted(known))}")
-    if isinstance(version, bool) or not isinstance(version, int):
-        raise FormatError(f"action {kind!r} has no integer version")
-    params = {k: v for k, v in obj.items() if k not in ("type", "version")}
-    if version != cls.VERSION:
-        if not 1 <= version < cls.VERSION:
-            raise FormatError(f"action {kind!r} version {version} is not supported "
-                              f"(this program reads version {cls.VERSION})")
-        params = cls.upgrade(version, params)
-    names = {f.name for f in dataclasses.fields(cls)}
-    unknown = sorted(set(params) - names)
-    if unknown:
-        raise FormatError(f"action {kind!r} has unexpected parameters {unknown}")
-    try:
-        return cls(**params)
-    except InputError as exc:
-        raise FormatError(f"action {kind!r}: {exc}") from None
-    except TypeError:
-        missing = sorted(f.name for f in dataclasses.fields(cls)
-                         if f.name not in params and f.default is dataclasses.MISSING)
-        raise FormatError(f"action {kind!r} lacks parameters {missing}") from None
 
 
 def action_params(action: Action) -> dict:
@@ -347,9 +316,9 @@ class NewCanvas(Action):
         if self.palette is not None and len(self.palette) != self.levels:
             raise InputError(f"the palette has {len(self.palette)} colours for G = {self.levels}")
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         palette = grey_ramp(self.levels) if self.palette is None else self.palette
-        doc._set_levels(np.zeros((self.height, self.width), np.uint8), palette, copy=False)
+        doc.set_levels(np.zeros((self.height, self.width), np.uint8), palette, copy=False)
 
     def canvas_shape(self, shape):
         return (self.height, self.width)
@@ -376,73 +345,34 @@ class Synthesize(Action):
     def _validate(self):
         _check_canvas(self.width, self.height)
 
-    def render(self, dpj, progress=None, cancel=None) -> np.ndarray:
-        """Synthesise (slow; safe in a worker thread) and remember the result for apply()."""
-        self._check_dpj(dpj)
-        levels = _MEMO.get(self._key())
-        return levels if levels is not None else self._synthesize(dpj, progress, cancel)
-
     def render_result(self, dpj, progress=None, cancel=None):
-        """Like render() but always synthesises and returns the SynthesisResult (repairs...)."""
+        """Synthesise (slow; safe in a worker thread): the SynthesisResult, whose ``levels`` are
+        what ``apply(doc, prepared=levels)`` then takes as they are."""
         from ..markov.synthesis import synthesize
-        self._check_dpj(dpj)
-        result = synthesize(dpj, (self.height, self.width), seed=self.seed,
-                            progress=progress, cancel=cancel)
-        result.levels.flags.writeable = False
-        _MEMO.put(self._key(), result.levels)
-        return result
-
-    def remember(self, levels) -> bool:
-        """Take ``levels`` as this step's result without synthesising (a stored picture the
-        caller has checked against a recorded hash). False, and nothing changed, when the result
-        is already at hand or ``levels`` is not an (H, W) uint8 matrix; ``forget()`` undoes it."""
-        levels = np.asarray(levels)
-        if (levels.dtype != np.uint8 or levels.shape != (self.height, self.width)
-                or _MEMO.get(self._key()) is not None):
-            return False
-        levels = levels.copy()
-        levels.flags.writeable = False
-        _MEMO.put(self._key(), levels)
-        return True
-
-    def forget(self) -> None:
-        """Drop the result kept for this step (the next apply() synthesises)."""
-        _MEMO.discard(self._key())
-
-    def _check_dpj(self, dpj) -> None:
-        """The memo is keyed by reference: only the DPJ the reference names may fill it."""
         if not dpj.has_ref(self.dpj):
             raise InputError(f"this DPJ is not {self.dpj}, the one the action refers to")
+        return synthesize(dpj, (self.height, self.width), seed=self.seed, progress=progress,
+                          cancel=cancel)
 
-    def prepare(self, doc, progress=None, cancel=None) -> None:
-        if _MEMO.get(self._key()) is None:
-            self._synthesize(self._dpj_of(doc), progress, cancel)
+    def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
+        return self.render_result(self._dpj_of(doc), progress, cancel).levels
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         dpj = self._dpj_of(doc)
-        levels = _MEMO.get(self._key())
-        if levels is None:
-            levels = self._synthesize(dpj)
-        doc._set_levels(levels, dpj.palette)
-        doc._set_dpj(self.dpj)
+        levels = self.prepare(doc) if prepared is None else np.asarray(prepared)
+        if levels.dtype != np.uint8 or levels.shape != (self.height, self.width):
+            raise InputError(f"a synthesis result must be a {self.width}x{self.height} uint8 "
+                             f"matrix, got {levels.shape} {levels.dtype}")
+        doc.set_levels(levels, dpj.palette)
+        doc.set_current_dpj(self.dpj)
 
     def _dpj_of(self, doc):
         dpj = doc.dpjs.get(self.dpj)
         if dpj is None:
             raise InputError(f"DPJ {self.dpj} is not part of this document: add it first")
-        self._check_dpj(dpj)
+        if not dpj.has_ref(self.dpj):
+            raise InputError(f"this DPJ is not {self.dpj}, the one the action refers to")
         return dpj
-
-    def _synthesize(self, dpj, progress=None, cancel=None) -> np.ndarray:
-        from ..markov.synthesis import synthesize
-        levels = synthesize(dpj, (self.height, self.width), seed=self.seed,
-                            progress=progress, cancel=cancel).levels
-        levels.flags.writeable = False
-        _MEMO.put(self._key(), levels)
-        return levels
-
-    def _key(self):
-        return (self.dpj, self.width, self.height, self.seed)
 
     def canvas_shape(self, shape):
         return (self.height, self.width)
@@ -463,11 +393,11 @@ class SetPalette(Action):
     EFFECT: ClassVar[str] = "palette"
     palette: tuple = param("palette", doc="G colours (r, g, b)")
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         if len(self.palette) != doc.num_levels:
             raise InputError(f"the palette has {len(self.palette)} colours but the document "
                              f"has G = {doc.num_levels} levels")
-        doc._set_palette(self.palette)
+        doc.set_palette(self.palette)
 
     def label(self) -> str:
         return f"Set palette ({len(self.palette)} colours)"
@@ -486,12 +416,12 @@ class SetLevels(Action):
     width: int = _side("columns")
     value: int = param("int", 0, MAX_LEVELS - 1, doc="the level written")
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         t, l, h, w = clip_rect(self.top, self.left, self.height, self.width, doc.shape)
         if h and w:
-            doc._fill(t, l, h, w, self.value)
+            doc.fill(t, l, h, w, self.value)
         elif self.value >= doc.num_levels:
-            doc._check_values(self.value)
+            doc.check_levels(self.value)
 
     def covers(self, shape):
         return clip_rect(self.top, self.left, self.height, self.width, shape)[2:] == shape
@@ -514,13 +444,13 @@ class CropCanvas(Action):
     height: int = _side("rows kept")
     width: int = _side("columns kept")
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         t, l, h, w = clip_rect(self.top, self.left, self.height, self.width, doc.shape)
         if not (h and w):
             H, W = doc.shape
             raise InputError(f"the crop {self.width}x{self.height} at ({self.top}, {self.left}) "
                              f"lies outside the {W}x{H} canvas")
-        doc._set_levels(doc._levels[t:t + h, l:l + w].copy(), copy=False)
+        doc.set_levels(doc.levels[t:t + h, l:l + w].copy(), copy=False)
 
     def canvas_shape(self, shape):
         return clip_rect(self.top, self.left, self.height, self.width, shape)[2:]
@@ -543,54 +473,15 @@ class ResizeCanvas(Action):
     def _validate(self):
         _check_canvas(self.width, self.height)
 
-    def apply(self, doc) -> None:
-        doc._check_values(self.fill)
+    def apply(self, doc, prepared=None) -> None:
+        doc.check_levels(self.fill)
         new = np.full((self.height, self.width), self.fill, dtype=np.uint8)
         h, w = min(self.height, doc.shape[0]), min(self.width, doc.shape[1])
-        new[:h, :w] = doc._levels[:h, :w]
-        doc._set_levels(new, copy=False)
+        new[:h, :w] = doc.levels[:h, :w]
+        doc.set_levels(new, copy=False)
 
     def canvas_shape(self, shape):
         return (self.height, self.width)
 
     def label(self) -> str:
         return f"Resize canvas to {self.width}×{self.height}"
-
-
-# -- the synthesis memo ----------------------------------------------------------------------------
-
-class _Memo:
-    """The last few syntheses (read-only arrays), so apply() right after render() is instant."""
-
-    def __init__(self, max_items: int = 4, max_bytes: int = 256 * 2**20):
-        self.max_items, self.max_bytes = max_items, max_bytes
-        self._items: OrderedDict = OrderedDict()
-        self._lock = threading.Lock()
-
-    def get(self, key):
-        with self._lock:
-            value = self._items.get(key)
-            if value is not None:
-                self._items.move_to_end(key)
-            return value
-
-    def put(self, key, value) -> None:
-        if value.nbytes > self.max_bytes:
-            return
-        with self._lock:
-            self._items[key] = value
-            self._items.move_to_end(key)
-            while (len(self._items) > self.max_items
-                   or sum(v.nbytes for v in self._items.values()) > self.max_bytes):
-                self._items.popitem(last=False)
-
-    def discard(self, key) -> None:
-        with self._lock:
-            self._items.pop(key, None)
-
-    def clear(self) -> None:
-        with self._lock:
-            self._items.clear()
-
-
-_MEMO = _Memo()

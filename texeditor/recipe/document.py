@@ -1,18 +1,21 @@
 """The Document: the level matrix, its palette, the DPJs it was made from and the log that made it.
 
 It sits at the end of the data flow (synthesis and every edit arrive here as Actions) and at the
-start of display, files and the bank. Only Actions change it, through the ``_set_*``/``_write*``
-methods, which also record what they overwrite so History can undo a step at the cost of its size.
+start of display, files and the bank. Only Actions change it: its edit interface (``set_levels``,
+``write``, ``fill``, ``write_where``, ``set_palette``, ``set_current_dpj``) works only inside a
+``step()`` — which `apply` and History open around an Action — and records what each call
+overwrites, so History can undo a step at the cost of its size.
 """
 
 from __future__ import annotations
 
 import hashlib
 import struct
+from contextlib import contextmanager
 
 import numpy as np
 
-from ..markov.dpj import DPJ, bytes_ref, check_palette, grey_ramp  # noqa: F401 (bytes_ref)
+from ..markov.dpj import DPJ, check_palette, grey_ramp
 from ..errors import InputError
 
 EMPTY_LEVELS = 2            # the palette of a document no action has touched yet
@@ -52,6 +55,7 @@ class Document:
         self.dpjs: dict[str, DPJ] = {}
         self._log: list = []
         self._recorder: list | None = None
+        self._in_step = False
 
     @classmethod
     def new(cls, width: int, height: int, levels: int, palette=None) -> "Document":
@@ -107,32 +111,58 @@ class Document:
         return f"<Document {w}x{h} G={self.num_levels} actions={len(self._log)}>"
 
     # -- building -------------------------------------------------------------------------------
-    def add_dpj(self, dpj: DPJ) -> str:
-        """Register a DPJ so actions can refer to it; it becomes the current DPJ."""
+    def add_dpj(self, dpj: DPJ, ref: str | None = None) -> str:
+        """Register a DPJ so actions can refer to it; it becomes the current DPJ. ``ref`` is the
+        reference a file stored it under, which names the bytes it was read from (another
+        machine's encoding of the same arrays may differ); one that does not name the DPJ is
+        refused: the synthesis results and every saved file trust a reference to name one
+        content. Returns the reference."""
         if not isinstance(dpj, DPJ):
             raise InputError("only a DPJ can be added to a document")
-        ref = dpj_ref(dpj)
-        self._add_dpj(dpj, ref)
-        return ref
-
-    def _add_dpj(self, dpj: DPJ, ref: str) -> None:
-        """Register under a known reference: the one a file stored it under, which names the
-        bytes it was read from (`DPJ.from_bytes` checked it; another machine's encoding of the
-        same arrays may differ). A reference that does not name the DPJ is refused: the
-        synthesis memo and every saved file trust a reference to name one content."""
-        if not isinstance(dpj, DPJ):
-            raise InputError("only a DPJ can be added to a document")
+        ref = dpj_ref(dpj) if ref is None else ref
         if not dpj.has_ref(ref):
             raise InputError(f"DPJ reference {ref!r:.20} does not name this DPJ (its reference "
                              f"is {dpj.ref})")
         self.dpjs.setdefault(ref, dpj)
         self._dpj_ref = ref
+        return ref
+
+    def store_dpj(self, dpj: DPJ) -> str:
+        """Keep a DPJ without making it the current one (a composition source's DPJ, a doubling
+        table); returns its reference."""
+        if not isinstance(dpj, DPJ):
+            raise InputError("only a DPJ can be added to a document")
+        self.dpjs.setdefault(dpj.ref, dpj)
+        return dpj.ref
 
     def apply(self, action) -> "Document":
         """Apply an action and append it to the log (the logged way to change a document)."""
-        action.apply(self)
+        with self.step():
+            action.apply(self)
         self._log.append(action)
         return self
+
+    @contextmanager
+    def step(self, record: list | None = None):
+        """The span of one Action's ``apply``: the edit interface works only inside it (so
+        nothing but an Action changes a document). ``record`` collects the undo atoms."""
+        if self._in_step:
+            raise InputError("an Action is already being applied to this document")
+        self._in_step, self._recorder = True, record
+        try:
+            yield record
+        finally:
+            self._in_step, self._recorder = False, None
+
+    # -- the log (History and replay keep it equal to the steps applied) ------------------------
+    def append_log(self, action) -> None:
+        self._log.append(action)
+
+    def truncate_log(self, length: int) -> None:
+        del self._log[length:]
+
+    def set_log(self, actions) -> None:
+        self._log[:] = actions
 
     def copy(self) -> "Document":
         """An independent copy (the DPJs, being immutable, are shared)."""
@@ -144,12 +174,13 @@ class Document:
         other._log = list(self._log)
         return other
 
-    # -- the only mutators (called by Actions) --------------------------------------------------
-    def _set_levels(self, levels, palette=None, *, copy: bool = True) -> None:
+    # -- the edit interface of Actions (only inside a step) --------------------------------------
+    def set_levels(self, levels, palette=None, *, copy: bool = True) -> None:
         """Replace the whole matrix (any new shape), and the palette with it when given.
 
         ``copy=False`` hands over a fresh array the caller will not touch again.
         """
+        self._check_step()
         levels = np.array(levels, dtype=np.uint8, copy=True) if copy else levels
         if levels.ndim != 2 or levels.dtype != np.uint8:
             raise InputError("a level matrix must be a 2-D uint8 array")
@@ -158,33 +189,36 @@ class Document:
             raise InputError(f"the matrix uses level {int(levels.max())} but G = {len(pal)}")
         self._record(_Matrix(self._levels))
         if palette is not None:
-            self._set_palette(pal)
+            self.set_palette(pal)
         self._levels = np.ascontiguousarray(levels)
 
-    def _write(self, top: int, left: int, block) -> None:
+    def write(self, top: int, left: int, block) -> None:
         """Write a block of levels at (top, left); the block must lie inside the canvas."""
+        self._check_step()
         block = np.asarray(block, dtype=np.uint8)
         h, w = block.shape
         H, W = self.shape
         if top < 0 or left < 0 or top + h > H or left + w > W:
             raise InputError(f"block {w}x{h} at ({top}, {left}) is outside the {W}x{H} canvas")
-        self._check_values(block)
+        self.check_levels(block)
         region = (slice(top, top + h), slice(left, left + w))
         self._record(_Patch(top, left, self._levels[region].copy()))
         self._levels[region] = block
 
-    def _fill(self, top: int, left: int, height: int, width: int, value: int) -> None:
+    def fill(self, top: int, left: int, height: int, width: int, value: int) -> None:
         """Set a rectangle (already clipped to the canvas) to one level."""
-        self._check_values(np.uint8(value))
+        self._check_step()
+        self.check_levels(np.uint8(value))
         region = (slice(top, top + height), slice(left, left + width))
         self._record(_Patch(top, left, self._levels[region].copy()))
         self._levels[region] = value
 
-    def _write_where(self, mask, values) -> None:
+    def write_where(self, mask, values) -> None:
         """Set the points of an (H, W) bool mask to ``values`` (a level or an (H, W) array).
 
         The undo record is the mask's bounding box, so a small stroke costs little.
         """
+        self._check_step()
         mask = np.asarray(mask, dtype=bool)
         if mask.shape != self.shape:
             raise InputError(f"mask shape {mask.shape} differs from the canvas {self.shape}")
@@ -194,36 +228,48 @@ class Document:
         region = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
         values = np.asarray(values, dtype=np.uint8)
         new = values if values.ndim == 0 else values[region][mask[region]]
-        self._check_values(new)
+        self.check_levels(new)
         self._record(_Patch(int(rows[0]), int(cols[0]), self._levels[region].copy()))
         self._levels[region][mask[region]] = new
 
-    def _set_palette(self, palette) -> None:
+    def set_palette(self, palette) -> None:
         """Change the colours of the current G levels (G itself changes only with the matrix)."""
+        self._check_step()
         pal = check_palette(palette, len(palette))
         self._record(_Palette(self._palette))
         self._palette = pal
 
-    def _set_dpj(self, ref: str | None) -> None:
+    def set_current_dpj(self, ref: str | None) -> None:
+        """Make a DPJ of the document (or none) the current one, as a synthesis does."""
+        self._check_step()
         if ref is not None and ref not in self.dpjs:
             raise InputError(f"DPJ {ref} is not part of this document: add it first")
         self._record(_CurrentDPJ(self._dpj_ref))
         self._dpj_ref = ref
 
-    def _check_values(self, values) -> None:
+    def check_levels(self, values) -> None:
+        """Refuse levels the palette has no colour for (G = number of levels)."""
         if np.size(values) and int(np.max(values)) >= self.num_levels:
             raise InputError(f"level {int(np.max(values))} does not exist: G = {self.num_levels}, "
                              f"levels are 0..{self.num_levels - 1}")
+
+    def _check_step(self) -> None:
+        if not self._in_step:
+            raise InputError("a document changes only through an Action (Document.apply or "
+                             "History.apply)")
 
     def _record(self, atom) -> None:
         if self._recorder is not None:
             self._recorder.append(atom)
 
     # -- snapshots (History) -------------------------------------------------------------------
-    def _state(self) -> "State":
-        return State(self._levels.copy(), self._palette, self._dpj_ref)
+    def state(self, *, copy: bool = True) -> "State":
+        """What the log made: levels, palette, current DPJ (not the log itself); ``copy=False``
+        for a document about to be dropped (its arrays are handed over)."""
+        return State(self._levels.copy() if copy else self._levels, self._palette, self._dpj_ref)
 
-    def _restore(self, state: "State", *, copy: bool = True) -> None:
+    def restore(self, state: "State", *, copy: bool = True) -> None:
+        """Go back to a saved state (``copy=False``: take over its arrays)."""
         self._levels = state.levels.copy() if copy else state.levels
         self._palette = state.palette
         self._dpj_ref = state.dpj_ref
@@ -315,3 +361,32 @@ class _CurrentDPJ:
         return self.ref != doc._dpj_ref
 
     nbytes = 16
+
+
+def footprint(atoms) -> tuple[frozenset, tuple | None]:
+    """What a step's undo atoms changed — a subset of levels, palette, dpj — and the box
+    (top, left, height, width) of the levels changed (None: the whole matrix)."""
+    what, boxes = set(), []
+    for atom in atoms:
+        if isinstance(atom, _Patch):
+            what.add("levels")
+            boxes.append((atom.top, atom.left, *atom.block.shape))
+        elif isinstance(atom, _Matrix):
+            what.add("levels")
+            boxes.append(None)
+        elif isinstance(atom, _Palette):
+            what.add("palette")
+        elif isinstance(atom, _CurrentDPJ):
+            what.add("dpj")
+    box = boxes[0] if boxes else None
+    for other in boxes[1:]:
+        box = union_box(box, other)
+    return frozenset(what), box
+
+
+def union_box(a, b):
+    """The bounding box of two (top, left, height, width) boxes; None (everywhere) wins."""
+    if a is None or b is None:
+        return None
+    top, left = min(a[0], b[0]), min(a[1], b[1])
+    return (top, left, max(a[0] + a[2], b[0] + b[2]) - top, max(a[1] + a[3], b[1] + b[3]) - left)

@@ -9,14 +9,13 @@ from __future__ import annotations
 import time
 from bisect import bisect_right
 from collections import ChainMap
+from dataclasses import dataclass
 from typing import Callable, Iterable
 
 from .actions import Action
-from .document import Document, State
-from ..errors import Cancelled, InputError, ReplayError
-
-Progress = Callable[[float], None] | None
-Cancel = Callable[[], bool] | None
+from .document import Document, State, footprint, union_box
+from ..errors import InputError
+from .replay import Cancel, Progress, apply_step, replay_failure, replay_log
 
 
 # Snapshots are thinned to this many: more would make thinning slow (it is linear in their
@@ -24,30 +23,20 @@ Cancel = Callable[[], bool] | None
 MAX_SNAPSHOTS = 256
 
 
-def replay(actions: Iterable[Action], dpjs: dict, *, progress: Progress = None,
-           cancel: Cancel = None) -> Document:
-    """Rebuild a document from its log and DPJs (ref → DPJ); a step that fails is a ReplayError."""
-    actions = list(actions)
-    doc = Document()
-    doc.dpjs.update(dpjs)
-    for k, action in enumerate(actions):
-        _run(doc, action, k, len(actions), progress, cancel)
-        doc._log.append(action)
-    return doc
+@dataclass(frozen=True)
+class Change:
+    """What one change of a History did, so that a view redraws only that: ``kind`` (apply,
+    undo, redo, goto, edit, dpj), the index after it, ``what`` changed (a subset of levels,
+    palette, dpj, log) and ``box``, the (top, left, height, width) of the levels changed
+    (None: the whole canvas, or its shape changed)."""
+
+    kind: str
+    index: int
+    what: frozenset
+    box: tuple[int, int, int, int] | None = None
 
 
-def _run(doc: Document, action: Action, k: int, n: int, progress: Progress, cancel: Cancel):
-    """Apply step k of n (prepare first, so a long synthesis reports progress and can stop)."""
-    if cancel is not None and cancel():
-        raise Cancelled("replay cancelled")
-    sub = None if progress is None else (lambda f: progress((k + f) / n))
-    try:
-        action.prepare(doc, sub, cancel)
-        action.apply(doc)
-        if progress is not None:
-            progress((k + 1) / n)
-    except InputError as exc:
-        raise ReplayError(f"step {k + 1} ({action.label()}) cannot be replayed: {exc}") from None
+EVERYTHING = frozenset({"levels", "palette", "dpj", "log"})
 
 
 class History:
@@ -72,11 +61,11 @@ class History:
         self.snapshot_every, self.snapshot_memory = snapshot_every, snapshot_memory
         self.undo_memory, self.snapshot_cost = undo_memory, snapshot_cost
         self._doc = document if document is not None else Document()
-        self._actions: list[Action] = list(self._doc._log)
+        self._actions: list[Action] = list(self._doc.actions)
         self._index = len(self._actions)
         self._records: dict[int, list] = {}    # step → atoms (undo form below index, redo above)
         self._record_bytes = 0
-        self._snaps: dict[int, State] = {0: Document()._state()}
+        self._snaps: dict[int, State] = {0: Document().state()}
         self._snap_keys = [0]
         self._spacing = 1                      # the least gap a new snapshot needs (thinning)
         self._snap_bytes = 0
@@ -85,20 +74,27 @@ class History:
         self._changes = 0                      # notifications so far: a PendingEdit's staleness
         self._targets: dict[int, str] = {}     # region step → digest of the region it acted on
         self.retargeted: frozenset[int] = frozenset()   # later steps the last edit re-targeted
+        self._dirty: set[str] = set()          # what changed since the last notification
+        self._box: tuple | None = None         # and where (None: everywhere)
         self._done: list[Revision] = []        # edits of past steps, undoable (latest last)
         self._undone: list[Revision] = []      # edits undone, redoable (latest last)
         if self._index:
-            self._add_snapshot(self._index, self._doc._state())
+            self._add_snapshot(self._index, self._doc.state())
 
     @classmethod
-    def from_log(cls, actions: Iterable[Action], dpjs: dict, *, progress: Progress = None,
-                 cancel: Cancel = None, **options) -> "History":
-        """Replay a log (ref → DPJ for its syntheses) into a new History, step by step."""
+    def from_log(cls, actions: Iterable[Action], dpjs: dict, *, current: str | None = None,
+                 prepared: dict | None = None, progress: Progress = None, cancel: Cancel = None,
+                 **options) -> "History":
+        """Replay a log (ref → DPJ for its syntheses) into a new History, step by step, as
+        `replay.replay` does (``current``, ``prepared``: see there); a failing step is a
+        ReplayError naming it."""
+        from .replay import make_current
         history = cls(**options)
         history._doc.dpjs.update(dpjs)
-        actions = list(actions)
-        for k, action in enumerate(actions):
-            history._advance(action, k, replaying=(len(actions), progress, cancel))
+        actions, given = list(actions), prepared or {}
+        replay_log(actions, lambda k, a, sub: history._advance(a, k, given.get(k), sub, cancel),
+                   progress=progress, cancel=cancel, failure=replay_failure)
+        make_current(history._doc, current)
         return history
 
     # -- reading ------------------------------------------------------------------------------
@@ -147,31 +143,35 @@ class History:
         return [a.label() for a in self._actions]
 
     # -- changing -----------------------------------------------------------------------------
-    def subscribe(self, callback: Callable[[], None]) -> Callable[[], None]:
-        """Call ``callback()`` after every change; returns a function that unsubscribes."""
+    def subscribe(self, callback: Callable[[Change], None]) -> Callable[[], None]:
+        """Call ``callback(change)`` after every change (a `Change`: what changed, and where);
+        returns a function that unsubscribes."""
         self._subscribers.append(callback)
         return lambda: self._subscribers.remove(callback) if callback in self._subscribers else None
 
     def add_dpj(self, dpj) -> str:
         ref = self._doc.add_dpj(dpj)
-        self._notify()
+        self._dirty.add("dpj")
+        self._notify("dpj")
         return ref
 
-    def apply(self, action: Action, *, if_changed: bool = False) -> bool:
+    def apply(self, action: Action, *, if_changed: bool = False, prepared=None) -> bool:
         """Apply a new step after the current one; the redo tail is dropped. ``if_changed``: a
         step that changes nothing (a fill with the region's own level) is not added, and the
-        log stays as it was; returns whether a step was added."""
+        log stays as it was. ``prepared``: the step's slow part, done in a worker (what its
+        ``prepare`` returned), applied as it is. Returns whether a step was added."""
         if not isinstance(action, Action):
             raise InputError(f"only an Action can be applied, got {type(action).__name__}")
         k, records, costs, targets = self._index, {}, {}, {}
-        self._step(self._doc, action, k, records, costs, targets)
+        self._step(self._doc, action, k, records, costs, targets, prepared)
         if if_changed and not any(atom.differs(self._doc) for atom in records[k]):
             for atom in reversed(records[k]):
                 atom.swap(self._doc)
             return False
         self._truncate(k)
+        self._touch(records[k])
         self._accept(action, k, records, costs, targets)
-        self._notify()
+        self._notify("apply")
         return True
 
     def undo(self) -> bool:
@@ -184,7 +184,7 @@ class History:
             else:
                 self._goto(self._index - 1)
         finally:
-            self._notify()
+            self._notify("undo")
         return True
 
     def redo(self) -> bool:
@@ -197,7 +197,7 @@ class History:
             else:
                 self._goto(self._index + 1)
         finally:
-            self._notify()
+            self._notify("redo")
         return True
 
     def goto(self, index: int) -> None:
@@ -207,7 +207,7 @@ class History:
         try:
             self._goto(index)
         finally:
-            self._notify()
+            self._notify("goto")
 
     def replace(self, i: int, action: Action, *, to_end: bool = False) -> None:
         """Edit step i (new parameters) and replay the steps after it: non-destructive history.
@@ -234,10 +234,11 @@ class History:
             self._truncate_records(edit.i)
             self._drop_targets(edit.i)
             self.retargeted = frozenset()
+            self._dirty.add("log")
         else:
             self._take_replay(edit)
         self._remember(Revision(edit.i, before, Version(self)))
-        self._notify()
+        self._notify("edit")
 
     def _remember(self, revision: "Revision") -> None:
         """Keep an edit for undo; the oldest go first beyond a quarter of the undo budget."""
@@ -258,8 +259,9 @@ class History:
         self._targets.update(edit.targets)
         self._costs = {k: c for k, c in self._costs.items() if k < edit.i}
         self._costs.update(edit.costs)
-        self._doc._restore(edit.state, copy=False)
-        self._doc._log[:] = edit.actions[:edit.new_index]
+        self._doc.restore(edit.state, copy=False)
+        self._doc.set_log(edit.actions[:edit.new_index])
+        self._touch_all()
         self._index = edit.new_index
         for step, atoms in edit.records.items():
             self._keep_record(step, atoms)
@@ -283,14 +285,11 @@ class History:
         if not 0 <= i < len(self._actions):
             raise InputError(f"step {i} is outside 0..{len(self._actions) - 1}")
 
-    def _advance(self, action: Action, k: int, replaying=None) -> None:
-        """Apply action as step k (= index) on the live document, recording its undo atoms.
-
-        ``replaying`` = (n, progress, cancel) when rebuilding a stored log of n steps: failures
-        are then ReplayErrors and long steps report progress and can be cancelled.
-        """
+    def _advance(self, action: Action, k: int, prepared=None, progress: Progress = None,
+                 cancel: Cancel = None) -> None:
+        """Apply action as step k (= index) on the live document, recording its undo atoms."""
         records, costs, targets = {}, {}, {}
-        self._step(self._doc, action, k, records, costs, targets, replaying)
+        self._step(self._doc, action, k, records, costs, targets, prepared, progress, cancel)
         self._accept(action, k, records, costs, targets)
 
     def _accept(self, action: Action, k: int, records: dict, costs: dict, targets: dict) -> None:
@@ -300,7 +299,7 @@ class History:
             self._actions[k] = action
         else:
             self._actions.append(action)
-        self._doc._log.append(action)
+        self._doc.append_log(action)
         self._index = k + 1
         self._costs.update(costs)
         for step, atoms in records.items():
@@ -309,27 +308,16 @@ class History:
         self._trim_records()
 
     @staticmethod
-    def _step(doc, action, k, records, costs, targets, replaying=None, progress=None,
+    def _step(doc, action, k, records, costs, targets, prepared=None, progress=None,
               cancel=None) -> None:
+        """Step k on ``doc``: what it picks, its undo atoms, its cost (a failed step leaves the
+        document as it was)."""
         atoms: list = []
         target = action.picked_region(doc.levels)
         if target is not None:
             targets[k] = target
-        doc._recorder = atoms
         start = time.perf_counter()
-        try:
-            if replaying is not None:
-                n, progress, cancel = replaying
-                _run(doc, action, k, n, progress, cancel)
-            else:
-                action.prepare(doc, progress, cancel)
-                action.apply(doc)
-        except BaseException:
-            for atom in reversed(atoms):     # a failed action leaves the document as it was
-                atom.swap(doc)
-            raise
-        finally:
-            doc._recorder = None
+        apply_step(doc, action, record=atoms, prepared=prepared, progress=progress, cancel=cancel)
         costs[k] = time.perf_counter() - start
         records[k] = atoms
 
@@ -337,16 +325,17 @@ class History:
         while self._index > target and (self._index - 1) in self._records:
             self._swap(self._index - 1, reverse=True)
             self._index -= 1
-            self._doc._log.pop()
+            self._doc.truncate_log(self._index)
         while self._index < target and self._index in self._records:
             self._swap(self._index, reverse=False)
-            self._doc._log.append(self._actions[self._index])
+            self._doc.append_log(self._actions[self._index])
             self._index += 1
         if self._index != target:
             self._jump(target)
 
     def _swap(self, step: int, reverse: bool) -> None:
         atoms = self._records[step]
+        self._touch(atoms)
         before = _atoms_bytes(atoms)
         for atom in (reversed(atoms) if reverse else atoms):
             atom.swap(self._doc)
@@ -358,18 +347,15 @@ class History:
         if self._index <= target and start < self._index:
             start = self._index
         else:
-            self._doc._restore(self._snaps[start])
+            self._doc.restore(self._snaps[start])
+        self._touch_all()
         lo, hi = min(start, self._index), max(self._index, target)
         for step in [s for s in self._records if lo <= s < hi]:
             self._drop_record(step)
-        self._doc._log[:] = self._actions[:start]
+        self._doc.set_log(self._actions[:start])
         self._index = start
-        for k in range(start, target):
-            try:
-                self._advance(self._actions[k], k)
-            except InputError as exc:         # a redo tail that an edit made invalid
-                raise InputError(f"step {k + 1} ({self._actions[k].label()}) cannot be redone "
-                                 f"after the edit of an earlier step: {exc}") from None
+        replay_log(self._actions, lambda k, a, _: self._advance(a, k), start=start, stop=target,
+                   failure=_redo_failure)
 
     # -- internals: editing past steps --------------------------------------------------------
     def _edit(self, i: int, tail: list, new_index: int) -> None:
@@ -432,7 +418,7 @@ class History:
 
     def _maybe_snapshot(self, k: int, doc: Document) -> None:
         if self._wants_snapshot(k, self._snap_keys, self._costs, self._spacing):
-            self._add_snapshot(k, doc._state())
+            self._add_snapshot(k, doc.state())
 
     def _add_snapshot(self, k: int, state: State) -> None:
         if k in self._snaps:
@@ -457,14 +443,39 @@ class History:
         self._snap_keys.remove(k)
         self._spacing = 1
 
-    def _notify(self) -> None:
+    def _touch(self, atoms: list) -> None:
+        """Note what a step's atoms changed (and where) for the next notification."""
+        what, box = footprint(atoms)
+        if "levels" in what and "levels" in self._dirty:
+            box = union_box(self._box, box)
+        elif "levels" not in what:
+            box = self._box
+        self._dirty |= what | {"log"}
+        self._box = box
+
+    def _touch_all(self) -> None:
+        self._dirty |= EVERYTHING
+        self._box = None
+
+    def _notify(self, kind: str) -> None:
         self._changes += 1
+        if kind in ("undo", "redo", "goto", "edit", "apply"):
+            self._dirty.add("log")
+        change = Change(kind, self._index, frozenset(self._dirty),
+                        self._box if "levels" in self._dirty else None)
+        self._dirty, self._box = set(), None
         for callback in list(self._subscribers):
-            callback()
+            callback(change)
 
 
 def _atoms_bytes(atoms: list) -> int:
     return sum(a.nbytes for a in atoms)
+
+
+def _redo_failure(k: int, action, exc: Exception) -> InputError:
+    """A redo tail that an edit made invalid."""
+    return InputError(f"step {k + 1} ({action.label()}) cannot be redone after the edit of an "
+                      f"earlier step: {exc}")
 
 
 def _thinnest(keys: list) -> int:
@@ -518,21 +529,19 @@ class PendingEdit:
             return self
         scratch = Document()
         scratch.dpjs = self._dpjs
-        scratch._restore(self._base)
-        scratch._log = self.actions[:self.start]   # actions may read the log before them
+        scratch.restore(self._base)
+        scratch.set_log(self.actions[:self.start])   # actions may read the log before them
         costs = ChainMap(self.costs, self._old_costs)
-        n = self.new_index - self.start
-        for k in range(self.start, self.new_index):
-            if cancel is not None and cancel():
-                raise Cancelled("replay cancelled")
-            sub = None if progress is None else (lambda f, j=k - self.start: progress((j + f) / n))
+
+        def run(k, action, sub):
             self._replay_step(scratch, k, sub, cancel)
             if k + 1 > self.i and self.history._wants_snapshot(k + 1, self._keys, costs,
                                                                self._spacing):
-                self._keep_snapshot(k + 1, scratch._state())
-            if progress is not None:
-                progress((k + 1 - self.start) / n)
-        self.state = State(scratch._levels, scratch._palette, scratch._dpj_ref)
+                self._keep_snapshot(k + 1, scratch.state())
+
+        replay_log(self.actions, run, start=self.start, stop=self.new_index, progress=progress,
+                   cancel=cancel)
+        self.state = scratch.state(copy=False)
         self.finished = True
         return self
 
@@ -544,7 +553,7 @@ class PendingEdit:
         except InputError as exc:
             raise InputError(f"after this edit, step {k + 1} ({action.label()}) "
                              f"fails: {exc}") from None
-        scratch._log.append(action)
+        scratch.append_log(action)
         self._record_bytes += _atoms_bytes(self.records[k])
         while self._record_bytes > self.history.undo_memory:   # drop the farthest from the end
             self._record_bytes -= _atoms_bytes(self.records.pop(min(self.records)))
@@ -569,7 +578,7 @@ class Version:
     def __init__(self, history: History):
         self.actions = list(history._actions)
         self.index = history._index
-        self.state = history._doc._state()
+        self.state = history._doc.state()
         self.targets = dict(history._targets)
         self.retargeted = history.retargeted
 
@@ -587,8 +596,9 @@ class Version:
         history._actions = list(self.actions)
         history._truncate_records(i)
         history._index = self.index
-        history._doc._restore(self.state)
-        history._doc._log[:] = self.actions[:self.index]
+        history._doc.restore(self.state)
+        history._doc.set_log(self.actions[:self.index])
+        history._touch_all()
         history._targets = dict(self.targets)
         history.retargeted = self.retargeted
 

@@ -22,7 +22,7 @@ import uuid
 from dataclasses import dataclass
 from pathlib import Path
 
-from .actions import action_from_json
+from .codec import action_from_json
 from ..markov.dpj import DPJ
 from ..errors import FormatError, TexeditorError
 from ..fileio import load_json, read_limited

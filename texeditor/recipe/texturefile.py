@@ -17,13 +17,14 @@ from dataclasses import dataclass
 
 
 from ..version import __version__
-from .actions import (MAX_CANVAS_SIDE, Action, Synthesize, _palette, action_from_json,
-                      dpj_refs)
+from .actions import MAX_CANVAS_SIDE, Action, Synthesize, _palette, dpj_refs
+from .codec import MAX_ACTIONS, MAX_LOG_BYTES, log_json, read_log
 from .document import Document, REF_LENGTH
 from ..markov.dpj import DPJ, MAX_FILE_BYTES as MAX_DPJ_BYTES, MAX_LEVELS
-from ..errors import FormatError, InputError, ReplayError, check_unicode
+from ..errors import FormatError, InputError, check_unicode
 from ..fileio import load_json, read_limited, write_file
-from .history import History, replay
+from .history import History
+from .stored import Recipe, open_recipe
 from .logopt import optimize
 
 FORMAT_NAME = "texeditor-texture"
@@ -31,8 +32,7 @@ FORMAT_VERSION = 1
 # Measured at these limits (benchmarks/bench_limits.py): opening and replaying stays under 2 GiB.
 # Each DPJ in memory takes about 3× its stored bytes, and a synthesis from the largest one 1.3 GB.
 MAX_MANIFEST_BYTES = 2**20
-MAX_ACTIONS_BYTES = 64 * 2**20
-MAX_ACTIONS = 250_000
+MAX_ACTIONS_BYTES = MAX_LOG_BYTES
 MAX_DPJ_CONTENT = 128 * 2**20           # the DPJ members together (two of the largest DPJs)
 MAX_TOTAL_BYTES = MAX_MANIFEST_BYTES + MAX_ACTIONS_BYTES + MAX_DPJ_CONTENT   # declared sizes
 MAX_FILE_BYTES = MAX_TOTAL_BYTES + 2**20
@@ -77,6 +77,13 @@ class TextureFile:
     manifest: Manifest
     actions: tuple[Action, ...]
     dpjs: dict[str, DPJ]
+    name: str = "texture"
+
+    @property
+    def recipe(self) -> Recipe:
+        """The log, DPJs, current DPJ and recorded result, for `stored.open_recipe`."""
+        return Recipe(self.actions, self.dpjs, self.manifest.dpj, self.manifest.result_sha256,
+                      self.name)
 
 
 # -- writing ---------------------------------------------------------------------------------------
@@ -109,7 +116,7 @@ def texture_bytes(doc: Document, actions, *, tags=(), description="") -> tuple[b
         result_sha256=doc.result_hash(), actions=len(actions), dpj=main, dpjs=others,
         tags=tags, description=description))
     members = [("manifest.json", _json_bytes(manifest.to_json())),
-               ("actions.json", _json_bytes({"actions": [a.to_json() for a in actions]}))]
+               ("actions.json", _json_bytes(log_json(actions)))]
     if main is not None:
         members.append(("dpj.npz", doc.dpjs[main].to_bytes()))
     members += [(f"dpjs/{ref}.npz", doc.dpjs[ref].to_bytes()) for ref in others]
@@ -196,7 +203,7 @@ def parse_texture(data: bytes, name: str = "texture") -> TextureFile:
     missing = sorted(set(dpj_refs(actions)) - set(dpjs))
     if missing:
         raise FormatError(f"{name}: the log uses DPJs {missing} that the file does not hold")
-    return TextureFile(manifest, actions, dpjs)
+    return TextureFile(manifest, actions, dpjs, name)
 
 
 def load_texture(path, *, progress=None, cancel=None, **history_options) -> tuple[History, Manifest]:
@@ -205,22 +212,9 @@ def load_texture(path, *, progress=None, cancel=None, **history_options) -> tupl
     A log that fails to replay or gives another result is a ReplayError.
     """
     tex = read_texture(path)
-    history = History.from_log(tex.actions, tex.dpjs, progress=progress, cancel=cancel,
-                               **history_options)
-    _verify(history.document, tex.manifest, str(path))
-    if tex.manifest.dpj is not None:
-        history.document._add_dpj(tex.dpjs[tex.manifest.dpj], tex.manifest.dpj)
+    history = open_recipe(tex.recipe, history=True, progress=progress, cancel=cancel,
+                          **history_options)
     return history, tex.manifest
-
-
-def _verify(doc: Document, manifest: Manifest, name: str) -> None:
-    got = doc.result_hash()
-    if got != manifest.result_sha256:
-        h, w = doc.shape
-        raise ReplayError(
-            f"{name}: replaying the log gives another texture ({w}x{h}, G = {doc.num_levels}, "
-            f"SHA-256 {got[:12]}…) than the one recorded ({manifest.width}x{manifest.height}, "
-            f"G = {manifest.levels}, SHA-256 {manifest.result_sha256[:12]}…)")
 
 
 def _check_members(zf: zipfile.ZipFile, name: str) -> dict[str, zipfile.ZipInfo]:
@@ -357,17 +351,7 @@ def _texts(value, what, max_items, max_chars, pattern=None) -> tuple:
 
 
 def _read_actions(obj, name: str) -> tuple[Action, ...]:
-    if not isinstance(obj, dict) or set(obj) != {"actions"} or not isinstance(obj["actions"], list):
-        raise FormatError(f'{name}: actions.json must be an object {{"actions": [...]}}')
-    if len(obj["actions"]) > MAX_ACTIONS:
-        raise FormatError(f"{name}: more than {MAX_ACTIONS} actions")
-    actions = []
-    for k, item in enumerate(obj["actions"]):
-        try:
-            actions.append(action_from_json(item))
-        except FormatError as exc:
-            raise FormatError(f"{name}: action {k + 1}: {exc}") from None
-    return tuple(actions)
+    return read_log(obj, f"{name}: actions.json", max_actions=MAX_ACTIONS)
 
 
 def _read_dpjs(zf, infos, manifest: Manifest, name: str) -> dict[str, DPJ]:
@@ -395,10 +379,7 @@ def _short(exc: Exception) -> str:
 
 def render_texture(path, *, progress=None, cancel=None) -> Document:
     """Replay a `.texture` and check its hash (`texeditor render`); returns the Document."""
-    tex = read_texture(path)
-    doc = replay(tex.actions, tex.dpjs, progress=progress, cancel=cancel)
-    _verify(doc, tex.manifest, str(path))
-    return doc
+    return open_recipe(read_texture(path).recipe, progress=progress, cancel=cancel)
 
 
 def describe_log(actions) -> list[str]:
@@ -413,8 +394,7 @@ def synthesize_texture(dpj: DPJ, width: int, height: int, *, seed: int = 0, prog
     history = History()
     ref = history.add_dpj(dpj)
     action = Synthesize(ref, width, height, seed)
-    action.render(dpj, progress=progress, cancel=cancel)
-    history.apply(action)
+    history.apply(action, prepared=action.render_result(dpj, progress, cancel).levels)
     return history
 
 
@@ -423,9 +403,8 @@ def optimize_texture(src, dst, *, progress=None, cancel=None) -> tuple[int, int]
     replays to the same result; returns the action counts (before, after)."""
     tex = read_texture(src)
     shorter = optimize(tex.actions, tex.dpjs)
-    doc = replay(shorter, tex.dpjs, progress=progress, cancel=cancel)
-    _verify(doc, tex.manifest, f"{src} (optimised)")
-    if tex.manifest.dpj is not None:
-        doc._add_dpj(tex.dpjs[tex.manifest.dpj], tex.manifest.dpj)
+    doc = open_recipe(dataclasses.replace(tex.recipe, actions=tuple(shorter),
+                                          name=f"{src} (optimised)"),
+                      progress=progress, cancel=cancel)
     save_texture(dst, doc, tags=tex.manifest.tags, description=tex.manifest.description)
     return len(tex.actions), len(shorter)

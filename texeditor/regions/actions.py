@@ -151,7 +151,7 @@ class RegionAction(Action):
 
     def _check_levels(self, doc, *values) -> None:
         for value in values:
-            doc._check_values(np.uint8(value))
+            doc.check_levels(np.uint8(value))
         if self.point is not None:
             transforms.check_point(self.point, doc.shape)
 
@@ -159,7 +159,7 @@ class RegionAction(Action):
     def _commit(doc, new: np.ndarray) -> None:
         """Write the points that changed, box by box (a far move records two small patches)."""
         for t, l, b, r in changed_boxes(new != doc.levels):
-            doc._write(t, l, new[t:b, l:r])
+            doc.write(t, l, new[t:b, l:r])
 
     def _what(self) -> str:
         """The selection in a label: "region at (3, 2)", "every point like (3, 2)"..."""
@@ -188,7 +188,7 @@ class Fill(RegionAction):
     scope: str = _scope()
     connectivity: int = _connectivity()
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.value)
         self._commit(doc, regions.fill(doc.levels, self.point, self.value, scope=self.scope,
                                        connectivity=self.connectivity))
@@ -213,7 +213,7 @@ class Translate(RegionAction):
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.fill)
         mask = self.selection(doc.levels)
         offset = (self.to_row - self.row, self.to_col - self.col)
@@ -238,7 +238,7 @@ class Copy(RegionAction):
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc)
         mask = self.selection(doc.levels)
         offset = (self.to_row - self.row, self.to_col - self.col)
@@ -264,7 +264,7 @@ class ChangeLevel(RegionAction):
     scope: str = _scope()
     connectivity: int = _connectivity()
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.value)
         self._commit(doc, regions.change_level(doc.levels, self.selection(doc.levels),
                                                self.value))
@@ -285,7 +285,7 @@ class DeleteSelection(RegionAction):
     scope: str = _scope()
     connectivity: int = _connectivity()
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc)
         self._commit(doc, regions.delete(doc.levels, self.selection(doc.levels)))
 
@@ -311,7 +311,7 @@ class ScaleSelection(RegionAction):
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.fill)
         cols = self.factor if self.factor_cols is None else self.factor_cols
         self._commit(doc, regions.scale(doc.levels, self.selection(doc.levels),
@@ -338,7 +338,7 @@ class RotateSelection(RegionAction):
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.fill)
         self._commit(doc, regions.rotate(doc.levels, self.selection(doc.levels), self.angle,
                                          fill=self.fill, wrap=self.wrap))
@@ -367,7 +367,7 @@ class FlipSelection(RegionAction):
         if self.axis not in ("horizontal", "vertical"):
             raise InputError(f"axis must be 'horizontal' or 'vertical', got {self.axis!r}")
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.fill)
         self._commit(doc, regions.flip(doc.levels, self.selection(doc.levels), self.axis,
                                        fill=self.fill))
@@ -405,7 +405,7 @@ class Identity(RegionAction):
         if (self.step_rows is None) != (self.step_cols is None):
             raise InputError("give both grid steps (rows and columns), or neither")
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc)
         step = None if self.step_rows is None else (self.step_rows, self.step_cols)
         self._commit(doc, transforms.identity(
@@ -428,9 +428,9 @@ class _Warp(RegionAction):
 
     def _validate(self) -> None:
         super()._validate()
-        transforms._linear(self._map()[0])
+        transforms.linear_map(self._map()[0])
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.fill)
         matrix, centre, offset = self._map()
         self._commit(doc, transforms.warp(doc.levels, matrix, centre=centre, offset=offset,

@@ -177,7 +177,7 @@ def rotation_matrix(angle: float) -> tuple[tuple[float, float], tuple[float, flo
     return ((cos, -sin), (sin, cos))
 
 
-def _linear(matrix):
+def linear_map(matrix):
     """The matrix as four floats and its inverse (closed form: the same bits everywhere)."""
     try:
         (a, b), (c, d) = ((float(x) for x in row) for row in matrix)
@@ -281,7 +281,7 @@ def warp(levels, matrix, *, centre: Point = (0.0, 0.0), offset: Point = (0.0, 0.
            [0, 0, 4]], dtype=uint8)
     """
     levels, mask, centre, offset, fill = _checked(levels, mask, centre, offset, fill)
-    m, inv = _linear(matrix)
+    m, inv = linear_map(matrix)
     shift = _integer_offset(offset) if m == (1.0, 0.0, 0.0, 1.0) else None
     if mask is not None:
         out = levels.copy()
@@ -334,7 +334,7 @@ def transform_mask(mask, matrix, *, centre: Point = (0.0, 0.0), offset: Point = 
         raise InputError("a presence mask must be 2-D")
     mask = as_mask(mask, mask.shape)
     centre, offset = _as_vector(centre, "centre"), _as_vector(offset, "offset")
-    m, inv = _linear(matrix)
+    m, inv = linear_map(matrix)
     out = np.zeros(mask.shape, bool)
     if not mask.any():
         return out

@@ -20,8 +20,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import threading
-from collections import OrderedDict
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import ClassVar
@@ -30,13 +28,15 @@ import numpy as np
 
 from ..recipe.actions import MAX_CANVAS_SIDE, Action, Synthesize, param, register
 from ..texture.composition import convert_levels
-from ..recipe.document import Document, bytes_ref
+from ..markov.dpj import bytes_ref
+from ..recipe.document import Document
+from ..recipe.cache import Cache
+from ..recipe.replay import apply_step, replay_log
 from ..markov.dpj import MAX_LEVELS
 from ..errors import Cancelled, FormatError, InputError
 from .envelope import (BLENDS, INTERIORS, Envelope, Perturbation, Placement, Stamp, blend, pieces,
                     placed_outline, real_spot, spot_levels)
-from ..texture.actions import (MAX_RECIPE_CHARS, check_recipe, refs_field, source_levels,
-                              upgrade_ref)
+from ..recipe.sources import MAX_RECIPE_CHARS, check_recipe, refs_field, source_levels, upgrade_ref
 
 FILLS = ("level", "document", "dpj", "texture")
 MAX_ENVELOPE_CHARS = 400_000
@@ -238,15 +238,15 @@ class SpotAction(Action):
             if progress is not None and i % 16 == 15:
                 progress((i + 1) / len(spots))
 
-    def apply(self, doc) -> None:
-        self._place(doc, skip=frozenset())
+    def apply(self, doc, prepared=None) -> None:
+        self.place(doc, skip=frozenset())
 
-    def _place(self, doc, skip) -> None:
+    def place(self, doc, skip) -> None:
         """Place every spot but those in ``skip`` (their indices; None skips them all)."""
         if skip is None:
             return
         for value in self._levels_used():
-            doc._check_values(np.uint8(value))
+            doc.check_levels(np.uint8(value))
         lower = self._lower_texture(doc)
         for i, spot in enumerate(self.spots(doc.shape)):
             if i in skip:
@@ -265,7 +265,7 @@ class SpotAction(Action):
                 current = doc.levels[t:t + rs.stop - rs.start, l:l + cs.stop - cs.start]
                 new = blend(current, part.mask, values, self.blend)
                 if (new != current).any():
-                    doc._write(t, l, new)
+                    doc.write(t, l, new)
 
     def _levels_used(self) -> tuple[int, ...]:
         return (self.level,) if self.fill == "level" else ()
@@ -288,7 +288,7 @@ class SpotAction(Action):
             raise InputError(f"the DPJ has G = {dpj.levels} levels but the document only "
                              f"{doc.num_levels}: its texture cannot fill a spot here")
         h, w = (min(max(n, 1), LOWER_TEXTURE_SIDE) for n in doc.shape)
-        return Synthesize(self.dpj, w, h, self.seed).render(dpj)
+        return Synthesize(self.dpj, w, h, self.seed).render_result(dpj).levels
 
 
 @dataclass(frozen=True)
@@ -493,7 +493,7 @@ class DeleteSpot(Action):
         raise InputError(f"the spot placement this deletion names (step {self.step + 1}) is "
                          f"not in the log before it")
 
-    def apply(self, doc) -> None:
+    def apply(self, doc, prepared=None) -> None:
         actions = doc.actions
         k = self.placement_step(actions)
         if self.spot is not None and self.spot >= len(actions[k].spots(doc.shape)):
@@ -507,7 +507,7 @@ class DeleteSpot(Action):
                              "deleted on its own")
         from ..regions.actions import changed_boxes
         for t, l, b, r in changed_boxes(without != doc.levels):
-            doc._write(t, l, without[t:b, l:r])
+            doc.write(t, l, without[t:b, l:r])
 
     def label(self) -> str:
         which = "the spot" if self.spot is None else f"spot {self.spot + 1}"
@@ -545,15 +545,17 @@ def replay_without(actions, dpjs: dict, skipped: dict) -> np.ndarray:
     start = max((i for i, a in enumerate(actions) if a.EFFECT == "reset"), default=0)
     scratch = Document()
     scratch.dpjs = dpjs
-    scratch._log = actions[:start]
-    for i in range(start, len(actions)):
-        a = actions[i]
-        if isinstance(a, SpotAction):
-            a._place(scratch, skipped.get(i, frozenset()))
-        elif not isinstance(a, DeleteSpot):
-            a.prepare(scratch)
-            a.apply(scratch)
-        scratch._log.append(a)
+    scratch.set_log(actions[:start])
+
+    def run(i, action, _progress):
+        if isinstance(action, SpotAction):
+            with scratch.step():
+                action.place(scratch, skipped.get(i, frozenset()))
+        elif not isinstance(action, DeleteSpot):
+            apply_step(scratch, action)
+        scratch.append_log(action)
+
+    replay_log(actions, run, start=start)
     return scratch.levels
 
 
@@ -582,42 +584,8 @@ def spot_at(actions, shape, point) -> tuple[int, int | None] | None:
     return None
 
 
-# -- the stamp cache -------------------------------------------------------------------------------
+# -- the stamp cache: recently rasterised spots ---------------------------------------------------
 
-class _StampCache:
-    """Recently rasterised spots (read-only), within a memory budget."""
-
-    def __init__(self, max_bytes: int = 128 * 2**20):
-        self.max_bytes = max_bytes
-        self._items: OrderedDict = OrderedDict()
-        self._bytes = 0
-        self._lock = threading.Lock()
-
-    def get(self, key):
-        with self._lock:
-            stamp = self._items.get(key)
-            if stamp is not None:
-                self._items.move_to_end(key)
-            return stamp
-
-    def put(self, key, stamp: Stamp) -> None:
-        if stamp.nbytes > self.max_bytes:
-            return
-        with self._lock:
-            if key in self._items:
-                return
-            self._items[key] = stamp
-            self._bytes += stamp.nbytes
-            while self._bytes > self.max_bytes:
-                _, old = self._items.popitem(last=False)
-                self._bytes -= old.nbytes
-
-    def clear(self) -> None:
-        with self._lock:
-            self._items.clear()
-            self._bytes = 0
-
-
-_STAMPS = _StampCache()
+_STAMPS = Cache(max_bytes=128 * 2**20)
 
 SPOT_ACTIONS = (PlaceSpot, ScatterSpots, DeleteSpot)
