@@ -1,6 +1,6 @@
 """The Brushes dock (thesis §3.2.2, "several brushes grouped in a menu"): brush presets as
-pictures of one dab, the user's own saved in the user data folder; and the few menu entries and
-keys of the painting tools ([ and ], the Grain stamps menu, Peano sub-regions).
+pictures of one dab, the user's own saved in the user data folder; and the painting tools' size
+keys ([ and ]), which the dock offers to the window's Tools menu.
 
 A preset is plain data (texeditor.paint.brushes.Brush); choosing one loads it into the Brush or Spray
 tool, which turns strokes into Stroke actions.
@@ -44,7 +44,7 @@ class BrushDock(QtWidgets.QDockWidget):
 
     def __init__(self, window):
         super().__init__("Brushes", window)
-        self.setObjectName("BrushDock")
+        self.setObjectName("BrushDock")          # the name saved layouts know
         self.main_window = window
         self.library = BrushLibrary()
         self.brushes: list[Brush] = []
@@ -71,7 +71,23 @@ class BrushDock(QtWidgets.QDockWidget):
         row.addWidget(self.delete_button)
         layout.addLayout(row)
         self.setWidget(body)
+        self.act_smaller = self._action("Smaller brush", False, "[")
+        self.act_bigger = self._action("Bigger brush", True, "]")
         self.reload()
+
+    def _action(self, text: str, bigger: bool, key: str) -> QtGui.QAction:
+        action = QtGui.QAction(text, self)
+        action.setShortcut(QtGui.QKeySequence(key))
+        tip = f"Brush, spray or grain one step {'bigger' if bigger else 'smaller'}"
+        action.setStatusTip(tip)
+        action.setToolTip(tip)
+        action.triggered.connect(lambda: resize_tool(self.main_window, bigger))
+        return action
+
+    def menu_entries(self) -> list[tuple[str, QtGui.QAction | None]]:
+        """(menu objectName, action or None for a separator) the window adds for this dock."""
+        return [("ToolsMenu", None), ("ToolsMenu", self.act_smaller),
+                ("ToolsMenu", self.act_bigger)]
 
     def reload(self) -> None:
         try:
@@ -136,79 +152,8 @@ class BrushDock(QtWidgets.QDockWidget):
         self.reload()
 
 
-# -- the painting tools' menu entries and keys -----------------------------------------------------
-
-def install_paint_ui(window) -> None:
-    """Add the Brushes and Grain stamps docks (shown while the Brush or Spray, or the Grain tool
-    is current, or by View), [ and ] (tool size), the Grain stamps menu (the Grain tool's
-    stamps; rendering every point as a grain is the Grain rendering dock's) and Image ▸ Peano
-    sub-regions."""
-    from .grain_editor import GrainDock
-    window.brush_dock = BrushDock(window)
-    window.grain_dock = GrainDock(_grain_tool(window), window)
-    left = QtCore.Qt.DockWidgetArea.LeftDockWidgetArea
-    window.addDockWidget(left, window.brush_dock)
-    window.addDockWidget(left, window.grain_dock)
-    bank = getattr(window, "bank_dock", None)
-    if bank is not None:                                     # one column of docks, as tabs
-        window.tabifyDockWidget(bank, window.brush_dock)
-    window.tabifyDockWidget(window.brush_dock, window.grain_dock)
-    for dock in (window.brush_dock, window.grain_dock):     # shown by their tools, on demand
-        dock.hide()
-    _grain_tool(window).reload()
-    window.act_smaller = window._action("Smaller brush", lambda: _resize(window, False), "[",
-                                        "Brush, spray or grain one step smaller")
-    window.act_bigger = window._action("Bigger brush", lambda: _resize(window, True), "]",
-                                       "Brush, spray or grain one step bigger")
-    window.act_peano = window._action("&Peano sub-regions…", lambda: open_peano(window), None,
-                                      "Cut the canvas into cells along a Hilbert scan and give "
-                                      "them levels from a dominance expression (thesis §3.3.3a)")
-    menus = {a.text().replace("&", ""): a.menu() for a in window.menuBar().actions()}
-    if "Image" in menus:
-        menus["Image"].addAction(window.act_peano)
-    if "View" in menus:
-        menus["View"].addActions([window.brush_dock.toggleViewAction(),
-                                  window.grain_dock.toggleViewAction()])
-    if "Tools" in menus:
-        menus["Tools"].addSeparator()
-        menus["Tools"].addActions([window.act_smaller, window.act_bigger])
-    grains = window.menuBar().addMenu("Grain &stamps")
-    grains.aboutToShow.connect(lambda: _fill_grain_menu(window, grains))
-    _fill_grain_menu(window, grains)
-
-
-def _resize(window, bigger: bool) -> None:
+def resize_tool(window, bigger: bool) -> None:
+    """[ and ]: the current tool one step bigger or smaller, if it has a size."""
     resize = getattr(window.tool, "resize", None)
     if resize is not None:
         resize(bigger)
-
-
-def _grain_tool(window):
-    from .tools.grain import GrainTool
-    return next(t for t in window.tools if isinstance(t, GrainTool))
-
-
-def _fill_grain_menu(window, menu: QtWidgets.QMenu) -> None:
-    """Several grain types at once from a menu: the library, then the editor."""
-    tool = _grain_tool(window)
-    menu.clear()
-    group = QtGui.QActionGroup(menu)
-    for grain in tool.grains:
-        action = menu.addAction(grain.name)
-        action.setCheckable(True)
-        action.setChecked(grain.name == tool.grain.name)
-        action.triggered.connect(lambda _=False, name=grain.name: tool.pick(name))
-        group.addAction(action)
-    menu.addSeparator()
-    menu.addAction("Grain &editor…", tool.edit)
-
-
-def open_peano(window):
-    from .peano_dialog import PeanoDialog
-    dialog = getattr(window, "_peano_dialog", None)
-    if dialog is None:
-        dialog = window._peano_dialog = PeanoDialog(window)
-    dialog.refresh()
-    dialog.show()
-    dialog.raise_()
-    return dialog

@@ -202,6 +202,7 @@ class CanvasView(pg.GraphicsView):
         self.setCentralItem(self.view)
         self.image = CanvasImage()
         self.overlay = pg.ImageItem(axisOrder="row-major")   # tool previews: ghosts, selections
+        self.stroke_preview = None  # the painting tools' StrokePreview, made on their first use
         self.echo = TileEcho(self.image)
         self.echo.setVisible(False)
         self.grid = PixelGrid(self.view)

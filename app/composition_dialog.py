@@ -544,16 +544,15 @@ class _Store:
         self.dpjs = dpjs
 
 
-def open_composition(window) -> CompositionDialog:
-    """Show the (non-modal) composition dialog for the current document."""
-    dialog = getattr(window, "_composition_dialog", None)
+def open_composition(window, dialog: CompositionDialog | None = None) -> CompositionDialog:
+    """Show the (non-modal) composition dialog for the current document: ``dialog`` (the one
+    shown before, which the window keeps) or a new one if it was for another document."""
     if dialog is None or dialog._history is not window.history:
         if dialog is not None:
             dialog._unsubscribe()
             dialog.close()
             dialog.deleteLater()
         dialog = CompositionDialog(window)
-        window._composition_dialog = dialog
     dialog.show()
     dialog.raise_()
     return dialog

@@ -159,6 +159,5 @@ def open_doubling(window) -> DoublingDialog | None:
         return None
     dialog = DoublingDialog(window)
     dialog.finished.connect(dialog.deleteLater)
-    window.doubling_dialog = dialog
     dialog.open()
     return dialog

@@ -49,6 +49,11 @@ class FileOps:
         self._update_title()
         self.journal_sync(reset=True)      # nothing unsaved to recover from here on
 
+    def mark_unsaved(self) -> None:
+        """Call the whole log unsaved work (a restored crash journal: nothing of it is on disk)."""
+        self._clean_log = ()
+        self._update_title()
+
     def is_modified(self) -> bool:
         return self.history is not None and self.history.applied != self._clean_log
 

@@ -1,5 +1,6 @@
 """The grain editor (thesis §3.3.3a): a grain shown enlarged, its shape and size set in a form or
-drawn point by point, and the grain library (standard grains and the user's own).
+drawn point by point, saved to the grain library (standard grains and the user's own; listed in
+the Grain stamps dock, app.grain_stamps_dock).
 
 Grain characteristics are defined here, "at a larger scale than the texture", before the Grain
 tool places grains by their centre of gravity; saved grains go to the user data folder.
@@ -408,48 +409,3 @@ class GrainEditor(QtWidgets.QDialog):
             return
         self.libraryChanged.emit()
         self.info.setText(f"Deleted “{name}” from your library.")
-
-
-class GrainDock(QtWidgets.QDockWidget):
-    """The grain library (thesis: "several grain types at once from a menu"): standard grains,
-    then the user's; a click makes one the Grain tool's grain, a double click edits it."""
-
-    def __init__(self, tool, parent=None):
-        super().__init__("Grain stamps", parent)
-        self.setObjectName("GrainDock")
-        self.tool = tool
-        body = QtWidgets.QWidget()
-        layout = QtWidgets.QVBoxLayout(body)
-        self.list = QtWidgets.QListWidget()
-        self.list.setViewMode(QtWidgets.QListView.ViewMode.IconMode)
-        self.list.setIconSize(QtCore.QSize(40, 40))
-        self.list.setGridSize(QtCore.QSize(78, 76))
-        self.list.setResizeMode(QtWidgets.QListView.ResizeMode.Adjust)
-        self.list.setMovement(QtWidgets.QListView.Movement.Static)
-        self.list.setWordWrap(True)
-        self.list.setMinimumHeight(100)
-        self.list.itemClicked.connect(lambda item: tool.pick(item.data(NAME_ROLE)))
-        self.list.itemDoubleClicked.connect(lambda _item: tool.edit())
-        layout.addWidget(self.list)
-        row = QtWidgets.QHBoxLayout()
-        self.edit_button = QtWidgets.QPushButton("Edit / draw…")
-        self.edit_button.setToolTip("Open the grain editor on the selected grain")
-        self.edit_button.clicked.connect(tool.edit)
-        row.addWidget(self.edit_button)
-        layout.addLayout(row)
-        self.setWidget(body)
-
-    def fill(self, grains: list[GrainType], current: str, palette=None) -> None:
-        palette = np.array([[54, 54, 54], [100, 100, 100], [134, 134, 134], [168, 168, 168]]
-                           if palette is None else palette, np.uint8)
-        self.list.clear()
-        for grain in grains:
-            item = QtWidgets.QListWidgetItem(grain_icon(grain, palette, 1), grain.name)
-            item.setData(NAME_ROLE, grain.name)
-            item.setToolTip(grain.name)
-            self.list.addItem(item)
-            if grain.name == current:
-                self.list.setCurrentItem(item)
-
-
-NAME_ROLE = QtCore.Qt.ItemDataRole.UserRole

@@ -2,12 +2,17 @@
 
 It is the only place where user intent becomes Actions submitted to the History; long work goes to
 the TaskRunner and comes back as an Action applied here, on the GUI thread.
+
+Its docks are declared in DOCKS and its menus in MENUS; menus are found by objectName, never by
+their (translatable) text, and a dock offers its menu entries (``menu_entries``) for the window to
+add: no dock sets attributes of the window.
 """
 
 from __future__ import annotations
 
 import sys
 import time
+from dataclasses import dataclass
 
 from PySide6 import QtCore, QtGui, QtWidgets
 
@@ -19,10 +24,11 @@ from texeditor.recipe.history import EVERYTHING, History
 from . import dpj_editor, resources
 from .acquire_dialog import AcquireDialog
 from .bank_dock import BankDock
-from .brush_dock import install_paint_ui
+from .brush_dock import BrushDock
 from .canvas import CanvasView
 from .files import FileOps
-from .grain_dock import install as install_texture_ui
+from .grain_rendering_dock import GrainRenderingDock
+from .grain_stamps_dock import GrainStampsDock
 from .history_dock import HistoryDock
 from .palette_dock import PaletteDock
 from .synthesis_dock import SynthesisDock
@@ -31,6 +37,40 @@ from .tool_dock import ToolOptionsDock
 from .tools import tool_classes
 
 APP_NAME = "texeditor"
+LEFT = QtCore.Qt.DockWidgetArea.LeftDockWidgetArea
+RIGHT = QtCore.Qt.DockWidgetArea.RightDockWidgetArea
+
+
+@dataclass(frozen=True)
+class DockSpec:
+    """A dock of the main window, made as ``cls(window)`` and kept as ``window.<attr>``."""
+
+    attr: str
+    cls: type
+    object_name: str           # Qt objectName: saved window layouts name docks by it
+    area: QtCore.Qt.DockWidgetArea
+    tab_with: str = ""         # tabified behind this dock (attr), in one column
+    hidden: bool = False       # shown on demand: by the tool that uses it, or View
+    fills_menu: str = ""       # objectName of a menu the dock fills (``fill_menu``) on opening
+
+
+# In View menu order; the Brushes and Grain stamps docks show with their tools (Tool.show_own_dock).
+DOCKS = (
+    DockSpec("tool_dock", ToolOptionsDock, "ToolOptionsDock", LEFT),
+    DockSpec("synthesis_dock", SynthesisDock, "SynthesisDock", RIGHT),
+    DockSpec("palette_dock", PaletteDock, "PaletteDock", RIGHT),
+    DockSpec("history_dock", HistoryDock, "HistoryDock", RIGHT),
+    DockSpec("bank_dock", BankDock, "BankDock", LEFT),         # opens in start_default
+    DockSpec("brush_dock", BrushDock, "BrushDock", LEFT, tab_with="bank_dock", hidden=True),
+    DockSpec("grain_dock", GrainStampsDock, "GrainDock", LEFT, tab_with="brush_dock",
+             hidden=True, fills_menu="GrainStampsMenu"),
+    DockSpec("density_dock", GrainRenderingDock, "GrainDensityDock", LEFT,
+             tab_with="grain_dock"),
+)
+
+# (objectName, title), in menu bar order
+MENUS = (("FileMenu", "&File"), ("EditMenu", "&Edit"), ("ImageMenu", "&Image"),
+         ("ViewMenu", "&View"), ("ToolsMenu", "&Tools"), ("GrainStampsMenu", "Grain &stamps"))
 
 
 class MainWindow(FileOps, QtWidgets.QMainWindow):
@@ -47,33 +87,72 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.runner = TaskRunner(self)
         self._replaying = None     # the PendingEdit of a past step replayed in the worker
         self.headless = False      # --screenshot: errors go to stderr, never a modal dialog
+        self.paint_zone = None     # the zone the two zone tools share (app.tools.zone)
+        self.peano_dialog = None          # non-modal dialogs, kept to be shown again
+        self.composition_dialog = None
+        self.doubling_dialog = None
 
         self.canvas = CanvasView()
         self.setCentralWidget(self.canvas)
-        self.synthesis_dock = SynthesisDock(self)
-        self.palette_dock = PaletteDock(self)
-        self.history_dock = HistoryDock(self)
-        self.tool_dock = ToolOptionsDock(self)
-        right = QtCore.Qt.DockWidgetArea.RightDockWidgetArea
-        for dock in (self.synthesis_dock, self.palette_dock, self.history_dock):
-            self.addDockWidget(right, dock)
-        self.addDockWidget(QtCore.Qt.DockWidgetArea.LeftDockWidgetArea, self.tool_dock)
-        self.bank_dock = BankDock(self)          # the bank opens in start_default (or on use)
-        self.addDockWidget(QtCore.Qt.DockWidgetArea.LeftDockWidgetArea, self.bank_dock)
-        self.tools = [cls(self) for cls in tool_classes()]
+        self.tools = [cls(self) for cls in tool_classes()]     # before the docks that show them
+        self._build_docks()
         self._docks_sized = False
 
         self._build_status_bar()
         self._build_actions()
         self._build_menus()
         self._build_tools()
-        install_paint_ui(self)       # brush dock, [ and ], Grain stamps menu, Peano sub-regions
-        install_texture_ui(self)     # Grain rendering dock, Composition…, Double the levels…
+        self._add_dock_entries()
         self._connect()
         if history is not None:
             self.set_history(history, path)
 
     # -- construction -------------------------------------------------------------------------------
+    def _build_docks(self) -> None:
+        """The docks of DOCKS, each in its area, tabbed behind its neighbour, hidden if asked;
+        the first dock of each tabbed column stays in front."""
+        fronts = []
+        for spec in DOCKS:
+            dock = spec.cls(self)
+            dock.setObjectName(spec.object_name)
+            setattr(self, spec.attr, dock)
+            self.addDockWidget(spec.area, dock)
+            if spec.tab_with:
+                self.tabifyDockWidget(getattr(self, spec.tab_with), dock)
+                if not any(s.attr == spec.tab_with and s.tab_with for s in DOCKS):
+                    fronts.append(spec.tab_with)
+            if spec.hidden:
+                dock.hide()
+        for attr in fronts:
+            getattr(self, attr).raise_()
+
+    def docks(self) -> list[QtWidgets.QDockWidget]:
+        """The declared docks, in DOCKS order."""
+        return [getattr(self, spec.attr) for spec in DOCKS]
+
+    def menu(self, name: str) -> QtWidgets.QMenu:
+        """A menu of the menu bar (or a submenu) by its objectName."""
+        menu = self.menuBar().findChild(QtWidgets.QMenu, name)
+        if menu is None:
+            raise KeyError(f"no menu named {name!r}")
+        return menu
+
+    def _add_dock_entries(self) -> None:
+        """What each dock offers: entries for the window's menus (their shortcuts work with the
+        dock hidden), and a menu it fills each time it opens."""
+        for spec in DOCKS:
+            dock = getattr(self, spec.attr)
+            for name, action in getattr(dock, "menu_entries", lambda: [])():
+                if action is None:
+                    self.menu(name).addSeparator()
+                else:
+                    self.addAction(action)
+                    self.menu(name).addAction(action)
+            if spec.fills_menu:
+                menu = self.menu(spec.fills_menu)
+                menu.aboutToShow.connect(lambda d=dock, m=menu: d.fill_menu(m))
+                dock.fill_menu(menu)
+
     def _build_status_bar(self) -> None:
         bar = self.statusBar()
         self.progress = QtWidgets.QProgressBar()
@@ -140,6 +219,14 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
                            "Draw a texture from the current DPJ")
         self.act_global = a("&Global operators…", self.global_operators, "Ctrl+G",
                             "Rotate, zoom, shear or tile the texture or the selection (§3.4.3)")
+        self.act_peano = a("&Peano sub-regions…", self.open_peano, None,
+                           "Cut the canvas into cells along a Hilbert scan and give them levels "
+                           "from a dominance expression (thesis §3.3.3a)")
+        self.act_compose = a("&Composition…", self.open_composition, "Ctrl+Shift+K",
+                             "Incrust or mix another texture into this one (thesis §5.4.1)")
+        self.act_double = a("&Double the levels…", self.open_doubling, None,
+                            "Turn a G-level texture into 2G levels, learnt from a photo "
+                            "(thesis §4.5)")
         self.act_cancel = a("&Cancel work", self.runner.cancel, "Esc")
         self.act_cancel.setEnabled(False)
         self.act_zoom_in = a("Zoom &in", self.canvas.zoom_in, ["+", "=", "Ctrl++"])
@@ -151,9 +238,12 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.act_tiled.setIconText("Tiled")
 
     def _build_menus(self) -> None:
-        menu = self.menuBar().addMenu("&File")
+        for name, title in MENUS:
+            self.menuBar().addMenu(title).setObjectName(name)
+        menu = self.menu("FileMenu")
         menu.addActions([self.act_new, self.act_open])
         self.recent_menu = menu.addMenu("Open &Recent")
+        self.recent_menu.setObjectName("RecentMenu")
         self.recent_menu.aboutToShow.connect(self._fill_recent_menu)
         menu.addSeparator()
         menu.addActions([self.act_save, self.act_save_as, self.act_export])
@@ -163,20 +253,19 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         menu.addActions([self.act_new_dpj, self.act_edit_dpj])
         menu.addSeparator()
         menu.addAction(self.act_quit)
-        menu = self.menuBar().addMenu("&Edit")
-        menu.addActions([self.act_undo, self.act_redo])
-        menu = self.menuBar().addMenu("&Image")
+        self.menu("EditMenu").addActions([self.act_undo, self.act_redo])
+        menu = self.menu("ImageMenu")
         menu.addActions([self.act_synth, self.act_cancel])
         menu.addSeparator()
-        menu.addAction(self.act_global)
-        menu = self.menuBar().addMenu("&View")
+        menu.addActions([self.act_global, self.act_peano])
+        menu.addSeparator()
+        menu.addActions([self.act_compose, self.act_double])
+        menu = self.menu("ViewMenu")
         menu.addActions([self.act_zoom_in, self.act_zoom_out, self.act_fit, self.act_actual])
         menu.addSeparator()
         menu.addAction(self.act_tiled)
         menu.addSeparator()
-        for dock in (self.tool_dock, self.synthesis_dock, self.palette_dock, self.history_dock,
-                     self.bank_dock):
-            menu.addAction(dock.toggleViewAction())
+        menu.addActions([dock.toggleViewAction() for dock in self.docks()])
 
         bar = self.addToolBar("Main")
         bar.setObjectName("MainToolBar")
@@ -194,7 +283,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         buttons above the tool options (as GIMP does: a column of text buttons beside the docks
         took a tenth of a 1280-pixel window from the canvas)."""
         group = QtGui.QActionGroup(self)
-        menu = self.menuBar().addMenu("&Tools")
+        menu = self.menu("ToolsMenu")
         for tool in self.tools:
             tip = f"{tool.TIP} ({tool.SHORTCUT})" if tool.SHORTCUT else tool.TIP
             tool.qaction = self._action(tool.NAME, lambda _=False, t=tool: self.set_tool(t),
@@ -223,6 +312,26 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
     def current_level(self) -> int:
         """The level tools paint with: the palette's selected swatch."""
         return self.palette_dock.swatches.current
+
+    def open_peano(self):
+        """Show the (non-modal) Peano sub-regions dialog."""
+        from .peano_dialog import open_peano
+        self.peano_dialog = open_peano(self, self.peano_dialog)
+        return self.peano_dialog
+
+    def open_composition(self):
+        """Show the (non-modal) composition dialog (a new one for another document)."""
+        from .composition_dialog import open_composition
+        self.composition_dialog = open_composition(self, self.composition_dialog)
+        return self.composition_dialog
+
+    def open_doubling(self):
+        """Open the level-doubling dialog (window-modal); none for an empty canvas."""
+        from .doubling_dialog import open_doubling
+        dialog = open_doubling(self)
+        if dialog is not None:
+            self.doubling_dialog = dialog
+        return dialog
 
     def global_operators(self):
         """Show the (non-modal) global operators dialog."""

@@ -312,3 +312,12 @@ class PeanoDialog(QtWidgets.QDialog):
             self.view.set_texture(self.main_window.document.levels, self.main_window.document.palette)
             self.view.update()
 
+
+def open_peano(window, dialog: PeanoDialog | None = None) -> PeanoDialog:
+    """Show the (non-modal) Peano dialog: ``dialog``, the one the window keeps, or a new one."""
+    if dialog is None:
+        dialog = PeanoDialog(window)
+    dialog.refresh()
+    dialog.show()
+    dialog.raise_()
+    return dialog

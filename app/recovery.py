@@ -58,8 +58,7 @@ def offer_recovery(window, make_window=None, problems: list | None = None) -> in
             continue
         target = window if restored == 0 or make_window is None else make_window()
         target.set_history(history, Path(found.source) if found.source else None)
-        target._clean_log = ()               # restored work is unsaved work
-        target._update_title()
+        target.mark_unsaved()                # restored work is unsaved work
         target.journal_sync(reset=True)      # a journal of its own from now on
         path.unlink(missing_ok=True)
         restored += 1

@@ -263,7 +263,6 @@ def shot_paint(app, window, out: Path) -> None:
     the Grain tool's ghost, the Scramble tool's band, the grain editor and the Peano dialog."""
     import numpy as np
 
-    from app.brush_dock import open_peano
     from app.tools.brush import SprayTool
     from app.tools.grain import GrainTool
     from app.tools.zone import ScrambleTool, Zone
@@ -348,7 +347,7 @@ def shot_paint(app, window, out: Path) -> None:
     settle(app)
 
     # 5. Peano sub-regions: the thesis's example on cells of 16 points
-    dialog = open_peano(window)
+    dialog = window.open_peano()
     dialog.cell.setValue(16)
     settle(app, 300)
     save(dialog, out / "peano-dialog.png")
@@ -484,7 +483,7 @@ def shot_grains(app, window, out: Path) -> None:
     window.runner.wait()
     grass = store_dpj(window.document, DPJ.load(bundled_dpj("grass-2x2-g8")))
     window.act_compose.trigger()
-    dialog = window._composition_dialog
+    dialog = window.composition_dialog
     dialog.source.reload()
     dialog.source.dpj.setCurrentIndex(dialog.source.dpj.findData(grass))
     dialog.mask_kind.setCurrentIndex(dialog.mask_kind.findData("texture"))

@@ -6,6 +6,9 @@ follow napari's pattern: ``drag`` is a generator that does the press's work, the
 later cell with ``send`` and ends when the button is released (``close``). Previews (a ghost,
 a selection tint) go to the canvas overlay, never into the document.
 
+A tool's settings are data (a frozen dataclass named in ``SETTINGS``, held in ``tool.model``,
+see app.tool_settings): its options panel mirrors them, and the tool reads ``tool.settings``.
+
 To add a tool: subclass :class:`Tool` in a module of this package and list it in ``TOOLS`` of
 ``tool_classes``.
 """
@@ -15,6 +18,8 @@ from __future__ import annotations
 from typing import Generator
 
 from PySide6 import QtCore, QtWidgets
+
+from ..tool_settings import SettingsModel
 
 Cell = tuple[int, int]   # (x, y): column, row — possibly outside the canvas while dragging
 
@@ -26,10 +31,21 @@ class Tool:
     SHORTCUT = ""
     TIP = ""
     PANS = False        # a left drag pans the view (the hand tool)
+    SETTINGS: type | None = None     # the dataclass of the tool's settings (None: it has none)
 
     def __init__(self, window):
         self.main_window = window
         self._options: QtWidgets.QWidget | None = None
+        self.model = SettingsModel(self.SETTINGS()) if self.SETTINGS is not None else None
+
+    @property
+    def settings(self):
+        """The tool's settings (a frozen dataclass); assigning one updates the options panel."""
+        return self.model.value
+
+    @settings.setter
+    def settings(self, value) -> None:
+        self.model.value = value
 
     # -- what the main window asks ----------------------------------------------------------------
     def options(self) -> QtWidgets.QWidget:

@@ -7,6 +7,8 @@ texture, repainting only their dirty rectangle — never the whole 2048² image 
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
@@ -114,14 +116,14 @@ class StrokePreview(QtWidgets.QGraphicsObject):
 def preview_for(window) -> StrokePreview:
     """The canvas's stroke preview (one per window, remade when the canvas changes shape)."""
     canvas = window.canvas
-    preview = getattr(canvas, "_stroke_preview", None)
+    preview = canvas.stroke_preview
     shape = window.document.shape
     if preview is None or preview.canvas_shape != shape:
         if preview is not None:
             canvas.view.removeItem(preview)
         preview = StrokePreview(shape)
         canvas.view.addItem(preview)
-        canvas._stroke_preview = preview
+        canvas.stroke_preview = preview
     return preview
 
 
@@ -137,16 +139,45 @@ def unfold(cell, previous, shape, tiled: bool):
     return r0 + dr - h * round(dr / h), c0 + dc - w * round(dc / w)
 
 
+@dataclass(frozen=True)
+class BrushSettings:
+    """The Brush or Spray tool's settings: its brush (a preset's, changed in the options) and
+    how strokes take levels and meet the edges."""
+
+    preset: str = "Round 3"          # the preset the settings started from
+    size: int = 3
+    shape: str = "disc"
+    angle: float = 0.0
+    bitmap: object = None            # a drawn brush's points (from a preset)
+    density: float = 0.25            # cloud settings (the Spray)
+    concentration: float = 0.0
+    spacing: float = 0.25
+    random_levels: bool = False
+    choices: str = "1, 2, 3"
+    wrap: bool = False
+
+    @classmethod
+    def of(cls, brush: Brush, **other) -> "BrushSettings":
+        return cls(brush.name, brush.size, brush.shape, brush.angle, brush.bitmap,
+                   brush.density, brush.concentration, brush.spacing, **other)
+
+    def brush(self, cloud: bool) -> Brush:
+        return Brush(self.preset, self.size, self.shape, float(self.angle),
+                     self.bitmap if self.shape == "bitmap" else None,
+                     "cloud" if cloud else "solid", self.density, self.concentration,
+                     self.spacing)
+
+    def level_choices(self) -> str | None:
+        return self.choices if self.random_levels else None
+
+
 class BrushOptions(QtWidgets.QWidget):
     """The brush's settings in the Tool options dock, two to a row (cloud settings only for the
     Spray), so the dock stays short."""
 
-    changed = QtCore.Signal()
-
-    def __init__(self, brush: Brush, cloud: bool):
+    def __init__(self, model, cloud: bool):
         super().__init__()
         self.cloud = cloud
-        self._bitmap = brush.bitmap
         grid = QtWidgets.QGridLayout(self)
         grid.setContentsMargins(0, 0, 0, 0)
         grid.setColumnStretch(1, 1)
@@ -196,11 +227,14 @@ class BrushOptions(QtWidgets.QWidget):
         self.wrap.setToolTip("A stroke leaving one edge continues on the opposite one "
                              "(seamless tiles; always on in the tiled view)")
         grid.addWidget(self.wrap, 5, 0, 1, 4)
-        self.set_brush(brush)
-        for w in (self.size_box, self.angle, self.density, self.spacing):
-            w.valueChanged.connect(self.changed)
-        self.concentration.valueChanged.connect(self.changed)
-        self.shape_box.currentIndexChanged.connect(self.changed)
+        model.bind("preset", self.preset, put=lambda name: self.preset.setText(f"Preset: {name}"))
+        for name, widget, scale in (("size", self.size_box, 1), ("shape", self.shape_box, 1),
+                                    ("angle", self.angle, 1), ("density", self.density, 100),
+                                    ("concentration", self.concentration, 1),
+                                    ("spacing", self.spacing, 100),
+                                    ("random_levels", self.random, 1),
+                                    ("choices", self.choices, 1), ("wrap", self.wrap, 1)):
+            model.bind(name, widget, scale=scale)
 
     @staticmethod
     def _row(grid, row, label1, widget1, label2, widget2) -> None:
@@ -208,27 +242,6 @@ class BrushOptions(QtWidgets.QWidget):
         grid.addWidget(widget1, row, 1)
         grid.addWidget(QtWidgets.QLabel(label2), row, 2)
         grid.addWidget(widget2, row, 3)
-
-    def set_brush(self, brush: Brush) -> None:
-        self._bitmap = brush.bitmap
-        self.preset.setText(f"Preset: {brush.name}")
-        self._name = brush.name
-        self.size_box.setValue(brush.size)
-        self.shape_box.setCurrentIndex(max(0, self.shape_box.findData(brush.shape)))
-        self.angle.setValue(round(brush.angle))
-        self.density.setValue(round(brush.density * 100))
-        self.concentration.setValue(brush.concentration)
-        self.spacing.setValue(round(brush.spacing * 100))
-
-    def brush(self) -> Brush:
-        shape = self.shape_box.currentData()
-        return Brush(self._name, self.size_box.value(), shape, float(self.angle.value()),
-                     self._bitmap if shape == "bitmap" else None,
-                     "cloud" if self.cloud else "solid", self.density.value() / 100,
-                     self.concentration.value(), self.spacing.value() / 100)
-
-    def level_choices(self) -> str | None:
-        return self.choices.text() if self.random.isChecked() else None
 
 
 class BrushTool(Tool):
@@ -239,13 +252,15 @@ class BrushTool(Tool):
     TIP = "Drag to paint with the current level; [ and ] change the size"
     CLOUD = False
     DEFAULT = Brush("Round 3", 3, "disc")
+    SETTINGS = BrushSettings
 
     def __init__(self, window):
         super().__init__(window)
         self.opts: BrushOptions | None = None
+        self.settings = BrushSettings.of(self.DEFAULT)
 
     def build_options(self):
-        self.opts = BrushOptions(self.DEFAULT, self.CLOUD)
+        self.opts = BrushOptions(self.model, self.CLOUD)
         return self.opts
 
     def activate(self):
@@ -253,26 +268,27 @@ class BrushTool(Tool):
 
     @property
     def brush(self) -> Brush:
-        self.options()
-        return self.opts.brush()
+        return self.settings.brush(self.CLOUD)
 
     def set_brush(self, brush: Brush) -> None:
         """Take a preset's settings (from the brush dock)."""
-        self.options()
-        self.opts.set_brush(brush)
+        s = self.settings
+        self.settings = BrushSettings.of(brush, random_levels=s.random_levels,
+                                         choices=s.choices, wrap=s.wrap)
 
     def resize(self, bigger: bool) -> None:
         """[ and ]: about 10 % smaller or bigger, at least one point."""
-        size = self.brush.size
+        size = self.settings.size
         step = max(1, round(size * 0.1))
-        self.opts.size_box.setValue(size + step if bigger else size - step)
-        self.main_window.statusBar().showMessage(
-            f"{self.NAME} size {self.opts.size_box.value()}", 2000)
+        size = max(1, min(size + step if bigger else size - step, brushes.MAX_BRUSH_SIZE))
+        self.model.update(size=size)
+        self.main_window.statusBar().showMessage(f"{self.NAME} size {self.settings.size}", 2000)
 
     def stroke(self, points, seed: int) -> Stroke:
+        s = self.settings
         return Stroke.from_brush(self.brush, points, self.main_window.current_level,
-                                 level_choices=self.opts.level_choices(), seed=seed,
-                                 wrap=self.opts.wrap.isChecked() or self.main_window.canvas.tiled)
+                                 level_choices=s.level_choices(), seed=seed,
+                                 wrap=s.wrap or self.main_window.canvas.tiled)
 
     def click(self, cell, modifiers):
         x, y = cell

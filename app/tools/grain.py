@@ -8,6 +8,8 @@ or from the grain editor. Every placement is one PlaceGrains action.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from PySide6 import QtCore, QtWidgets
 
@@ -24,6 +26,16 @@ from .brush import palette_argb, preview_for, unfold
 GHOST_ALPHA = 190
 GHOST_EDGE = (40, 200, 255)
 DEFAULT_GRAIN = "Circle 5"
+
+
+@dataclass(frozen=True)
+class GrainSettings:
+    """The grain placed (chosen in the Grain stamps dock or menu) and the Shift+drag settings."""
+
+    grain: GrainType | None = None
+    spacing: int = 8                 # Shift+drag: one grain every so many points
+    jitter: int = 2                  # each moved at random by up to this much
+    wrap: bool = False
 
 
 class GrainOptions(QtWidgets.QWidget):
@@ -59,6 +71,9 @@ class GrainOptions(QtWidgets.QWidget):
         self.wrap = QtWidgets.QCheckBox("Wrap around the edges")
         self.wrap.setToolTip("A grain over an edge continues on the opposite one")
         grid.addWidget(self.wrap, 2, 0, 1, 4)
+        tool.model.bind("grain", self.current, put=self.show_grain)
+        for name in ("spacing", "jitter", "wrap"):
+            tool.model.bind(name, getattr(self, name))
 
     def show_grain(self, grain: GrainType) -> None:
         self.current.setText(f"<b>{grain.name}</b> · {grain.size} pt")
@@ -76,6 +91,7 @@ class GrainTool(Tool):
     NAME = "Grain"
     SHORTCUT = "G"
     TIP = "Click to place a grain by its centre of gravity; Shift+drag places grains along the path"
+    SETTINGS = GrainSettings
 
     def __init__(self, window):
         super().__init__(window)
@@ -85,10 +101,17 @@ class GrainTool(Tool):
         self.opts: GrainOptions | None = None
         self.editor: GrainEditor | None = None
 
+    @property
+    def grain(self) -> GrainType:
+        return self.settings.grain
+
+    @grain.setter
+    def grain(self, grain: GrainType) -> None:
+        self.model.update(grain=grain)
+
     # -- the grain type ----------------------------------------------------------------------------
     def build_options(self):
         self.opts = GrainOptions(self)
-        self.opts.show_grain(self.grain)
         return self.opts
 
     def activate(self):
@@ -107,12 +130,9 @@ class GrainTool(Tool):
         self._show()
 
     def _show(self) -> None:
-        if self.opts is not None:
-            self.opts.show_grain(self.grain)
-        dock = getattr(self.main_window, "grain_dock", None)
+        dock = getattr(self.main_window, "grain_dock", None)     # the Grain stamps dock
         if dock is not None:
-            palette = None if self.main_window.history is None else self.document.palette
-            dock.fill(self.grains, self.grain.name, palette)
+            dock.refresh()
 
     def pick(self, name: str) -> None:
         """Choose a library grain by name (the Grain stamps dock and menu)."""
@@ -157,8 +177,7 @@ class GrainTool(Tool):
 
     # -- gestures ----------------------------------------------------------------------------------
     def action(self, points, **options) -> PlaceGrains:
-        self.options()
-        wrap = self.opts.wrap.isChecked() or self.main_window.canvas.tiled
+        wrap = self.settings.wrap or self.main_window.canvas.tiled
         return PlaceGrains.from_grain(self.grain, points, self.main_window.current_level,
                                       wrap=wrap, **options)
 
@@ -215,8 +234,8 @@ class GrainTool(Tool):
         shape, tiled = self.document.shape, self.main_window.canvas.tiled
         points = [unfold(cell, None, shape, False)]
         try:
-            template = self.action(points, spacing=float(self.opts.spacing.value()),
-                                   jitter=float(self.opts.jitter.value()), seed=new_seed())
+            template = self.action(points, spacing=float(self.settings.spacing),
+                                   jitter=float(self.settings.jitter), seed=new_seed())
         except TexeditorError as exc:
             self.main_window.show_error("Cannot place this grain", exc)
             return

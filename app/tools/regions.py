@@ -7,6 +7,8 @@ ghost of a moved region and the current selection, never the document itself.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from PySide6 import QtCore, QtWidgets
 
@@ -23,6 +25,9 @@ from .handles import Change, TransformFrame
 KINDS = [("Region", "region"), ("Region in region", "region_in_region"),
          ("Regions in region", "regions_in_region"), ("Neighbours", "neighbours"),
          ("Partial region", "partial")]
+KIND_WORDS = {"region": "region", "region_in_region": "region in region",   # the status line's
+              "regions_in_region": "regions in region", "neighbours": "neighbours",
+              "partial": "partial region"}
 SELECTION_TINT = (40, 200, 255)
 GHOST_REST_MS = 150          # a handle drag's pointer still this long: the exact ghost
 
@@ -59,10 +64,43 @@ def ghost_overlay(carried: np.ndarray, palette):
     return rgba, origin
 
 
-class RegionOptions(QtWidgets.QWidget):
-    """Scope, connectivity and (for moves and selections) the extraction kind and wrap-around."""
+@dataclass(frozen=True)
+class FillSettings:
+    scope: str = "region"            # "region" (connected) or "global" (every point of the level)
+    connectivity: int = 4
 
-    def __init__(self, *, kind=False, wrap=False, fill=False):
+
+@dataclass(frozen=True)
+class CopySettings(FillSettings):
+    kind: str = "region"             # what a click extracts (KINDS)
+    wrap: bool = False
+
+
+@dataclass(frozen=True)
+class TranslateSettings(CopySettings):
+    fill: int = 0                    # the level left behind
+
+
+@dataclass(frozen=True)
+class ExtractSettings(CopySettings):
+    angle: float = 90.0              # the selection panel's Rotate
+    factor: float = 2.0              # its Scale
+    dx: int = 16                     # its Duplicate: offset and copies along x and y
+    dy: int = 0
+    nx: int = 1
+    ny: int = 1
+
+
+def recipe(settings: FillSettings) -> dict:
+    """The selection's recipe fields shared by the region Actions."""
+    return {"scope": settings.scope, "connectivity": settings.connectivity}
+
+
+class RegionOptions(QtWidgets.QWidget):
+    """Scope, connectivity and (for moves and selections) the extraction kind and wrap-around:
+    the widgets of a region tool's settings."""
+
+    def __init__(self, model, *, kind=False, wrap=False, fill=False):
         super().__init__()
         form = QtWidgets.QFormLayout(self)
         form.setContentsMargins(0, 0, 0, 0)
@@ -91,27 +129,25 @@ class RegionOptions(QtWidgets.QWidget):
             form.addRow("Leave behind", self.fill)
         if wrap:
             form.addRow(self.wrap)
-
-    def recipe(self) -> dict:
-        """The selection's recipe fields shared by the region Actions."""
-        return {"scope": self.scope.currentData(), "connectivity": self.connectivity.currentData()}
+        for name in ("kind", "scope", "connectivity", "wrap", "fill"):
+            model.bind(name, getattr(self, name))
 
 
 class FillTool(Tool):
     NAME = "Fill"
     SHORTCUT = "F"
     TIP = "Click a region to fill it with the current level (REMPLIR)"
+    SETTINGS = FillSettings
 
     def build_options(self):
-        self.opts = RegionOptions()
+        self.opts = RegionOptions(self.model)
         return self.opts
 
     def click(self, cell, modifiers):
-        self.options()
         if self.inside(cell):
             x, y = cell
             self.main_window.submit(ra.Fill(y, x, self.main_window.current_level,
-                                            **self.opts.recipe()))
+                                            **recipe(self.settings)))
 
 
 class TranslateTool(Tool):
@@ -121,24 +157,25 @@ class TranslateTool(Tool):
     SHORTCUT = "M"
     TIP = "Drag a region to move it; what it leaves behind gets the chosen level"
     KEEP_SOURCE = False
+    SETTINGS = TranslateSettings
 
     def build_options(self):
-        self.opts = RegionOptions(kind=True, wrap=True, fill=not self.KEEP_SOURCE)
+        self.opts = RegionOptions(self.model, kind=True, wrap=True, fill=not self.KEEP_SOURCE)
         return self.opts
 
     def drag(self, cell, modifiers):
-        self.options()
         if not self.inside(cell):
             return
         x0, y0 = cell
-        recipe = {**self.opts.recipe(), "kind": self.opts.kind.currentData()}
+        settings = self.settings
+        selection = {**recipe(settings), "kind": settings.kind}
         try:
-            mask = regions.select(self.document.levels, (y0, x0), **recipe)
+            mask = regions.select(self.document.levels, (y0, x0), **selection)
         except TexeditorError as exc:
             self.main_window.show_error("Nothing to move here", exc)
             return
         colour = self.document.palette[self.document.levels[y0, x0]]
-        wrap = self.opts.wrap.isChecked()
+        wrap = settings.wrap
         x, y = cell
         try:
             while True:
@@ -149,12 +186,12 @@ class TranslateTool(Tool):
         except GeneratorExit:
             self.main_window.canvas.set_overlay(None)
             if (x, y) != (x0, y0):
-                self.main_window.submit(self.action(y0, x0, y, x, recipe, wrap))
+                self.main_window.submit(self.action(y0, x0, y, x, selection, wrap))
             raise
 
-    def action(self, row, col, to_row, to_col, recipe, wrap):
-        return ra.Translate(row, col, to_row, to_col, fill=self.opts.fill.value(), wrap=wrap,
-                            **recipe)
+    def action(self, row, col, to_row, to_col, selection, wrap):
+        return ra.Translate(row, col, to_row, to_col, fill=self.settings.fill, wrap=wrap,
+                            **selection)
 
 
 class CopyTool(TranslateTool):
@@ -162,9 +199,10 @@ class CopyTool(TranslateTool):
     SHORTCUT = "C"
     TIP = "Drag a region to copy it elsewhere (COPIER)"
     KEEP_SOURCE = True
+    SETTINGS = CopySettings
 
-    def action(self, row, col, to_row, to_col, recipe, wrap):
-        return ra.Copy(row, col, to_row, to_col, wrap=wrap, **recipe)
+    def action(self, row, col, to_row, to_col, selection, wrap):
+        return ra.Copy(row, col, to_row, to_col, wrap=wrap, **selection)
 
 
 class ExtractTool(Tool):
@@ -174,6 +212,7 @@ class ExtractTool(Tool):
     SHORTCUT = "E"
     TIP = ("Click to select what the chosen extraction finds; then drag its handles (move, "
            "scale, rotate) or use the panel")
+    SETTINGS = ExtractSettings
 
     def __init__(self, window):
         super().__init__(window)
@@ -191,7 +230,7 @@ class ExtractTool(Tool):
         box = QtWidgets.QWidget()
         layout = QtWidgets.QVBoxLayout(box)
         layout.setContentsMargins(0, 0, 0, 0)
-        self.opts = RegionOptions(kind=True, wrap=True)
+        self.opts = RegionOptions(self.model, kind=True, wrap=True)
         layout.addWidget(self.opts)
         self.status = QtWidgets.QLabel("No selection: click the canvas.")
         self.status.setWordWrap(True)
@@ -232,8 +271,8 @@ class ExtractTool(Tool):
             self.clear()
             return
         x, y = cell
-        self.selection = {"row": y, "col": x, "kind": self.opts.kind.currentData(),
-                          **self.opts.recipe()}
+        self.selection = {"row": y, "col": x, "kind": self.settings.kind,
+                          **recipe(self.settings)}
         self.refresh()
 
     def clear(self) -> None:
@@ -267,7 +306,7 @@ class ExtractTool(Tool):
             self.status.setText("No selection: click the canvas.")
         else:
             s = self.selection
-            self.status.setText(f"{count} points selected ({ra._KIND_NAMES[s['kind']]} at "
+            self.status.setText(f"{count} points selected ({KIND_WORDS[s['kind']]} at "
                                 f"x {s['col']}, y {s['row']}).")
 
     def build(self, action_type, **params):
@@ -275,7 +314,7 @@ class ExtractTool(Tool):
         fields = {f for f in action_type.__dataclass_fields__}
         recipe = {k: v for k, v in self.selection.items() if k in fields}
         if "wrap" in fields:
-            params.setdefault("wrap", self.opts.wrap.isChecked())
+            params.setdefault("wrap", self.settings.wrap)
         return action_type(**recipe, **params)
 
     def submit(self, action_type, **params) -> None:
@@ -326,9 +365,9 @@ class ExtractTool(Tool):
             self.selection = before
             self.refresh()
             return
-        field = {"scale": self.panel.factor, "rotate": self.panel.angle}.get(change.mode)
+        field = {"scale": "factor", "rotate": "angle"}.get(change.mode)
         if field is not None:
-            field.setValue(change.value)
+            self.model.update(**{field: change.value})
 
     def _action(self, change: Change):
         """The Action a handle drag makes: the panel's own for a factor or an angle."""
@@ -343,7 +382,7 @@ class ExtractTool(Tool):
     def _carry(self, change: Change, array: np.ndarray) -> np.ndarray:
         """``array`` after ``change`` of the selection, by the engine function its Action calls;
         on the mask itself it gives where the selected points land."""
-        mask, wrap = self._mask, self.opts.wrap.isChecked()
+        mask, wrap = self._mask, self.settings.wrap
         if change.mode == "move":
             dx, dy = change.value
             return regions.move(array, mask, (dy, dx), wrap=wrap)
@@ -364,7 +403,7 @@ class ExtractTool(Tool):
         p = change.qtransform(self.frame.box.center()).map(
             QtCore.QPointF(s["col"] + 0.5, s["row"] + 0.5))
         target = np.array([p.y() - 0.5, p.x() - 0.5])
-        if self.opts.wrap.isChecked():
+        if self.settings.wrap:
             target %= self._mask.shape
         row, col = landed[np.argmin(((landed - target) ** 2).sum(axis=1))]
         return {**s, "row": int(row), "col": int(col)}
@@ -399,12 +438,13 @@ class SelectionPanel(QtWidgets.QGroupBox):
         self.angle = spin_box(-360, 360, 90, decimals=1, suffix="°")
         grid.addWidget(self.angle, row, 0)
         self.rotate = button("Rotate", "Turn the selection about its centre (counter-clockwise)",
-                             lambda: tool.submit(ra.RotateSelection, angle=self.angle.value()), 1)
+                             lambda: tool.submit(ra.RotateSelection, angle=tool.settings.angle), 1)
         row += 1
         self.factor = spin_box(0.05, 16, 2.0, decimals=2, suffix="×")
         grid.addWidget(self.factor, row, 0)
         self.scale_button = button("Scale", "Zoom the selection about its centre",
-                            lambda: tool.submit(ra.ScaleSelection, factor=self.factor.value()), 1)
+                            lambda: tool.submit(ra.ScaleSelection, factor=tool.settings.factor),
+                            1)
         row += 1
         grid.addWidget(QtWidgets.QLabel("Duplicate"), row, 0, 1, 2)
         row += 1
@@ -422,6 +462,8 @@ class SelectionPanel(QtWidgets.QGroupBox):
         row += 1
         self.duplicate = button("Duplicate", "Copy the selection by the offset, on a grid of "
                                 "copies", self.do_duplicate, 0, 2)
+        for name in ("angle", "factor", "dx", "dy", "nx", "ny"):
+            tool.model.bind(name, getattr(self, name))
 
     def do_recolour(self):
         self.tool.submit(ra.ChangeLevel, value=self.tool.main_window.current_level)
@@ -431,7 +473,8 @@ class SelectionPanel(QtWidgets.QGroupBox):
         self.tool.clear()
 
     def do_duplicate(self):
-        self.tool.submit(ra.Identity, offset_row=self.dy.value(), offset_col=self.dx.value(),
-                         repeat_rows=self.ny.value(), repeat_cols=self.nx.value())
+        s = self.tool.settings
+        self.tool.submit(ra.Identity, offset_row=s.dy, offset_col=s.dx, repeat_rows=s.ny,
+                         repeat_cols=s.nx)
 
 

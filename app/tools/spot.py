@@ -10,6 +10,7 @@ picker; the chosen entry becomes a recipe (`texture_actions.bank_source`) the pl
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
@@ -39,11 +40,28 @@ MIN_DRAG = 1.5                 # cells: a shorter drag places like a click
 WORKER_COUNT = 100             # scatters of this many spots are rasterised in the worker
 
 
+@dataclass(frozen=True)
+class SpotSettings:
+    """The Spot tool's settings (the spot itself is the spot editor's)."""
+
+    mode: str = "place"              # MODES
+    scale: float = 1.0               # size (1: as drawn in the editor)
+    angle: int = 0                   # turn, degrees counter-clockwise
+    fill: str = "level"              # FILLS
+    blend: str = "over"              # BLENDS
+    wrap: bool = False
+    count: int = 40                  # Scatter: how many spots,
+    scale_max: float = 1.0           # the largest size (the smallest is ``scale``),
+    spread: int = 180                # turns vary by ± this around ``angle``,
+    level_max: int = 0               # levels from the current one up to this one
+
+
 class SpotOptions(QtWidgets.QWidget):
     """Mode, size and turn, fill and blend, wrap; the scatter settings; a way to the editor."""
 
     def __init__(self, tool: "SpotTool"):
         super().__init__()
+        self.tool = tool
         form = QtWidgets.QFormLayout(self)
         form.setContentsMargins(0, 0, 0, 0)
         self.mode = _combo(MODES, "Place one spot, scatter many, or delete one")
@@ -108,6 +126,11 @@ class SpotOptions(QtWidgets.QWidget):
         self.hint = QtWidgets.QLabel()
         self.hint.setWordWrap(True)
         form.addRow(self.hint)
+        for name, widget in (("mode", self.mode), ("scale", self.scale_box), ("angle", self.angle),
+                             ("fill", self.fill), ("blend", self.blend), ("wrap", self.wrap),
+                             ("count", self.count), ("scale_max", self.scale_max),
+                             ("spread", self.spread), ("level_max", self.level_max)):
+            tool.model.bind(name, widget)
         self.mode.currentIndexChanged.connect(self.mode_changed)
         self.fill.currentIndexChanged.connect(tool.fill_changed)
         self.mode_changed()
@@ -119,7 +142,7 @@ class SpotOptions(QtWidgets.QWidget):
         self._form.labelForField(self.texture_row).setVisible(shown)
 
     def mode_changed(self) -> None:
-        mode = self.mode.currentData()
+        mode = self.tool.settings.mode
         self.scatter_box.setVisible(mode == "scatter")
         self.hint.setText(HINTS[mode])
 
@@ -166,6 +189,7 @@ class SpotTool(Tool):
     NAME = "Spot"
     SHORTCUT = "S"
     TIP = "Place the spot of the spot editor (drag: turn and size), scatter many, delete one"
+    SETTINGS = SpotSettings
 
     def __init__(self, window):
         super().__init__(window)
@@ -210,8 +234,7 @@ class SpotTool(Tool):
 
     @property
     def mode(self) -> str:
-        self.options()
-        return self.opts.mode.currentData()
+        return self.settings.mode
 
     # -- activation ---------------------------------------------------------------------------
     def activate(self) -> None:
@@ -256,7 +279,7 @@ class SpotTool(Tool):
         mode = self.mode
         if mode == "place":
             ctrl = modifiers & QtCore.Qt.KeyboardModifier.ControlModifier
-            if ctrl and self.opts.fill.currentData() == "document":
+            if ctrl and self.settings.fill == "document":
                 self.source = (y, x)
                 self.opts.hint.setText(f"The texture is read from ({y}, {x}) for the next spot.")
                 return
@@ -292,7 +315,7 @@ class SpotTool(Tool):
             return
         x, y = cell
         if self.mode == "place":
-            self._show_spot(y, x, self.opts.angle.value(), self.opts.scale_box.value())
+            self._show_spot(y, x, self.settings.angle, self.settings.scale)
         elif self.mode == "delete":
             self._show_doomed(y, x)
         else:
@@ -303,7 +326,7 @@ class SpotTool(Tool):
         that puts b at its tip (a short drag keeps the options' turn and size)."""
         env = self.editor.envelope
         if env is None or math.hypot(dy, dx) < MIN_DRAG:
-            return float(self.opts.angle.value()), float(self.opts.scale_box.value())
+            return float(self.settings.angle), float(self.settings.scale)
         d = np.subtract(env.b, env.a)
         own = math.degrees(math.atan2(-d[0], d[1]))
         angle = (math.degrees(math.atan2(-dy, dx)) - own + 180) % 360 - 180
@@ -313,7 +336,7 @@ class SpotTool(Tool):
     # -- the texture of a texture fill ------------------------------------------------------------
     def fill_changed(self) -> None:
         """Show the texture row for a texture fill; the first time, choose its entry."""
-        fill = self.opts.fill.currentData()
+        fill = self.settings.fill
         self.opts.show_texture_row(fill == "texture")
         if fill != "texture":
             self.last_fill = fill
@@ -332,8 +355,8 @@ class SpotTool(Tool):
     def _texture_refused(self) -> None:
         """No texture to fill with: a texture fill without one goes back to the previous fill
         (not when the user has meanwhile chosen another fill, or has a texture already)."""
-        if self.texture is None and self.opts.fill.currentData() == "texture":
-            self.opts.fill.setCurrentIndex(self.opts.fill.findData(self.last_fill))
+        if self.texture is None and self.settings.fill == "texture":
+            self.model.update(fill=self.last_fill)
 
     def _texture_loaded(self, source) -> None:
         self.texture = source
@@ -355,8 +378,8 @@ class SpotTool(Tool):
         params = dict(envelope=env.dumps(), contour=p.contour, frequency=p.frequency,
                       fractal=p.fractal, roughness=p.h, interior=p.interior, density=p.density,
                       grain=p.scale, shift=self.editor.shift_value,
-                      fill=self.opts.fill.currentData(), blend=self.opts.blend.currentData(),
-                      wrap=self.opts.wrap.isChecked())
+                      fill=self.settings.fill, blend=self.settings.blend,
+                      wrap=self.settings.wrap)
         if params["fill"] == "dpj":
             if self.document.dpj_ref is None:
                 self.main_window.show_error("No DPJ", ValueError(
@@ -381,9 +404,8 @@ class SpotTool(Tool):
             params.update(source_row=self.source[0], source_col=self.source[1])
         try:
             action = PlaceSpot(row=row, col=col, seed=self.editor.seed.value(),
-                               angle=float(self.opts.angle.value() if angle is None else angle),
-                               scale=float(self.opts.scale_box.value() if scale is None
-                                           else scale),
+                               angle=float(self.settings.angle if angle is None else angle),
+                               scale=float(self.settings.scale if scale is None else scale),
                                level=self.main_window.current_level, **params)
         except TexeditorError as exc:
             self.main_window.show_error("Cannot place this spot", exc)
@@ -398,13 +420,13 @@ class SpotTool(Tool):
         if params is None:
             return False
         level = self.main_window.current_level
-        level_max = self.opts.level_max.value()
-        lo, hi = self.opts.scale_box.value(), self.opts.scale_max.value()
+        s = self.settings
+        level_max = s.level_max
+        lo, hi = s.scale, s.scale_max
         try:
-            action = ScatterSpots(count=self.opts.count.value(), seed=self.editor.seed.value(),
+            action = ScatterSpots(count=s.count, seed=self.editor.seed.value(),
                                   top=top, left=left, height=height, width=width,
-                                  angle=float(self.opts.angle.value()),
-                                  angle_spread=float(self.opts.spread.value()),
+                                  angle=float(s.angle), angle_spread=float(s.spread),
                                   scale=min(lo, hi), scale_max=max(lo, hi) if hi != lo else None,
                                   level=level, level_max=level_max if level_max > level else None,
                                   **params)

@@ -7,6 +7,8 @@ shows, the Scramble tool adds grains at random in a band along it (one ScrambleF
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from PySide6 import QtWidgets
 
@@ -36,10 +38,23 @@ class Zone:
         return Zone(self.kind, [(r + dr, c + dc) for r, c in self.points])
 
 
+@dataclass(frozen=True)
+class ZoneSettings:
+    kind: str = "rectangle"          # how a drag draws a new zone: "rectangle" or "lasso"
+    wrap: bool = False
+
+
+@dataclass(frozen=True)
+class ScrambleSettings(ZoneSettings):
+    band: int = 4                    # width of the band along the frontier, points
+    density: float = 0.3             # chance of a grain at each point of the band
+    grain: int = 2                   # side of the square grains added
+
+
 class ZoneOptions(QtWidgets.QWidget):
     """Zone kind and wrap (both tools), and the scramble settings."""
 
-    def __init__(self, scramble: bool):
+    def __init__(self, model, scramble: bool):
         super().__init__()
         form = QtWidgets.QFormLayout(self)
         form.setContentsMargins(0, 0, 0, 0)
@@ -74,6 +89,10 @@ class ZoneOptions(QtWidgets.QWidget):
         self.status.setWordWrap(True)
         self.status.setMinimumHeight(2 * self.status.fontMetrics().lineSpacing() + 4)
         form.addRow(self.status)
+        for name, widget, scale in (("kind", self.kind, 1), ("wrap", self.wrap, 1),
+                                    ("band", self.band, 1), ("density", self.density, 100),
+                                    ("grain", self.grain, 1)):
+            model.bind(name, widget, scale=scale)
 
 
 class ZoneTool(Tool):
@@ -83,6 +102,7 @@ class ZoneTool(Tool):
     SHORTCUT = "D"
     TIP = "Drag to draw a zone; drag from inside it to put a copy elsewhere"
     SCRAMBLE = False
+    SETTINGS = ZoneSettings
 
     def __init__(self, window):
         super().__init__(window)
@@ -91,16 +111,15 @@ class ZoneTool(Tool):
     # the zone is shared by both zone tools: duplicate, then scramble the copy's frontier
     @property
     def zone(self) -> Zone | None:
-        return getattr(self.main_window, "_paint_zone", None)
+        return self.main_window.paint_zone
 
     @zone.setter
     def zone(self, zone: Zone | None) -> None:
-        self.main_window._paint_zone = zone
+        self.main_window.paint_zone = zone
 
     def build_options(self):
-        self.opts = ZoneOptions(self.SCRAMBLE)
-        self.opts.wrap.toggled.connect(lambda _on: self.show_zone())
-        self.opts.band.valueChanged.connect(lambda _v: self.show_zone())
+        self.opts = ZoneOptions(self.model, self.SCRAMBLE)
+        self.model.changed.connect(lambda name: name in ("", "wrap", "band") and self.show_zone())
         return self.opts
 
     def activate(self):
@@ -148,7 +167,7 @@ class ZoneTool(Tool):
 
     def _draw(self, cell):
         """Draw a new zone: a rectangle from the press to the pointer, or a lasso path."""
-        kind = self.opts.kind.currentData()
+        kind = self.settings.kind
         points = [(cell[1], cell[0])]
         try:
             while True:
@@ -182,7 +201,7 @@ class ZoneTool(Tool):
             dr, dc = y - y0, x - x0
             if (dr, dc) != (0, 0):
                 action = DuplicateZone(points=self.zone.points, offset_row=dr, offset_col=dc,
-                                       zone=self.zone.kind, wrap=self.opts.wrap.isChecked())
+                                       zone=self.zone.kind, wrap=self.settings.wrap)
                 if self.main_window.submit(action):
                     self.zone = self.zone.moved(dr, dc)
             self.show_zone()
@@ -201,12 +220,13 @@ class ScrambleTool(ZoneTool):
     SHORTCUT = "Shift+D"
     TIP = "Click in the zone to scramble its frontier with random grains; drag to draw a zone"
     SCRAMBLE = True
+    SETTINGS = ScrambleSettings
 
     def band(self) -> np.ndarray | None:
         mask = self.zone_mask()
         if mask is None or not mask.any():
             return None
-        return zones.frontier_band(mask, self.opts.band.value(), wrap=self.opts.wrap.isChecked())
+        return zones.frontier_band(mask, self.settings.band, wrap=self.settings.wrap)
 
     def show_zone(self) -> None:
         """The band that will change, tinted over the texture."""
@@ -235,7 +255,7 @@ class ScrambleTool(ZoneTool):
     def scramble(self) -> None:
         if self.zone is None:
             return
+        s = self.settings
         self.main_window.submit(ScrambleFrontier(
-            points=self.zone.points, zone=self.zone.kind, band=self.opts.band.value(),
-            density=self.opts.density.value() / 100, grain_size=self.opts.grain.value(),
-            wrap=self.opts.wrap.isChecked(), seed=new_seed()))
+            points=self.zone.points, zone=self.zone.kind, band=s.band, density=s.density,
+            grain_size=s.grain, wrap=s.wrap, seed=new_seed()))

@@ -147,7 +147,7 @@ class Walk:
 
     def composition(self):
         self.hand.shortcut("Ctrl+Shift+K")
-        dialog = self.win._composition_dialog
+        dialog = self.win.composition_dialog
         QtTest.QTest.qWait(20)
         assert dialog.isVisible(), "Ctrl+Shift+K showed no composition dialog"
         dialog.close()

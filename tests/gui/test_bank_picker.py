@@ -119,7 +119,7 @@ def test_a_texture_of_another_g_says_its_levels_are_mapped(window, qtbot):
 def open_composition_on_the_bank(window, qtbot):
     """Image ▸ Composition…, source "a bank entry", its Choose button clicked: (dialog, source)."""
     window.act_compose.trigger()
-    dialog = window._composition_dialog
+    dialog = window.composition_dialog
     qtbot.waitExposed(dialog)
     assert window.runner.wait(30_000)
     source = dialog.source

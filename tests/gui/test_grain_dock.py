@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from PySide6 import QtCore, QtWidgets
 
-from app.grain_dock import grain_step
+from app.grain_rendering_dock import grain_step
 from app.tools.regions import FillTool
 from texeditor.texture import grain_render as gr
 from texeditor.regions import extractext as regions
@@ -149,7 +149,7 @@ def test_keyboard_steps_commit_after_a_pause(window, dock, qtbot):
 
 def open_composition(window, qtbot):
     window.act_compose.trigger()
-    dialog = window._composition_dialog
+    dialog = window.composition_dialog
     qtbot.waitExposed(dialog)
     settled(window, qtbot)
     return dialog
@@ -270,8 +270,8 @@ def slow_renders(monkeypatch):
     """Every render counts as slow, and each band of rows takes 30 ms."""
     import time
 
-    from app import grain_dock
-    monkeypatch.setattr(grain_dock, "WORKER_COST", 0)
+    from app import grain_rendering_dock
+    monkeypatch.setattr(grain_rendering_dock, "WORKER_COST", 0)
     draw = gr._draw
 
     def slow_draw(*args):
@@ -316,7 +316,7 @@ def test_hexagons_of_a_512_texture_count_as_slow(window, dock):
 def test_undo_right_after_a_key_step_drops_the_setting_and_keeps_the_redo(window, dock, qtbot):
     """A setting still waiting for its pause when Ctrl+Z comes is dropped: committed after the
     undo, it would have replaced the step just undone and lost its redo."""
-    from app.grain_dock import COMMIT_DELAY_MS
+    from app.grain_rendering_dock import COMMIT_DELAY_MS
 
     steps = window.history.index
     slide(dock.size_slider, 6)

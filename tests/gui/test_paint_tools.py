@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 from PySide6 import QtCore, QtGui, QtTest, QtWidgets
 
-from app.brush_dock import open_peano
 from app.tools.brush import BrushTool, SprayTool
 from app.tools.grain import GrainTool
 from app.tools.zone import ScrambleTool, ZoneTool
@@ -95,7 +94,7 @@ def test_the_stroke_shows_in_the_preview_and_reaches_the_document_on_release(win
     press(canvas, (10, 10))
     for x in (14, 20, 30):
         move_to(canvas, (x, 12))
-    preview = canvas._stroke_preview
+    preview = canvas.stroke_preview
     assert preview.isVisible() and (preview.snapshot()[11:14, 10:30] != 0).any()
     assert (window.document.levels == before).all()          # nothing written yet
     release(canvas, (30, 12))
@@ -265,7 +264,7 @@ def test_the_grain_editor_draws_saves_and_uses_a_grain(window, qtbot, user_data)
 
 
 def test_the_grains_menu_lists_the_library_and_selects_a_grain(window, qtbot):
-    menu = next(a.menu() for a in window.menuBar().actions() if a.text() == "Grain &stamps")
+    menu = window.menu("GrainStampsMenu")
     menu.aboutToShow.emit()
     entry = next(a for a in menu.actions() if a.text() == "Hexagon 8")
     entry.trigger()
@@ -318,7 +317,7 @@ def test_a_lasso_zone_follows_the_pointer(window, qtbot):
 # -- Peano sub-regions -----------------------------------------------------------------------------
 
 def test_the_peano_dialog_points_at_errors_and_applies_levels(window, qtbot):
-    dialog = open_peano(window)
+    dialog = window.open_peano()
     qtbot.waitExposed(dialog)
     dialog.cell.setValue(8)
     edit = dialog.expression
@@ -347,8 +346,8 @@ def test_the_peano_dialog_points_at_errors_and_applies_levels(window, qtbot):
 
 def test_the_peano_menu_entry_opens_the_dialog(window, qtbot):
     window.act_peano.trigger()
-    assert window._peano_dialog.isVisible()
-    window._peano_dialog.close()
+    assert window.peano_dialog.isVisible()
+    window.peano_dialog.close()
 
 
 def test_brackets_resize_the_grain_without_growing_the_library(window, qtbot):

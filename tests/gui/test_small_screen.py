@@ -116,16 +116,13 @@ def test_the_spot_editor_leaves_the_right_docks_their_room(laptop, qtbot):
 
 
 def open_dialogs(window):
-    from app.brush_dock import _grain_tool, open_peano
-    from app.composition_dialog import open_composition
-    from app.doubling_dialog import open_doubling
     yield "Acquire", window.acquire()
     yield "New", window.new_document()
     yield "Global operators", window.global_operators()
-    yield "Composition", open_composition(window)
-    yield "Doubling", open_doubling(window)
-    yield "Peano", open_peano(window)
-    yield "Grain editor", _grain_tool(window).edit()
+    yield "Composition", window.open_composition()
+    yield "Doubling", window.open_doubling()
+    yield "Peano", window.open_peano()
+    yield "Grain editor", window.grain_dock.tool.edit()
     window.bank_dock.act_save.trigger()
     yield "Save to bank", next(w for w in QtWidgets.QApplication.topLevelWidgets()
                                if type(w).__name__ == "SaveToBankDialog" and w.isVisible())

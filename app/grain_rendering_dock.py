@@ -119,12 +119,12 @@ class ValueSlider(QtWidgets.QWidget):
         self.slider.setValue(round(value * self.scale))
 
 
-class GrainDensityDock(QtWidgets.QDockWidget):
+class GrainRenderingDock(QtWidgets.QDockWidget):
     """Grain shape, size, orientation; explosion across and down; compression and overlap."""
 
     def __init__(self, window):
         super().__init__("Grain rendering", window)
-        self.setObjectName("GrainDensityDock")
+        self.setObjectName("GrainDensityDock")          # the name saved layouts know
         self.main_window = window
         self._loading = False
         self._base_key = None
@@ -136,6 +136,10 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         self.show_action(None)
         self._preview_timer = self._timer(PREVIEW_DELAY_MS, self.update_preview)
         self._commit_timer = self._timer(COMMIT_DELAY_MS, self.commit)
+        self.visibilityChanged.connect(lambda shown: shown and self.refresh())
+        # a task that ends without changing the history (a cancelled replay of the grain step)
+        # must still put the controls back on the document; after the task's own callback
+        window.runner.finished.connect(lambda: QtCore.QTimer.singleShot(0, self.refresh))
 
     # -- construction ------------------------------------------------------------------------------
     def _build(self) -> None:
@@ -471,36 +475,3 @@ class GrainDensityDock(QtWidgets.QDockWidget):
         window.runner.run(f"Rendering grains ({ow}×{oh} px)…",
                           lambda progress, cancel: action.render(levels, progress, cancel),
                           done, on_cancel=cancelled, on_error=failed)
-
-
-def install(window) -> GrainDensityDock:
-    """Add the dock (a tab beside the grain library's, in the tall left column) and the Image
-    menu's Composition… and Double the levels… entries."""
-    dock = GrainDensityDock(window)
-    window.density_dock = dock
-    window.addDockWidget(QtCore.Qt.DockWidgetArea.LeftDockWidgetArea, dock)
-    neighbour = next((d for d in (getattr(window, n, None) for n in
-                                  ("grain_dock", "brush_dock", "bank_dock")) if d is not None),
-                     None)
-    if neighbour is not None:
-        window.tabifyDockWidget(neighbour, dock)
-        (getattr(window, "bank_dock", None) or neighbour).raise_()
-    dock.visibilityChanged.connect(lambda shown: shown and dock.refresh())
-    # a task that ends without changing the history (a cancelled replay of the grain step) must
-    # still put the controls back on the document; after the task's own callback has run
-    window.runner.finished.connect(lambda: QtCore.QTimer.singleShot(0, dock.refresh))
-    from .composition_dialog import open_composition
-    from .doubling_dialog import open_doubling
-    window.act_compose = window._action("&Composition…", lambda: open_composition(window),
-                                        "Ctrl+Shift+K", "Incrust or mix another texture into "
-                                        "this one (thesis §5.4.1)")
-    window.act_double = window._action("&Double the levels…", lambda: open_doubling(window),
-                                       None, "Turn a G-level texture into 2G levels, learnt "
-                                       "from a photo (thesis §4.5)")
-    menus = {a.text().replace("&", ""): a.menu() for a in window.menuBar().actions()}
-    if "Image" in menus:
-        menus["Image"].addSeparator()
-        menus["Image"].addActions([window.act_compose, window.act_double])
-    if "View" in menus:
-        menus["View"].addAction(dock.toggleViewAction())
-    return dock
