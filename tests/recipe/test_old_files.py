@@ -9,9 +9,8 @@ import shutil
 
 import pytest
 
-from tests.support import DATA
+from tests.support import DATA, engine_types
 from texeditor.bank.store import Bank
-from texeditor.recipe.actions import registry
 from texeditor.recipe.texturefile import load_texture, render_texture
 
 RELEASE = DATA / "release-0.1"
@@ -74,5 +73,5 @@ def test_every_texture_file_opens_and_renders_to_the_recorded_result(stem):
 def test_the_old_files_hold_every_action_type_of_the_engine(bank):
     in_files = {a.TYPE for stem in STEMS for a in load_texture(RELEASE / f"{stem}.texture")[0].applied}
     in_bank = {a.TYPE for e in EXPECTED.values() for a in bank.open(e["entry"]).applied}
-    assert in_files | in_bank == set(registry()) - ADDED_SINCE_0_1
+    assert in_files | in_bank == engine_types() - ADDED_SINCE_0_1
     assert {t for e in EXPECTED.values() for t in e["actions"]} == in_files

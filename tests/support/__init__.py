@@ -17,7 +17,7 @@ from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
 
 from texeditor.recipe.actions import (CropCanvas, NewCanvas, ResizeCanvas, SetLevels, SetPalette,
-                               Synthesize)
+                               Synthesize, registry)
 from texeditor.recipe.document import Document, dpj_ref
 from texeditor.markov.dpj import DPJ
 from texeditor.errors import InputError
@@ -41,6 +41,12 @@ def all_windows_dpj(levels: int, window=(2, 2), seed: int = 0) -> DPJ:
 TINY_DPJS = [all_windows_dpj(2), all_windows_dpj(3, (2, 1), seed=1)]
 TINY = {dpj_ref(d): d for d in TINY_DPJS}
 REFS = [dpj_ref(d) for d in TINY_DPJS]     # REFS[k] names TINY_DPJS[k]
+
+
+def engine_types() -> set[str]:
+    """The names in ``registry()`` of the engine's own Actions: a test module may register one
+    of its own (test_history's ``test_invert``), which no example or old file can hold."""
+    return {name for name, cls in registry().items() if cls.__module__.split(".")[0] == "texeditor"}
 
 
 def palettes(levels: int):
