@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 from texeditor.recipe.actions import NewCanvas
-from texeditor.errors import InputError
 from texeditor.recipe.replay import replay
 from texeditor.spots.actions import _STAMPS, PlaceSpot
 from texeditor.spots.envelope import Envelope, Perturbation, Placement, _cut, real_spot

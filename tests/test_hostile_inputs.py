@@ -13,7 +13,6 @@ import os
 import sqlite3
 import subprocess
 import sys
-import threading
 import zipfile
 from pathlib import Path
 
@@ -33,7 +32,7 @@ from texeditor.markov.synthesis import synthesize
 from texeditor.recipe.sources import render_recipe, synthesis_recipe
 from texeditor.userdata import read_library
 
-from test_history_support import REFS, TINY_DPJS
+from tests.support import REFS, TINY_DPJS, within
 
 ROOT = Path(__file__).resolve().parents[1]
 TIMEOUT = 60
@@ -44,24 +43,6 @@ def run_cli(*argv, timeout=TIMEOUT, env=None):
     return subprocess.run([sys.executable, "-m", "texeditor.cli", *map(str, argv)],
                           capture_output=True, text=True, timeout=timeout, cwd=ROOT,
                           env={**os.environ, **(env or {})})
-
-
-def within(seconds, fn, *args):
-    """fn(*args) in a thread; its exception or its result, or a failure if it does not end."""
-    box = {}
-
-    def target():
-        try:
-            box["result"] = fn(*args)
-        except BaseException as exc:          # handed to the test
-            box["error"] = exc
-    thread = threading.Thread(target=target, daemon=True)
-    thread.start()
-    thread.join(seconds)
-    assert not thread.is_alive(), f"{getattr(fn, '__name__', fn)} did not end in {seconds} s"
-    if "error" in box:
-        raise box["error"]
-    return box.get("result")
 
 
 def members(path) -> dict:

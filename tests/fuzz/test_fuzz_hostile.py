@@ -25,9 +25,9 @@ from texeditor.markov.levels import load_image
 from texeditor.recipe.texturefile import parse_texture, read_texture
 from texeditor.userdata import read_library
 
-from test_hostile_inputs import within
+from tests.support import within
 
-from .test_fuzz_loaders import DPJ_BYTES, TEXTURE_BYTES
+from tests.support.fuzz import DPJ_BYTES, TEXTURE_BYTES
 
 EXAMPLES = int(os.environ.get("TEXEDITOR_FUZZ_EXAMPLES", "300"))
 BOMBS = settings(max_examples=max(EXAMPLES // 5, 30), deadline=None,
@@ -204,7 +204,7 @@ def confused(kind: str):
 
 @pytest.fixture(scope="module")
 def bank_seed(tmp_path_factory):
-    from test_bank import drawn, synthesised
+    from tests.support.bank import drawn, synthesised
     from texeditor.bank.store import Bank
     path = tmp_path_factory.mktemp("bank") / "seed.sqlite"
     with Bank(path, builtins=False) as bank:

@@ -18,6 +18,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 from skimage import data
 
+from tests.support.fuzz import DPJ_BYTES, TEXTURE_BYTES, seed_dpj
 from texeditor import DPJ, estimate_dpj, quantize
 from texeditor.errors import TexeditorError
 from texeditor.recipe.history import History
@@ -34,28 +35,6 @@ pytestmark = pytest.mark.filterwarnings("ignore:Duplicate name:UserWarning")
 
 # -- valid seeds ------------------------------------------------------------------------------------
 
-def _dpj() -> DPJ:
-    q = quantize(data.gravel()[:64, :64], 3)
-    return estimate_dpj(q.levels, (2, 2), 3, palette=q.palette)
-
-
-DPJ_BYTES = _dpj().to_bytes()
-
-
-def _texture() -> bytes:
-    from texeditor.recipe.actions import SetLevels, SetPalette, Synthesize
-    from texeditor.regions.actions import Copy, Fill
-
-    history = History()
-    ref = history.add_dpj(_dpj())
-    for action in (Synthesize(ref, 24, 16, 3), SetLevels(2, 3, 4, 5, 1), Fill(0, 0, 2),
-                   Copy(8, 8, 2, 12), SetPalette(((0, 0, 0), (90, 60, 30), (250, 240, 200)))):
-        history.apply(action)
-    return texture_bytes(history.document, history.applied)[0]
-
-
-TEXTURE_BYTES = _texture()
-
 
 def _recipe_texture() -> bytes:
     """A texture whose steps carry recipes of two DPJs, one of them nested two deep."""
@@ -64,7 +43,7 @@ def _recipe_texture() -> bytes:
     from texeditor.recipe.sources import recipe_of, store_dpj, synthesis_recipe
 
     history = History()
-    ref = history.add_dpj(_dpj())
+    ref = history.add_dpj(seed_dpj())
     q = quantize(data.camera()[:48, :48], 2)
     other = store_dpj(history.document, estimate_dpj(q.levels, (1, 2), 2, palette=q.palette))
     flat = recipe_of([Synthesize(ref, 8, 6, 1),
@@ -330,7 +309,7 @@ def _bank_bytes() -> bytes:
         path = Path(folder) / "bank.sqlite"
         bank = Bank(path, builtins=False)
         history = History()
-        ref = history.add_dpj(_dpj())
+        ref = history.add_dpj(seed_dpj())
         from texeditor.recipe.actions import Synthesize
         history.apply(Synthesize(ref, 16, 16, 1))
         bank.insert(make_record(history, "seed entry", tags=("fuzz",)))

@@ -208,7 +208,7 @@ class Hand:
 
     # -- the canvas --------------------------------------------------------------------------------
     def pos(self, cell):
-        from .events import cell_pos
+        from .support import cell_pos
         return cell_pos(self.canvas, *cell)
 
     def _send(self, kind, cell, button, buttons, modifiers) -> None:
@@ -241,7 +241,7 @@ class Hand:
         QtTest.QTest.qWait(5)
 
     def wheel(self, cell, notches: int) -> None:
-        from .events import wheel
+        from .support import wheel
         wheel(self.canvas.viewport(), self.pos(cell), notches)
 
     def level_at(self, cell) -> int:

@@ -11,7 +11,7 @@ from texeditor.recipe.actions import NewCanvas, SetLevels
 from texeditor.bank.store import Bank, make_record
 from texeditor.recipe.history import History
 
-from .events import cell_pos, click
+from .support import cell_pos, click
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 

@@ -8,7 +8,7 @@ import numpy as np
 from PySide6 import QtCore, QtTest, QtWidgets
 
 from app.bank_picker import EMPTY, BankPicker
-from test_history_support import REFS, TINY_DPJS
+from tests.support import REFS, TINY_DPJS
 from texeditor.recipe.actions import NewCanvas, SetLevels, Synthesize
 from texeditor.bank.store import Bank, default_path
 from texeditor.texture.composition import fit
@@ -19,8 +19,7 @@ from texeditor.texture.actions import Incrust, Mix
 from texeditor.recipe.sources import store_dpj, synthesis_recipe
 from texeditor.recipe.texturefile import load_texture, save_texture
 
-from .events import cell_pos, click, press_key
-from .test_spot_tools import spot_tool
+from .support import cell_pos, click, press_key, spot_tool
 
 LEFT = QtCore.Qt.MouseButton.LeftButton
 Key = QtCore.Qt.Key

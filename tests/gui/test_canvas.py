@@ -6,7 +6,7 @@ from PySide6 import QtCore, QtGui
 
 from app.canvas import GRID_MIN_ZOOM, CanvasView
 
-from .events import drag, wheel
+from .support import drag, wheel
 
 
 def make_canvas(qtbot, shape=(40, 60)):

@@ -12,7 +12,7 @@ from app.dpj_editor.table import CHAIN, PROB
 from texeditor import DPJ
 from texeditor.markov import dpj_edit as E
 
-from .events import drag
+from .support import choose_level, drag, new_dpj, paint, set_probability
 
 LEFT = QtCore.Qt.MouseButton.LeftButton
 NONE = QtCore.Qt.KeyboardModifier.NoModifier
@@ -33,41 +33,6 @@ def editor(qtbot, monkeypatch):
     qtbot.waitExposed(ed)
     yield ed
     ed.stop()
-
-
-def new_dpj(qtbot, editor, u, v, g):
-    """File ▸ New DPJ… in the editor, typed into the dialog."""
-    editor.act_new.trigger()
-    dialog = editor.new_dialog
-    for box, value in ((dialog.u, u), (dialog.v, v), (dialog.levels, g)):
-        box.selectAll()
-        qtbot.keyClicks(box, str(value))
-    qtbot.keyClick(dialog, Key.Key_Return)
-    assert editor.dpj.window == (u, v) and editor.dpj.levels == g and len(editor.dpj) == 0
-
-
-def choose_level(editor, level):
-    bar = editor.painter.swatches
-    QTest.mouseClick(bar, LEFT, NONE, bar.swatch_rect(level).center())
-    assert editor.painter.grid.level == level
-
-
-def paint(editor, config):
-    """Paint a configuration cell by cell with the swatches and mouse clicks on the grid."""
-    grid = editor.painter.grid
-    for level in np.unique(config):
-        choose_level(editor, int(level))
-        for r, c in zip(*np.nonzero(config == level)):
-            QTest.mouseClick(grid, LEFT, NONE, grid.cell_rect(r, c).center())
-    assert np.array_equal(editor.painter.config(), config)
-
-
-def set_probability(qtbot, editor, text):
-    """Type the probability and press Enter: Add/Set."""
-    line = editor.painter.probability.spin.lineEdit()
-    line.selectAll()
-    qtbot.keyClicks(line, text)
-    qtbot.keyClick(line, Key.Key_Return)
 
 
 def table_click(qtbot, editor, row, modifier=NONE, column=0):

@@ -12,7 +12,7 @@ from texeditor.regions import extractext as regions
 from texeditor.recipe.replay import replay
 from texeditor.texture.actions import DoubleLevels, Incrust, Mix, RenderGrains
 
-from .events import cell_pos, click, drag, press_key
+from .support import cell_pos, click, drag, press_key
 
 LEFT = QtCore.Qt.MouseButton.LeftButton
 

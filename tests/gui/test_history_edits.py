@@ -8,8 +8,7 @@ from PySide6 import QtCore
 from texeditor.recipe.actions import SetLevels, SetPalette
 from texeditor.regions.actions import Fill
 
-from .events import cell_pos, click
-from .test_main_window import type_into
+from .support import cell_pos, click, type_into
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier

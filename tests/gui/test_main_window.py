@@ -6,18 +6,11 @@ from PySide6 import QtCore, QtWidgets
 
 from texeditor.recipe.actions import SetPalette, Synthesize
 
-from .events import move, wheel
+from .support import move, type_into, wheel
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier
 LEFT = QtCore.Qt.MouseButton.LeftButton
-
-
-def type_into(qtbot, widget, text):
-    """Select all in a spin box or line edit with the keyboard and type a new value."""
-    widget.setFocus()
-    qtbot.keyClick(widget, QtCore.Qt.Key.Key_A, CTRL)
-    qtbot.keyClicks(widget, text)
 
 
 def test_starts_on_a_synthesis_from_the_dpj(window):

@@ -13,7 +13,7 @@ from app.tools.zone import ScrambleTool, ZoneTool
 from texeditor.paint.actions import (DuplicateZone, PeanoLevels, PlaceGrains, ScrambleFrontier,
                                      Stroke)
 
-from .events import cell_pos, click, press_key
+from .support import cell_pos, click, press_key
 
 LEFT = QtCore.Qt.MouseButton.LeftButton
 NONE = QtCore.Qt.MouseButton.NoButton
@@ -199,7 +199,7 @@ def test_a_click_places_a_grain_centred_at_the_pointer(window, qtbot, name, box)
 
 def test_hovering_shows_the_grain_where_a_click_would_put_it(window, qtbot):
     window.set_tool(tool(window, GrainTool))
-    from .events import move
+    from .support import move
     move(window.canvas.viewport(), cell_pos(window.canvas, 12, 9))
     overlay = window.canvas.overlay
     assert overlay.isVisible()

@@ -7,7 +7,7 @@ from PySide6 import QtCore
 from app.tools.regions import CopyTool, ExtractTool, FillTool, TranslateTool
 from texeditor.recipe.actions import NewCanvas, SetLevels
 
-from .events import cell_pos, click, drag, mouse, press_key
+from .support import cell_pos, click, drag, mouse, press_key
 
 LEFT = QtCore.Qt.MouseButton.LeftButton
 

@@ -15,8 +15,7 @@ from texeditor.recipe.document import dpj_ref
 from texeditor.recipe.history import History
 from texeditor.recipe.replay import replay
 
-from .test_dpj_editor import new_dpj, paint, set_probability
-from .test_main_window import CTRL, LEFT, type_into
+from .support import CTRL, LEFT, new_dpj, paint, set_probability, type_into
 
 SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier
 STEP_SECONDS = 0.003          # each replayed patch is slowed so the replay takes about a second

@@ -13,7 +13,7 @@ from texeditor.regions import actions as ra
 from texeditor.regions import extractext as regions
 from texeditor.recipe.actions import NewCanvas, SetLevels
 
-from .events import cell_pos, click, move, press_key
+from .support import cell_pos, click, move, press_key
 
 LEFT = QtCore.Qt.MouseButton.LeftButton
 NONE = QtCore.Qt.MouseButton.NoButton

@@ -6,11 +6,10 @@ import numpy as np
 import pytest
 from PySide6 import QtCore, QtTest, QtWidgets
 
-from app.tools.spot import SpotTool
 from texeditor.spots.actions import DeleteSpot, PlaceSpot, ScatterSpots
 from texeditor.spots.envelope import Envelope
 
-from .events import cell_pos, click, drag, mouse, move, press_key
+from .support import cell_pos, click, drag, mouse, move, press_key, spot_tool
 
 Type = QtCore.QEvent.Type
 LEFT, NONE = QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.MouseButton.NoButton
@@ -20,25 +19,6 @@ LEFT, NONE = QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.MouseButton.NoButton
 def own_spot_library(tmp_path, monkeypatch):
     """Saved spots go to a temporary data folder, never the user's own."""
     monkeypatch.setenv("TEXEDITOR_DATA", str(tmp_path / "data"))
-
-
-def spot_tool(window) -> SpotTool:
-    press_key(window, QtCore.Qt.Key.Key_S)
-    tool = window.tool
-    assert isinstance(tool, SpotTool) and tool.dock.isVisible()
-    settle(tool.dock)               # the editor's dock takes its place under the canvas
-    return tool
-
-
-def settle(widget, rounds: int = 4):
-    """Wait until a widget keeps its size (docks resize with an animation)."""
-    size, same = None, 0
-    for _ in range(100):
-        QtTest.QTest.qWait(20)
-        same = same + 1 if widget.size() == size else 0
-        size = widget.size()
-        if same >= rounds:
-            return
 
 
 def at(view, point) -> QtCore.QPoint:

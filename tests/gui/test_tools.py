@@ -5,7 +5,7 @@ from PySide6 import QtCore
 from app.tools import HandTool, Tool
 from texeditor.recipe.actions import SetLevels
 
-from .events import cell_pos, click, drag, press_key
+from .support import cell_pos, click, drag, press_key
 
 
 class StampTool(Tool):

@@ -51,7 +51,17 @@ def check_window(window: tuple[int, int], levels: int) -> tuple[int, int]:
 
 
 def encode(configs: np.ndarray, levels: int) -> np.ndarray:
-    """Codes of configurations (n, v, u) (or any (n, ...)): row-major digits in base G."""
+    """Codes of configurations (n, v, u) (or any (n, ...)): row-major digits in base G.
+
+    Two 2×2 windows of G = 3 levels, ``0 1 / 1 0`` (0·27 + 1·9 + 1·3 + 0 = 12) and ``2 2 / 0 1``:
+
+    >>> codes = encode(np.array([[[0, 1], [1, 0]], [[2, 2], [0, 1]]]), 3)
+    >>> codes
+    array([12, 73])
+    >>> decode(codes, 3, 2, 2)[1]
+    array([[2, 2],
+           [0, 1]], dtype=uint8)
+    """
     configs = np.asarray(configs)
     flat = configs.reshape(len(configs), int(np.prod(configs.shape[1:])))
     codes = np.zeros(len(flat), dtype=np.int64)

@@ -107,7 +107,7 @@ def texture_bytes(doc: Document, actions, *, tags=(), description="") -> tuple[b
     missing = sorted(r for r in refs if r not in doc.dpjs)
     if missing:
         raise InputError(f"the log refers to DPJs {missing} that the document does not hold")
-    main = doc.dpj_ref if doc.dpj_ref in doc.dpjs else (refs[-1] if refs else None)
+    main = doc.dpj_ref if doc.dpj_ref in doc.dpjs else None     # the current DPJ, as it is
     others = tuple(sorted(r for r in set(refs) if r != main))
     tags = (tags,) if isinstance(tags, str) else tuple(tags)
     manifest = _checked_for_saving(Manifest(

@@ -1,0 +1,130 @@
+"""Shared helpers of the GUI tests: real input events (wheel notches and mouse drags sent to a
+widget, clicks, keys), and the gestures several test modules share (a tool, a dialog, typing).
+
+Drags are sent as raw QMouseEvents: QTest turns a second press near the first, within the
+double-click interval, into a double click, which is not what a drag is. Moves are spaced in time
+because pyqtgraph drops mouse moves faster than its rate limit (as a real mouse never sends).
+"""
+
+import numpy as np
+from PySide6 import QtCore, QtGui, QtTest, QtWidgets
+from PySide6.QtTest import QTest
+
+from app.tools.spot import SpotTool
+
+NO_MODIFIER = QtCore.Qt.KeyboardModifier.NoModifier
+CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
+LEFT = QtCore.Qt.MouseButton.LeftButton
+Key = QtCore.Qt.Key
+
+
+def wheel(widget, pos: QtCore.QPoint, notches: int) -> None:
+    """Turn the wheel by some notches (120 units each; positive zooms in) at a widget position."""
+    ev = QtGui.QWheelEvent(QtCore.QPointF(pos), QtCore.QPointF(widget.mapToGlobal(pos)),
+                           QtCore.QPoint(0, 0), QtCore.QPoint(0, 120 * notches),
+                           QtCore.Qt.MouseButton.NoButton, NO_MODIFIER,
+                           QtCore.Qt.ScrollPhase.NoScrollPhase, False)
+    QtWidgets.QApplication.sendEvent(widget, ev)
+
+
+def mouse(widget, kind, pos, button, buttons) -> None:
+    p = QtCore.QPointF(pos)
+    ev = QtGui.QMouseEvent(kind, p, QtCore.QPointF(widget.mapToGlobal(pos)), button, buttons,
+                           NO_MODIFIER)
+    QtWidgets.QApplication.sendEvent(widget, ev)
+
+
+def drag(widget, button, a, b, steps: int = 5) -> None:
+    """Press at a, move in steps to b, release: one drag gesture with one button held."""
+    none = QtCore.Qt.MouseButton.NoButton
+    Type = QtCore.QEvent.Type
+    mouse(widget, Type.MouseButtonPress, QtCore.QPoint(*a), button, button)
+    for k in range(1, steps + 1):
+        p = QtCore.QPoint(a[0] + (b[0] - a[0]) * k // steps, a[1] + (b[1] - a[1]) * k // steps)
+        QtTest.QTest.qWait(25)
+        mouse(widget, Type.MouseMove, p, none, button)
+    mouse(widget, Type.MouseButtonRelease, QtCore.QPoint(*b), button, none)
+
+
+def move(widget, pos: QtCore.QPoint) -> None:
+    """The mouse moves over a widget with no button held (hover)."""
+    none = QtCore.Qt.MouseButton.NoButton
+    mouse(widget, QtCore.QEvent.Type.MouseMove, pos, none, none)
+
+
+def cell_pos(canvas, x: float, y: float) -> QtCore.QPoint:
+    """The canvas widget position of the centre of cell (x, y)."""
+    scene = canvas.view.mapViewToScene(QtCore.QPointF(x + 0.5, y + 0.5))
+    return canvas.mapFromScene(scene)
+
+
+def click(widget, pos: QtCore.QPoint) -> None:
+    QtTest.QTest.mouseClick(widget, QtCore.Qt.MouseButton.LeftButton, NO_MODIFIER, pos)
+
+
+def press_key(widget, key) -> None:
+    QtTest.QTest.keyClick(widget, key)
+
+
+# -- shared by several GUI test modules ----------------------------------------------------------
+
+def spot_tool(window) -> SpotTool:
+    press_key(window, QtCore.Qt.Key.Key_S)
+    tool = window.tool
+    assert isinstance(tool, SpotTool) and tool.dock.isVisible()
+    settle(tool.dock)               # the editor's dock takes its place under the canvas
+    return tool
+
+
+def settle(widget, rounds: int = 4):
+    """Wait until a widget keeps its size (docks resize with an animation)."""
+    size, same = None, 0
+    for _ in range(100):
+        QtTest.QTest.qWait(20)
+        same = same + 1 if widget.size() == size else 0
+        size = widget.size()
+        if same >= rounds:
+            return
+
+
+def type_into(qtbot, widget, text):
+    """Select all in a spin box or line edit with the keyboard and type a new value."""
+    widget.setFocus()
+    qtbot.keyClick(widget, QtCore.Qt.Key.Key_A, CTRL)
+    qtbot.keyClicks(widget, text)
+
+
+def new_dpj(qtbot, editor, u, v, g):
+    """File ▸ New DPJ… in the editor, typed into the dialog."""
+    editor.act_new.trigger()
+    dialog = editor.new_dialog
+    for box, value in ((dialog.u, u), (dialog.v, v), (dialog.levels, g)):
+        box.selectAll()
+        qtbot.keyClicks(box, str(value))
+    qtbot.keyClick(dialog, Key.Key_Return)
+    assert editor.dpj.window == (u, v) and editor.dpj.levels == g and len(editor.dpj) == 0
+
+
+def choose_level(editor, level):
+    bar = editor.painter.swatches
+    QTest.mouseClick(bar, LEFT, NO_MODIFIER, bar.swatch_rect(level).center())
+    assert editor.painter.grid.level == level
+
+
+def paint(editor, config):
+    """Paint a configuration cell by cell with the swatches and mouse clicks on the grid."""
+    grid = editor.painter.grid
+    for level in np.unique(config):
+        choose_level(editor, int(level))
+        for r, c in zip(*np.nonzero(config == level)):
+            QTest.mouseClick(grid, LEFT, NO_MODIFIER, grid.cell_rect(r, c).center())
+    assert np.array_equal(editor.painter.config(), config)
+
+
+def set_probability(qtbot, editor, text):
+    """Type the probability and press Enter: Add/Set."""
+    line = editor.painter.probability.spin.lineEdit()
+    line.selectAll()
+    qtbot.keyClicks(line, text)
+    qtbot.keyClick(line, Key.Key_Return)
+
