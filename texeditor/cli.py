@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 
 from .errors import InputError, TexeditorError
+from .fileio import output_path
 
 SYNTH_OUTPUTS = (".png", ".npy", ".texture")
 
@@ -33,21 +34,12 @@ def _pair(text: str, what: str) -> tuple[int, int]:
         raise InputError(f"{what} must look like WIDTHxHEIGHT (e.g. 3x3), got {text!r}") from None
 
 
-def _output(path: str, allowed: tuple[str, ...]) -> Path:
-    out = Path(path)
-    if out.suffix.lower() not in allowed:
-        raise InputError(f"the output must end with {', '.join(allowed)}: got {path!r}")
-    if not out.parent.is_dir():
-        raise InputError(f"the output folder {str(out.parent)!r} does not exist")
-    return out
-
-
 def cmd_acquire(args) -> int:
     from .markov.estimation import estimate_dpj
     from .markov.levels import load_image, quantize
 
     u, v = _pair(args.window, "the window")
-    out = _output(args.output, (".dpj",))
+    out = output_path(args.output, (".dpj",))
     image = load_image(args.image)
     q = quantize(image, args.levels, method=args.quantizer)
     meta = {"source": Path(args.image).name, "quantizer": args.quantizer}
@@ -63,7 +55,7 @@ def cmd_synth(args) -> int:
     from .markov.synthesis import synthesize
 
     width, height = _pair(args.size, "the size")
-    out = _output(args.output, SYNTH_OUTPUTS)
+    out = output_path(args.output, SYNTH_OUTPUTS)
     dpj = DPJ.load(args.dpj)
     if out.suffix.lower() == ".texture":
         return _synth_texture(dpj, width, height, args.seed, out)
@@ -90,7 +82,7 @@ def cmd_render(args) -> int:
     from .export import write_npy, write_png
     from .recipe.texturefile import render_texture
 
-    out = _output(args.output, (".png", ".npy"))
+    out = output_path(args.output, (".png", ".npy"))
     doc = render_texture(args.texture)  # replays and checks the stored hash
     if out.suffix.lower() == ".png":
         write_png(out, doc.levels, doc.palette, scale=args.scale)
@@ -107,7 +99,7 @@ def cmd_log(args) -> int:
     if args.optimize:
         if not args.output:
             raise InputError("--optimize needs -o NEW.texture")
-        before, after = optimize_texture(args.texture, _output(args.output, (".texture",)))
+        before, after = optimize_texture(args.texture, output_path(args.output, (".texture",)))
         print(f"{args.output}: {before} actions optimised to {after}, same result")
         return 0
     if args.output:

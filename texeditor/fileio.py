@@ -17,7 +17,7 @@ from typing import Callable, BinaryIO
 
 import numpy as np
 
-from .errors import FormatError
+from .errors import FormatError, InputError
 
 
 def atomic_write(path: str | os.PathLike, write: Callable[[BinaryIO], None]) -> None:
@@ -261,3 +261,13 @@ def load_json(data: bytes | str, what: str, *, limit: int, max_depth: int = MAX_
 
 def _no_json_constant(token):
     raise ValueError(f"{token} is not allowed")
+
+
+def output_path(path: str, allowed: tuple[str, ...]) -> Path:
+    """A command's output file, checked before any work: a known suffix, an existing folder."""
+    out = Path(path)
+    if out.suffix.lower() not in allowed:
+        raise InputError(f"the output must end with {', '.join(allowed)}: got {path!r}")
+    if not out.parent.is_dir():
+        raise InputError(f"the output folder {str(out.parent)!r} does not exist")
+    return out

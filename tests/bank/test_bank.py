@@ -554,7 +554,8 @@ def test_a_forged_dpj_reference_cannot_replace_a_stored_dpj(bank):
     with pytest.raises(InputError, match="does not name this DPJ"):
         history.document.add_dpj(TINY_DPJS[1], REFS[0])   # TINY_DPJS[1] posing as REFS[0]
     history.document.dpjs[REFS[0]] = TINY_DPJS[1]          # forged behind the document's back
-    history.document._dpj_ref = REFS[0]
+    with history.document.step():
+        history.document.set_current_dpj(REFS[0])
     history.apply(NewCanvas(4, 4, 3))
     with pytest.raises(FormatError, match="another DPJ"):
         bank.add(history, "forged")

@@ -17,7 +17,7 @@ from app.tools.zone import ScrambleTool
 from texeditor.paint.actions import Stroke
 from texeditor.recipe.actions import NewCanvas, SetLevels
 
-from .events import cell_pos, click, press_key
+from .support import cell_pos, click, press_key
 
 Key = QtCore.Qt.Key
 # The layouts users saved name docks by these: they must never change.

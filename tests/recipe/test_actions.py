@@ -130,8 +130,8 @@ def test_crop_and_resize_canvas():
 
 def test_synthesize_uses_the_dpj_palette_and_sets_the_current_dpj():
     doc = Document()
-    ref = doc.add_dpj(TINY_DPJS[1])
-    doc._dpj_ref = None
+    ref = doc.store_dpj(TINY_DPJS[1])
+    assert doc.dpj_ref is None
     doc.apply(Synthesize(ref, 7, 5, 3))
     assert doc.shape == (5, 7) and doc.num_levels == 3 and doc.dpj is TINY_DPJS[1]
     expected = synthesis.synthesize(TINY_DPJS[1], (5, 7), seed=3).levels

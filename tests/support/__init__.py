@@ -85,8 +85,7 @@ def random_history(data, max_steps: int = 14, **options) -> History:
     """A History built live from random actions (an action the document refuses is skipped)."""
     history = History(**options)
     for d in TINY_DPJS:
-        history.document.add_dpj(d, dpj_ref(d))
-    history.document._dpj_ref = None
+        history.document.store_dpj(d)
     for _ in range(data.draw(st.integers(1, max_steps))):
         try:
             history.apply(draw_action(data, history.document))

@@ -181,9 +181,9 @@ def cmd_show(bank, args) -> int:
 
 
 def cmd_render(bank, args) -> int:
-    from ..cli import _output
+    from ..fileio import output_path
     from ..export import write_npy, write_png
-    out = _output(args.output, (".png", ".npy"))
+    out = output_path(args.output, (".png", ".npy"))
     doc = bank.render(args.id)
     if out.suffix.lower() == ".png":
         write_png(out, doc.levels, doc.palette, scale=args.scale)
@@ -209,8 +209,8 @@ def cmd_add(bank, args) -> int:
 
 
 def cmd_export(bank, args) -> int:
-    from ..cli import _output
-    out = _output(args.output, (".texture",))
+    from ..fileio import output_path
+    out = output_path(args.output, (".texture",))
     bank.export_texture(args.id, out)
     print(f"{out}: entry {args.id} ({bank.get(args.id).name}), hash verified")
     return 0

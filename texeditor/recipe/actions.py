@@ -106,7 +106,8 @@ def _short(value) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _palette(name, value, lo, hi):
+def palette_param(name, value, lo, hi):
+    """A palette parameter: 2..MAX_LEVELS colours (r, g, b), each component 0..255."""
     if isinstance(value, np.ndarray):
         value = value.tolist()
     if not isinstance(value, (list, tuple)) or not 2 <= len(value) <= MAX_LEVELS:
@@ -136,7 +137,7 @@ def _points(name, value, lo, hi):
 
 _KINDS: dict[str, Callable] = {
     "int": _int, "seed": lambda n, v, lo, hi: _int(n, v, 0, MAX_SEED), "float": _float,
-    "bool": _bool, "str": _str, "ref": _ref, "refs": _refs, "palette": _palette,
+    "bool": _bool, "str": _str, "ref": _ref, "refs": _refs, "palette": palette_param,
     "points": _points,
 }
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 
 from ..version import __version__
-from .actions import MAX_CANVAS_SIDE, Action, Synthesize, _palette, dpj_refs
+from .actions import MAX_CANVAS_SIDE, Action, Synthesize, dpj_refs, palette_param
 from .codec import MAX_ACTIONS, MAX_LOG_BYTES, log_json, read_log
 from .document import Document, REF_LENGTH
 from ..markov.dpj import DPJ, MAX_FILE_BYTES as MAX_DPJ_BYTES, MAX_LEVELS
@@ -312,7 +312,7 @@ def _check_manifest(obj, name: str = "texture") -> Manifest:
             m, width=_count(m.width, "width", MAX_CANVAS_SIDE),
             height=_count(m.height, "height", MAX_CANVAS_SIDE),
             levels=_count(m.levels, "levels", MAX_LEVELS, low=2),
-            palette=_palette("palette", m.palette, None, None),
+            palette=palette_param("palette", m.palette, None, None),
             result_sha256=_text(m.result_sha256, "result_sha256", 64, r"^[0-9a-f]{64}$"),
             actions=_count(m.actions, "actions", MAX_ACTIONS),
             dpj=None if m.dpj is None else _text(m.dpj, "dpj", REF_LENGTH, _REF.pattern),
