@@ -1,33 +1,22 @@
 """texeditor — the engine of an interactive texture studio after R. Olejnik (Lille, 1984).
 
 Photo → levels (`quantize`) → DPJ (`estimate_dpj`) → 2-D Markov synthesis (`synthesize`) →
-documents edited by replayable actions. This package never imports Qt; the GUI lives in `app`.
+documents edited by replayable Actions (`History`), kept as recipes in files and the `Bank`.
+One subpackage per idea of the thesis: `markov`, `regions`, `paint`, `spots`, `texture`,
+`recipe`, `bank`. This package never imports Qt; the GUI lives in `app`.
 """
 
-from .markov.dpj import DPJ, DPJReport
-from .errors import Cancelled, FormatError, ImageError, InputError, TexeditorError
-
 from .version import __version__
-
+from .errors import Cancelled, FormatError, ImageError, InputError, ReplayError, TexeditorError
+from .markov import (DPJ, DPJReport, Quantization, SynthesisResult, estimate_dpj, load_image,
+                     quantize, synthesize)
 # Every operator package registers its Actions: importing them here makes the registry (and so
 # every log reader) complete whatever module of the engine a program imports first.
-from . import paint, regions, spots, texture  # noqa: E402,F401  (registration)
+from . import paint, regions, spots, texture  # noqa: F401
+from .recipe import Document, History, load_texture, replay, save_texture
+from .bank import Bank
 
-
-def __getattr__(name):
-    # The numba-backed modules load on first use so `import texeditor` stays instant.
-    if name in ("synthesize", "SynthesisResult"):
-        from .markov import synthesis
-        return getattr(synthesis, name)
-    if name == "estimate_dpj":
-        from .markov.estimation import estimate_dpj
-        return estimate_dpj
-    if name in ("quantize", "load_image", "Quantization"):
-        from .markov import levels
-        return getattr(levels, name)
-    raise AttributeError(f"module 'texeditor' has no attribute {name!r}")
-
-
-__all__ = ["DPJ", "DPJReport", "synthesize", "SynthesisResult", "estimate_dpj", "quantize",
-           "load_image", "Quantization", "TexeditorError", "InputError", "ImageError",
-           "FormatError", "Cancelled"]
+__all__ = ["__version__", "DPJ", "DPJReport", "synthesize", "SynthesisResult", "estimate_dpj",
+           "quantize", "load_image", "Quantization", "Document", "History", "replay",
+           "load_texture", "save_texture", "Bank", "TexeditorError", "InputError", "ImageError",
+           "FormatError", "ReplayError", "Cancelled"]

@@ -1,3 +1,11 @@
-"""paint"""
+"""Painting (thesis §3.2–3.3a): brushes and sprays, grains placed one by one, zones duplicated or
+scrambled, Peano-curve levels, with their Actions and the brush and grain libraries.
+"""
 
-from . import actions  # noqa: F401
+from . import brushes, grains, peano, zones
+from .actions import PAINT_ACTIONS
+from .brushes import Brush, BrushLibrary
+from .grains import GrainLibrary, GrainType
+
+__all__ = ["brushes", "grains", "peano", "zones", "PAINT_ACTIONS", "Brush", "BrushLibrary",
+           "GrainLibrary", "GrainType"]
