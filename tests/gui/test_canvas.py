@@ -215,3 +215,55 @@ def test_zoomed_out_picture_follows_edits_and_palette(qtbot):
     qtbot.wait(10)
     assert tuple(screen(canvas)[centre.y(), centre.x()]) == (0, 200, 0)
     assert canvas.displayed_colour(30, 30) == (0, 200, 0)
+
+
+def _shown_pixels(canvas) -> np.ndarray:
+    """The picture item's pixels as painted (a paint renders only what is out of date)."""
+    canvas.grab()
+    q = canvas.image.qimage
+    return np.frombuffer(q.constBits(), np.uint8, count=q.sizeInBytes()).copy()
+
+
+def _fresh_pixels(qtbot, canvas, doc) -> np.ndarray:
+    fresh = CanvasView()
+    qtbot.addWidget(fresh)
+    fresh.resize(canvas.size())
+    fresh.show()
+    fresh.set_image(doc.levels, doc.palette)
+    fresh.set_zoom(canvas.zoom())
+    fresh._show_level()
+    fresh.image.render()
+    assert fresh.shown_level == canvas.shown_level
+    return _shown_pixels(fresh)
+
+
+def test_edits_redraw_only_their_box_and_the_picture_stays_exact(window, qtbot, monkeypatch):
+    """Issue 18: a step that touches a box re-uploads only that box (no full set_image), at
+    100 % and zoomed out; undo, redo and a new palette too; the picture on screen is exactly a
+    full redraw's after each, and a new canvas shape still redraws everything."""
+    from texeditor.recipe.actions import ResizeCanvas, SetLevels, SetPalette
+    canvas = window.canvas
+    full = []
+    real_set_image = canvas.set_image
+    monkeypatch.setattr(canvas, "set_image", lambda *a: full.append(1) or real_set_image(*a))
+    for zoom in (4.0, 0.3):
+        canvas.set_zoom(zoom)
+        qtbot.wait(20)
+        _shown_pixels(canvas)
+        for step in (SetLevels(3, 4, 5, 6, 1), SetLevels(40, 50, 30, 30, 2),
+                     SetLevels(0, 0, 2, 2, 0)):
+            assert window.submit(step)
+            qtbot.wait(10)
+            assert np.array_equal(_shown_pixels(canvas),
+                                  _fresh_pixels(qtbot, canvas, window.document))
+        window.undo()
+        window.undo()
+        window.redo()
+        assert np.array_equal(_shown_pixels(canvas), _fresh_pixels(qtbot, canvas, window.document))
+    assert full == []                                  # six steps, undo and redo: boxes only
+    palette = window.document.palette.copy()
+    palette[1] = (250, 10, 10)
+    assert window.submit(SetPalette(palette))
+    assert window.submit(ResizeCanvas(70, 30, 0))
+    assert len(full) == 2 and window.canvas.levels.shape == (70, 30)
+    assert np.array_equal(_shown_pixels(canvas), _fresh_pixels(qtbot, canvas, window.document))

@@ -292,3 +292,30 @@ def test_new_action_type_gets_undo_for_free():
     assert history.document.levels[:, 0].tolist() == [1, 0, 0, 0]
     history.redo()
     assert history.document.levels[:, 0].tolist() == [1, 2, 0, 0]
+
+
+def test_each_change_says_what_changed_and_where():
+    """Issue 18: a view redraws only what a change touched — the kind, what changed (levels,
+    palette, dpj, log) and the box of the levels changed (None: everywhere)."""
+    from texeditor.recipe.history import EVERYTHING
+    seen = []
+    history = History()
+    history.subscribe(seen.append)
+    history.apply(NewCanvas(20, 10, 3))
+    assert seen[-1].kind == "apply" and seen[-1].box is None and "levels" in seen[-1].what
+    history.apply(SetLevels(2, 3, 4, 5, 1))
+    assert seen[-1].what == {"levels", "log"} and seen[-1].box == (2, 3, 4, 5)
+    history.apply(SetLevels(8, 15, 9, 9, 2))                 # clipped to the canvas
+    assert seen[-1].box == (8, 15, 2, 5) and seen[-1].index == 3
+    history.apply(SetPalette(((0, 0, 0), (9, 9, 9), (99, 99, 99))))
+    assert seen[-1].what == {"palette", "log"} and seen[-1].box is None
+    history.undo()
+    assert seen[-1].kind == "undo" and seen[-1].what == {"palette", "log"}
+    history.goto(1)                                          # two steps back: both boxes
+    assert seen[-1].kind == "goto" and seen[-1].box == (2, 3, 8, 17)
+    history.redo()
+    assert seen[-1].box == (2, 3, 4, 5) and seen[-1].index == 2
+    history.add_dpj(TINY[sorted(TINY)[0]])
+    assert seen[-1].kind == "dpj" and seen[-1].what == {"dpj"}
+    history.replace(1, SetLevels(0, 0, 1, 1, 2))
+    assert seen[-1].kind == "edit" and seen[-1].what == EVERYTHING and seen[-1].box is None

@@ -63,11 +63,13 @@ def test_every_texture_file_opens_and_renders_to_the_recorded_result(stem):
     assert manifest.result_sha256 == expected["sha256"]
     assert history.document.result_hash() == expected["sha256"]
     assert [a.TYPE for a in history.applied] == expected["actions"]
-    # as in 0.1.0, opening a file makes its recorded DPJ current when its log leaves none
-    assert history.document.dpj_ref == (expected["dpj_ref"] or manifest.dpj)
+    # 0.1.0 recorded as current the last DPJ the log names when the document had none; the
+    # recorded current DPJ is part of the recipe: opening and rendering both restore it
+    assert manifest.dpj == (expected["dpj_ref"] or manifest.dpj)
+    assert history.document.dpj_ref == manifest.dpj
     doc = render_texture(path)
     assert doc.result_hash() == expected["sha256"]
-    assert doc.dpj_ref == expected["dpj_ref"]
+    assert doc.dpj_ref == manifest.dpj
 
 
 def test_the_old_files_hold_every_action_type_of_the_engine(bank):

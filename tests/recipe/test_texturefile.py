@@ -353,3 +353,23 @@ def test_failed_saves_leave_the_existing_file_untouched(saved, monkeypatch):
         tf.save_texture(saved, Document.new(2, 2, 2))
     assert saved.read_bytes() == before
     assert sorted(os.listdir(saved.parent)) == folder       # no temporary file left behind
+
+
+def test_the_current_dpj_is_recorded_as_it_is(tmp_path):
+    """Issue 18: a document with no current DPJ (a hand-made canvas whose steps name DPJs)
+    saves none, and one whose current DPJ no step uses keeps it; both reopen as they were."""
+    from texeditor.recipe.sources import synthesis_recipe, store_dpj
+    from texeditor.texture.actions import Mix
+    history = History()
+    history.apply(NewCanvas(6, 5, 3))
+    ref = store_dpj(history.document, TINY_DPJS[0])
+    history.apply(Mix(synthesis_recipe(ref, 6, 5, 1), (ref,)))
+    assert history.document.dpj_ref is None
+    tf.save_texture(tmp_path / "none.texture", history)
+    again, manifest = tf.load_texture(tmp_path / "none.texture")
+    assert manifest.dpj is None and again.document.dpj_ref is None
+    assert tf.render_texture(tmp_path / "none.texture").dpj_ref is None
+    other = history.add_dpj(TINY_DPJS[1])                 # loaded, not synthesised from
+    tf.save_texture(tmp_path / "loaded.texture", history)
+    again, manifest = tf.load_texture(tmp_path / "loaded.texture")
+    assert manifest.dpj == other == again.document.dpj_ref
