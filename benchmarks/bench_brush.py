@@ -55,7 +55,7 @@ def run(size: int, segments: int, zoom: float | None, step: float) -> dict:
     from texeditor.recipe.actions import NewCanvas
     from texeditor.paint.actions import Stroke
     from texeditor.recipe.history import History
-    from tests.gui.events import cell_pos
+    from tests.gui.support import cell_pos
 
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication([])
     window = MainWindow()
