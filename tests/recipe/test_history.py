@@ -319,3 +319,21 @@ def test_each_change_says_what_changed_and_where():
     assert seen[-1].kind == "dpj" and seen[-1].what == {"dpj"}
     history.replace(1, SetLevels(0, 0, 1, 1, 2))
     assert seen[-1].kind == "edit" and seen[-1].what == EVERYTHING and seen[-1].box is None
+
+
+def test_undo_and_redo_past_a_synthesis_do_not_synthesise_again(monkeypatch):
+    """The History keeps the slow part of recent steps: a replay from the empty snapshot (the
+    synthesis's undo record dropped) takes the synthesis's levels back instead of computing them."""
+    from texeditor.markov import synthesis
+    ref = sorted(TINY)[0]
+    history = History(undo_memory=0)
+    history.add_dpj(TINY[ref])
+    history.apply(Synthesize(ref, 30, 20, 4))
+    history.apply(SetLevels(1, 1, 3, 3, 1))
+    expected = history.document.levels.copy()
+    monkeypatch.setattr(synthesis, "synthesize", lambda *a, **k: pytest.fail("synthesised"))
+    history.undo()
+    history.undo()
+    history.redo()
+    history.redo()
+    assert np.array_equal(history.document.levels, expected)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Callable, Iterable
 
 from .actions import Action
+from .cache import Cache
 from .document import Document, State, footprint, union_box
 from ..errors import InputError
 from .replay import Cancel, Progress, apply_step, replay_failure, replay_log
@@ -70,6 +71,9 @@ class History:
         self._spacing = 1                      # the least gap a new snapshot needs (thinning)
         self._snap_bytes = 0
         self._costs: dict[int, float] = {}
+        # the slow parts of recent steps (a synthesis's levels), so that undo past them and
+        # their redo, which replay from a snapshot, do not compute them again
+        self._results = Cache(max_items=4, max_bytes=256 * 2**20)
         self._subscribers: list[Callable[[], None]] = []
         self._changes = 0                      # notifications so far: a PendingEdit's staleness
         self._targets: dict[int, str] = {}     # region step → digest of the region it acted on
@@ -163,7 +167,8 @@ class History:
         if not isinstance(action, Action):
             raise InputError(f"only an Action can be applied, got {type(action).__name__}")
         k, records, costs, targets = self._index, {}, {}, {}
-        self._step(self._doc, action, k, records, costs, targets, prepared)
+        self._step(self._doc, action, k, records, costs, targets, prepared,
+                   results=self._results)
         if if_changed and not any(atom.differs(self._doc) for atom in records[k]):
             for atom in reversed(records[k]):
                 atom.swap(self._doc)
@@ -289,7 +294,8 @@ class History:
                  cancel: Cancel = None) -> None:
         """Apply action as step k (= index) on the live document, recording its undo atoms."""
         records, costs, targets = {}, {}, {}
-        self._step(self._doc, action, k, records, costs, targets, prepared, progress, cancel)
+        self._step(self._doc, action, k, records, costs, targets, prepared, progress, cancel,
+                   self._results)
         self._accept(action, k, records, costs, targets)
 
     def _accept(self, action: Action, k: int, records: dict, costs: dict, targets: dict) -> None:
@@ -309,15 +315,23 @@ class History:
 
     @staticmethod
     def _step(doc, action, k, records, costs, targets, prepared=None, progress=None,
-              cancel=None) -> None:
+              cancel=None, results: Cache | None = None) -> None:
         """Step k on ``doc``: what it picks, its undo atoms, its cost (a failed step leaves the
-        document as it was)."""
+        document as it was). ``results`` keeps the slow part of a step for its next replay
+        (Actions are immutable values: an equal action gives the same result)."""
         atoms: list = []
         target = action.picked_region(doc.levels)
         if target is not None:
             targets[k] = target
         start = time.perf_counter()
-        apply_step(doc, action, record=atoms, prepared=prepared, progress=progress, cancel=cancel)
+        if type(action).prepare is Action.prepare:
+            results = None                   # no slow part to keep
+        if prepared is None and results is not None:
+            prepared = results.get(action)
+        prepared = apply_step(doc, action, record=atoms, prepared=prepared, progress=progress,
+                              cancel=cancel)
+        if prepared is not None and results is not None:
+            results.put(action, prepared)
         costs[k] = time.perf_counter() - start
         records[k] = atoms
 
@@ -549,7 +563,7 @@ class PendingEdit:
         action = self.actions[k]
         try:
             History._step(scratch, action, k, self.records, self.costs, self.targets, None,
-                          progress, cancel)
+                          progress, cancel, self.history._results)
         except InputError as exc:
             raise InputError(f"after this edit, step {k + 1} ({action.label()}) "
                              f"fails: {exc}") from None

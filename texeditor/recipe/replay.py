@@ -18,11 +18,11 @@ Cancel = Callable[[], bool] | None
 
 
 def apply_step(doc: Document, action, *, record: list | None = None, prepared=None,
-               progress: Progress = None, cancel: Cancel = None) -> None:
+               progress: Progress = None, cancel: Cancel = None):
     """Apply one action (not logged: the caller logs it). ``prepared``: the result of its slow
     part, computed elsewhere (a worker's synthesis, a stored picture); else ``prepare`` runs
     here. With ``record``, the undo atoms are collected there and a step that fails puts back
-    what it overwrote."""
+    what it overwrote. Returns the prepared result (None: the step has no slow part)."""
     if prepared is None:
         prepared = action.prepare(doc, progress, cancel)
     try:
@@ -32,6 +32,7 @@ def apply_step(doc: Document, action, *, record: list | None = None, prepared=No
         for atom in reversed(record or ()):
             atom.swap(doc)
         raise
+    return prepared
 
 
 def replay_log(actions, run: Callable, *, start: int = 0, stop: int | None = None,
