@@ -17,7 +17,6 @@ from texeditor.markov import doubling
 from texeditor.errors import TexeditorError
 from texeditor.markov.levels import load_image
 from texeditor.texture.actions import DoubleLevels
-from texeditor.recipe.sources import store_dpj
 
 from . import resources
 from .acquire_dialog import IMAGE_FILTER, QUANTISERS
@@ -149,7 +148,7 @@ class DoublingDialog(QtWidgets.QDialog):
     def apply(self) -> None:
         if self.table is None:
             return
-        ref = store_dpj(self.main_window.document, self.table)
+        ref = self.main_window.document.store_dpj(self.table)
         if self.main_window.submit(DoubleLevels(ref, self.seed.value())):
             self.accept()
 

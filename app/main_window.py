@@ -425,8 +425,13 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.journal_sync()
 
     def _show_document(self, doc, change) -> None:
+        """Redraw the canvas as little as the change allows: a box of cells, a recolouring,
+        or (a new matrix, a replay) the whole picture."""
         if not doc.levels.size:
             self.canvas.image.clear()
+        elif change is not None and change.what & {"levels", "palette"} == {"palette"} \
+                and self.canvas.levels is not None and self.canvas.levels.shape == doc.shape:
+            self.canvas.set_palette(doc.palette)
         elif (change is None or "palette" in change.what or change.box is None
               or not self.canvas.update_box(doc.levels, change.box)):
             self.canvas.set_image(doc.levels, doc.palette)

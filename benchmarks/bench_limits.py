@@ -167,7 +167,7 @@ def case_synth(folder: Path) -> list:
 
 def case_synth_png(folder: Path) -> list:
     dpj = sorted((ROOT / "resources" / "dpj").glob("*.dpj"))[0]
-    return [f"synth, 16384×16384 (2^28 points, the synthesis limit) to PNG",
+    return ["synth, 16384×16384 (2^28 points, the synthesis limit) to PNG",
             ["synth", dpj, "--size", "16384x16384", "-o", folder / "s.png"]]
 
 

@@ -420,7 +420,7 @@ def shot_grains(app, window, out: Path) -> None:
     from texeditor.recipe.actions import SetPalette
     from texeditor.recipe.history import History
     from texeditor.resources import bundled_dpj
-    from texeditor.texture.actions import RenderGrains, store_dpj
+    from texeditor.texture.actions import RenderGrains
 
     previous = window.history
     history = History()
@@ -481,7 +481,7 @@ def shot_grains(app, window, out: Path) -> None:
     window.synthesis_dock.height_box.setValue(160)
     window.synthesise_from_dock()
     window.runner.wait()
-    grass = store_dpj(window.document, DPJ.load(bundled_dpj("grass-2x2-g8")))
+    grass = window.document.store_dpj(DPJ.load(bundled_dpj("grass-2x2-g8")))
     window.act_compose.trigger()
     dialog = window.composition_dialog
     dialog.source.reload()

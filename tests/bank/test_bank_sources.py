@@ -18,7 +18,7 @@ from texeditor.recipe.replay import replay
 from texeditor.spots.actions import DeleteSpot, PlaceSpot, ScatterSpots, spot_ref
 from texeditor.spots.envelope import Envelope
 from texeditor.texture.actions import Incrust, Mix
-from texeditor.recipe.sources import (bank_source, recipe_of, render_recipe, store_dpj, synthesis_recipe)
+from texeditor.recipe.sources import bank_source, recipe_of, render_recipe, synthesis_recipe
 from texeditor.recipe.texturefile import load_texture, save_texture
 
 DISC = Envelope.ellipse(12, 12).dumps()
@@ -113,7 +113,7 @@ def test_a_texture_spot_is_saved_with_its_recipe_and_dpj(tmp_path):
     history = History()
     main = history.add_dpj(TINY_DPJS[1])
     history.apply(Synthesize(main, 30, 20, 5))
-    store_dpj(history.document, TINY_DPJS[0])
+    history.document.store_dpj(TINY_DPJS[0])
     history.apply(PlaceSpot(DISC, 10, 12, fill="texture", texture=SYNTH2,
                             texture_dpjs=(REFS[0],)))
     path = tmp_path / "spots.texture"

@@ -40,12 +40,12 @@ def _recipe_texture() -> bytes:
     """A texture whose steps carry recipes of two DPJs, one of them nested two deep."""
     from texeditor.recipe.actions import Synthesize
     from texeditor.texture.actions import Incrust, Mix
-    from texeditor.recipe.sources import recipe_of, store_dpj, synthesis_recipe
+    from texeditor.recipe.sources import recipe_of, synthesis_recipe
 
     history = History()
     ref = history.add_dpj(seed_dpj())
     q = quantize(data.camera()[:48, :48], 2)
-    other = store_dpj(history.document, estimate_dpj(q.levels, (1, 2), 2, palette=q.palette))
+    other = history.document.store_dpj(estimate_dpj(q.levels, (1, 2), 2, palette=q.palette))
     flat = recipe_of([Synthesize(ref, 8, 6, 1),
                       Mix(synthesis_recipe(other, 5, 4, 2), (other,), op2="max")])
     for action in (Synthesize(ref, 16, 12, 3), Mix(flat, (ref, other), op2="xor"),

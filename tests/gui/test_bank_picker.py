@@ -16,7 +16,7 @@ from texeditor.recipe.document import dpj_ref
 from texeditor.recipe.history import History
 from texeditor.spots.actions import PlaceSpot
 from texeditor.texture.actions import Incrust, Mix
-from texeditor.recipe.sources import store_dpj, synthesis_recipe
+from texeditor.recipe.sources import synthesis_recipe
 from texeditor.recipe.texturefile import load_texture, save_texture
 
 from .support import cell_pos, click, press_key, spot_tool
@@ -179,7 +179,7 @@ def test_an_unusable_bank_is_explained_and_the_fill_goes_back(window, qtbot):
 def two_dpjs(dpj) -> History:
     """A G = 4 texture made from two DPJs: pebbles mixed with a synthesis of another DPJ."""
     history = pebbles(dpj)
-    store_dpj(history.document, TINY_DPJS[0])
+    history.document.store_dpj(TINY_DPJS[0])
     history.apply(Mix(synthesis_recipe(REFS[0], 6, 5, 2), (REFS[0],), op2="xor"))
     return history
 

@@ -263,7 +263,9 @@ def test_edits_redraw_only_their_box_and_the_picture_stays_exact(window, qtbot, 
     assert full == []                                  # six steps, undo and redo: boxes only
     palette = window.document.palette.copy()
     palette[1] = (250, 10, 10)
-    assert window.submit(SetPalette(palette))
+    assert window.submit(SetPalette(palette))             # a recolouring, not a re-upload
+    assert full == []
+    assert np.array_equal(_shown_pixels(canvas), _fresh_pixels(qtbot, canvas, window.document))
     assert window.submit(ResizeCanvas(70, 30, 0))
-    assert len(full) == 2 and window.canvas.levels.shape == (70, 30)
+    assert len(full) == 1 and window.canvas.levels.shape == (70, 30)
     assert np.array_equal(_shown_pixels(canvas), _fresh_pixels(qtbot, canvas, window.document))

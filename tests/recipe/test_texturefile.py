@@ -358,11 +358,11 @@ def test_failed_saves_leave_the_existing_file_untouched(saved, monkeypatch):
 def test_the_current_dpj_is_recorded_as_it_is(tmp_path):
     """Issue 18: a document with no current DPJ (a hand-made canvas whose steps name DPJs)
     saves none, and one whose current DPJ no step uses keeps it; both reopen as they were."""
-    from texeditor.recipe.sources import synthesis_recipe, store_dpj
+    from texeditor.recipe.sources import synthesis_recipe
     from texeditor.texture.actions import Mix
     history = History()
     history.apply(NewCanvas(6, 5, 3))
-    ref = store_dpj(history.document, TINY_DPJS[0])
+    ref = history.document.store_dpj(TINY_DPJS[0])
     history.apply(Mix(synthesis_recipe(ref, 6, 5, 1), (ref,)))
     assert history.document.dpj_ref is None
     tf.save_texture(tmp_path / "none.texture", history)

@@ -33,7 +33,6 @@ def one_of_each() -> list:
     """(type, History) for every action type: the base actions, and one example of each other
     type applied to the document its own tests use (their EXAMPLES)."""
     from texeditor.spots.actions import PlaceSpot, ScatterSpots
-    from texeditor.recipe.sources import store_dpj
     from texeditor.texture.actions import DoubleLevels
 
     from . import paint, spots as spot, texture
@@ -60,7 +59,7 @@ def one_of_each() -> list:
             histories.append((action.TYPE, texture.history_of(texture.T, extra=[action])))
     h = texture.history_of(np.array([[0, 1, 2, 2], [1, 2, 0, 1], [2, 2, 1, 0]], np.uint8), 3)
     photo = load_image(RESOURCES / "images" / "gravel.png")[:80, :80]
-    table = store_dpj(h.document, doubling.learn(photo, 3, "band", name="gravel"))
+    table = h.document.store_dpj(doubling.learn(photo, 3, "band", name="gravel"))
     h.apply(DoubleLevels(table, 5))             # a doubling table: a stored DPJ
     histories.append(("double_levels", h))
     h = spot.canvas(base=1)

@@ -20,7 +20,7 @@ from texeditor.markov.levels import load_image
 from texeditor.recipe.logopt import optimize, trace
 from texeditor.resources import ROOT
 from texeditor.texture.actions import TEXTURE_ACTIONS, DoubleLevels, Incrust, Mix, RenderGrains
-from texeditor.recipe.sources import recipe_of, render_recipe, store_dpj
+from texeditor.recipe.sources import recipe_of, render_recipe
 from texeditor.recipe.texturefile import load_texture, save_texture
 
 
@@ -152,7 +152,7 @@ def test_a_composition_is_saved_with_its_sources_dpj_and_replays(tmp_path):
     history = History()
     ref = history.add_dpj(TINY_DPJS[0])
     history.apply(Synthesize(ref, 6, 5, 7))
-    store_dpj(history.document, TINY_DPJS[1])
+    history.document.store_dpj(TINY_DPJS[1])
     history.apply(Incrust(SYNTH3, (REFS[1],), mask="levels", levels="1"))
     path = tmp_path / "composed.texture"
     save_texture(path, history)
@@ -207,7 +207,7 @@ def table():
 def test_double_levels_action(table, tmp_path):
     base = np.array([[0, 1, 2, 2], [1, 2, 0, 1], [2, 2, 1, 0]], np.uint8)
     history = history_of(base, 3)
-    ref = store_dpj(history.document, table)
+    ref = history.document.store_dpj(table)
     history.apply(DoubleLevels(ref, 5))
     doc = history.document
     assert doc.num_levels == 6 and np.array_equal(doc.palette, table.palette)
@@ -223,7 +223,7 @@ def test_double_levels_action(table, tmp_path):
 
 def test_double_levels_needs_the_tables_g(table):
     history = history_of(np.ones((3, 3), np.uint8), 4)
-    ref = store_dpj(history.document, table)
+    ref = history.document.store_dpj(table)
     before = history.document.result_hash()
     with pytest.raises(InputError, match="G = 3 levels"):
         history.apply(DoubleLevels(ref))

@@ -147,12 +147,6 @@ def _remember(text: str, dpjs: dict, doc) -> tuple[np.ndarray, int]:
     return result
 
 
-def store_dpj(doc, dpj) -> str:
-    """Keep a DPJ in the document's store without making it the current one (a composition
-    source's DPJ, a doubling table); returns its reference."""
-    return doc.store_dpj(dpj)
-
-
 def recipe_field(doc: str, optional: bool = False):
     return param("str", hi=MAX_RECIPE_CHARS, default=None if optional else dataclasses.MISSING,
                  optional=optional, doc=doc)
@@ -197,7 +191,7 @@ class TextureSource:
     def store(self, doc) -> None:
         """Keep the recipe's DPJs in ``doc`` (before a step that names them is made)."""
         for dpj in self.dpjs.values():
-            store_dpj(doc, dpj)
+            doc.store_dpj(dpj)
 
 
 def bank_source(bank, entry_id: int, progress=None, cancel=None) -> TextureSource:
