@@ -439,12 +439,15 @@ def _parse_dpj(data: bytes, name: str) -> DPJ:
     except (zipfile.BadZipFile, OSError, ValueError):
         raise FormatError(f"{name}: not a DPJ file (not an .npz archive)") from None
     names = {i.filename for i in infos}
+    if "model.json" in names:
+        raise FormatError(f"{name}: a multi-scale photo model, not a single DPJ: open it with "
+                          "texeditor.load_model (or `texeditor synth`)")
     if names != _MEMBERS or len(infos) != len(_MEMBERS):
         raise FormatError(f"{name}: a DPJ file holds exactly configs, probs and meta; found "
                           f"{sorted(names)}")
     if sum(i.file_size for i in infos) > MAX_FILE_BYTES:
         raise FormatError(f"{name}: declared content is larger than {MAX_FILE_BYTES} bytes")
-    _check_npy_headers(zf, name)
+    check_npy_headers(zf, name)
     try:
         with np.load(io.BytesIO(data), allow_pickle=False) as npz:
             configs, probs, meta_raw = npz["configs"], npz["probs"], npz["meta"]
@@ -475,8 +478,8 @@ _NPY_HEADERS = {(1, 0): np.lib.format.read_array_header_1_0,
                 (2, 0): np.lib.format.read_array_header_2_0}
 
 
-def _check_npy_headers(zf: zipfile.ZipFile, name: str) -> None:
-    """Refuse object arrays (pickles) and headers that declare more data than the member holds:
+def check_npy_headers(zf: zipfile.ZipFile, name: str) -> None:
+    """Refuse (as FormatError) object arrays (pickles) and headers that declare more data than the member holds:
     numpy would allocate the declared shape before finding the data missing."""
     try:
         for info in zf.infolist():

@@ -50,8 +50,37 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
     work with :class:`Cancelled`. ``shape`` is (height, width).
     """
     h, w = _check_request(dpj, shape)
-    t = _tables(dpj)
     out = np.zeros((h, w), dtype=np.uint8)
+    return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws)
+
+
+def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed: int = 0,
+                     progress: Callable[[float], None] | None = None,
+                     cancel: Callable[[], bool] | None = None,
+                     max_redraws: int = 16) -> SynthesisResult:
+    """Draw a level matrix given a parent level at every point (a finer scale given the coarser
+    one under it, markov.multiscale): ``dpj``'s levels are composite, parent · G + level, with
+    G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
+    parents, as :func:`synthesize`; the result holds the G-levels alone."""
+    gp = int(parent_levels)
+    if gp < 2 or dpj.levels % gp:
+        raise InputError(f"a DPJ of {dpj.levels} composite levels cannot have {gp} parent levels")
+    parents = np.asarray(parents)
+    if parents.ndim != 2 or parents.dtype.kind not in "ui" or parents.size == 0:
+        raise InputError("the parents must be a non-empty 2-D matrix of levels")
+    if parents.max() >= gp:
+        raise InputError(f"the parents hold a level above {gp - 1}")
+    h, w = _check_request(dpj, parents.shape)
+    gx = dpj.levels // gp
+    out = (parents.astype(np.uint8) * np.uint8(gx))
+    result = _draw(out, _tables(dpj, gp), seed, progress, cancel, max_redraws)
+    np.remainder(result.levels, gx, out=result.levels)
+    return result
+
+
+def _draw(out, t, seed, progress, cancel, max_redraws) -> SynthesisResult:
+    """Fill ``out`` band by band (progress and cancel between bands)."""
+    h, w = out.shape
     state = np.random.SeedSequence(_check_seed(seed)).generate_state(1, np.uint64)
     band = max(t.v, ROWS_PER_CALL_PIXELS // w)
     repairs = redraws = 0
@@ -99,9 +128,11 @@ class _Tables(NamedTuple):
     concatenated, grouped by context (the rows above the bottom row), and within a context by
     their last u-1 points, so backward sampling reads one contiguous block.
     """
-    levels: int
+    levels: int                # G of the stored configurations (composite: G·Gp with parents)
     u: int
     v: int
+    gx: int                    # the levels drawn (G); the bottom-row codes are in base gx
+    gp: int                    # parent levels Gp (1: no parent), part of every context key
     ient: np.ndarray           # (4, entries) int64: HEAD, TAIL, BCODE, ROT of each entry
     fent: np.ndarray           # (2, entries) float64: Q (probability), M (horizontal transition)
     ctx: np.ndarray            # (3, contexts) int64: CODE (sorted per level), START, END entries
@@ -129,18 +160,20 @@ _cache_lock = threading.Lock()       # workers and the GUI thread synthesise at 
 TABLES_MEMORY = 256 * 2**20
 
 
-def _tables(dpj: DPJ) -> _Tables:
-    """Build (or reuse) the kernel tables of a DPJ; DPJs are immutable so id + weakref is safe."""
+def _tables(dpj: DPJ, gp: int = 1) -> _Tables:
+    """Build (or reuse) the kernel tables of a DPJ; DPJs are immutable so id + weakref is safe.
+    ``gp``: the parent levels of a conditional DPJ (see :func:`synthesize_given`)."""
     with _cache_lock:
         hit = _cache.pop(id(dpj), None)
-        if hit is not None and hit[0]() is dpj:
+        if hit is not None and hit[0]() is dpj and hit[1].gp == gp:
             _cache[id(dpj)] = hit
             return hit[1]
         for key in [k for k, (ref, _, _) in _cache.items() if ref() is None]:
             del _cache[key]
         _evict(TABLES_MEMORY)     # before building: old tables need not stay during the build
     positive = dpj.probs > 0
-    tables = _build_tables(DPJ(dpj.configs[positive], dpj.probs[positive], dpj.levels).normalized())
+    model = DPJ(dpj.configs[positive], dpj.probs[positive], dpj.levels).normalized()
+    tables = _build_tables(_above_without_parents(model, gp) if gp > 1 else model, gp)
     size = sum(a.nbytes for a in tables if isinstance(a, np.ndarray))
     with _cache_lock:
         _cache[id(dpj)] = (weakref.ref(dpj), tables, size)
@@ -155,23 +188,32 @@ def _evict(budget: int, keep: int = 0) -> None:
         del _cache[next(iter(_cache))]
 
 
-def _build_tables(dpj: DPJ) -> _Tables:
+def _build_tables(dpj: DPJ, gp: int = 1) -> _Tables:
+    """``gp`` > 1: the DPJ's levels are composite, parent · G + level (see markov.multiscale);
+    a context is then the rows above and the parents of the bottom row, and an entry's bottom
+    code holds its G-levels only (its parents are fixed by the context)."""
     u, v = dpj.window
     g = dpj.levels
+    gx = g // gp
     gu = g ** u
     bcode, rot, q, m, ctx, start, end, off, length = [], [], [], [], [], [], [], [], []
     base = 0
     for k in range(v):  # level k: the DPJ marginal over its bottom v-k rows
         model = dpj if k == 0 else dpj.marginal(rows=slice(k, v))
         ctx_k, b_k = np.divmod(model.codes, gu)
+        if gp > 1:
+            ctx_k, b_k = _split_parents(ctx_k, b_k, g, gx, gp, u)
         # within a context, group entries by their last u-1 points: backward sampling
         # then reads one contiguous block instead of filtering the whole context
-        order = np.lexsort((_rotated(b_k, g, u), ctx_k))
+        probs, trans = model.probs, _transitions(model)
+        if gp > 1 and k == v - 1:
+            ctx_k, b_k, probs, trans = _every_parent_row(ctx_k, b_k, probs, trans, gx, gp, u)
+        order = np.lexsort((_rotated(b_k, gx, u), ctx_k))
         ctx_k, b_k = ctx_k[order], b_k[order]
         bcode.append(b_k)
-        rot.append(_rotated(b_k, g, u))
-        q.append(model.probs[order])
-        m.append(_transitions(model)[order])
+        rot.append(_rotated(b_k, gx, u))
+        q.append(probs[order])
+        m.append(trans[order])
         uctx, first = np.unique(ctx_k, return_index=True)
         ctx.append(uctx)
         start.append(first + base)
@@ -184,14 +226,56 @@ def _build_tables(dpj: DPJ) -> _Tables:
     upfx, pfirst = np.unique(pfx[order], return_index=True)
     cat = np.concatenate
     bcode = cat(bcode)
-    ient = np.stack([bcode // g, bcode % g ** (u - 1), bcode, cat(rot)])
+    ient = np.stack([bcode // gx, bcode % gx ** (u - 1), bcode, cat(rot)])
     ctx_table = np.stack([cat(ctx), cat(start), cat(end)]).astype(np.int64)
     return _Tables(
-        levels=g, u=u, v=v, ient=ient, fent=np.stack([cat(q), cat(m)]), ctx=ctx_table,
-        lvl=np.array([off, length], np.int64), direct=_direct_index(ctx[0], g ** (u * (v - 1))),
+        levels=g, u=u, v=v, gx=gx, gp=gp, ient=ient, fent=np.stack([cat(q), cat(m)]),
+        ctx=ctx_table, lvl=np.array([off, length], np.int64),
+        direct=_direct_index(ctx[0], g ** (u * (v - 1)) * gp ** u),
         first_q=dpj.probs, first_cum=np.cumsum(dpj.probs), first_configs=dpj.configs,
         pfx=np.stack([upfx, pfirst, np.append(pfirst[1:], len(pfx))]).astype(np.int64),
         pfx_entry=order.astype(np.int64))
+
+
+def _above_without_parents(dpj: DPJ, gp: int) -> DPJ:
+    """A conditional DPJ summed over the parents of its rows above: a row is drawn given the
+    levels above it and its own parents (the rows above were drawn given theirs)."""
+    gx = dpj.levels // gp
+    configs = dpj.configs.copy()
+    configs[:, :-1, :] %= gx
+    codes, inverse = np.unique(encode(configs, dpj.levels), return_inverse=True)
+    probs = np.bincount(inverse.ravel(), weights=dpj.probs, minlength=len(codes))
+    return DPJ.from_codes(codes, probs, dpj.levels, dpj.window)
+
+
+def _split_parents(above, bottom, g, gx, gp, u):
+    """Composite bottom-row codes → (context: rows above then the bottom row's parents,
+    bottom code of the G-levels alone)."""
+    pcode = np.zeros_like(bottom)
+    xcode = np.zeros_like(bottom)
+    for j in range(u - 1, -1, -1):
+        bottom, digit = np.divmod(bottom, g)
+        pcode += (digit // gx) * gp ** (u - 1 - j)
+        xcode += (digit % gx) * gx ** (u - 1 - j)
+    return above * gp ** u + pcode, xcode
+
+
+def _every_parent_row(ctx, b, probs, trans, gx, gp, u):
+    """The bottom-row marginal gets a context for every parent row the photo never showed (its
+    law: the levels' own, whatever the parents), so a restart always finds entries."""
+    missing = np.setdiff1d(np.arange(gp ** u), ctx)
+    if not len(missing):
+        return ctx, b, probs, trans
+    xs, inverse = np.unique(b, return_inverse=True)
+    q = np.bincount(inverse, weights=probs, minlength=len(xs))
+    q = q / q.sum()
+    heads, hinv = np.unique(xs // gx, return_inverse=True)     # m: q over its first u-1 points
+    m = q / np.bincount(hinv, weights=q, minlength=len(heads))[hinv]
+    n = len(missing)
+    return (np.concatenate([ctx, np.repeat(missing, len(xs))]),
+            np.concatenate([b, np.tile(xs, n)]),
+            np.concatenate([probs, np.tile(q, n)]),
+            np.concatenate([trans, np.tile(m, n)]))
 
 
 def _direct_index(contexts: np.ndarray, space: int) -> np.ndarray:
@@ -234,7 +318,7 @@ def _transitions(model: DPJ) -> np.ndarray:
 # ~20 s on a 2-core machine; the results are unchanged.
 
 @njit(cache=True, nogil=True, inline="always")
-def _uniform(state):
+def uniform(state):
     """SplitMix64: a tiny, explicit, machine-independent generator (state is one uint64)."""
     state[0] += np.uint64(0x9E3779B97F4A7C15)
     z = state[0]
@@ -265,7 +349,7 @@ def _find(codes, lo, n, key):
 
 @njit(cache=True, nogil=True)
 def _draw_first(first_cum, state):
-    e = np.searchsorted(first_cum, _uniform(state) * first_cum[-1], side="right")
+    e = np.searchsorted(first_cum, uniform(state) * first_cum[-1], side="right")
     return min(e, len(first_cum) - 1)
 
 
@@ -294,7 +378,7 @@ def _first_rows(out, t, state):
             total = 0.0
             for k in range(lo, hi):
                 total += first_q[pfx_entry[k]]
-            x = _uniform(state) * total
+            x = uniform(state) * total
             e = pfx_entry[hi - 1]
             for k in range(lo, hi):
                 x -= first_q[pfx_entry[k]]
@@ -307,12 +391,16 @@ def _first_rows(out, t, state):
 
 
 @njit(cache=True, nogil=True)
-def _context(out, r, n, u, rows, g):
-    """Code of the ``rows`` rows just above row r, columns n..n+u-1 (row-major, base G)."""
+def _context(out, r, n, u, rows, g, gx, gp):
+    """Code of the ``rows`` rows just above row r, columns n..n+u-1 (row-major, base G), then,
+    with parents (gp > 1), the parents of row r's points there (out holds parent · gx + level)."""
     key = 0
     for i in range(r - rows, r):
         for j in range(n, n + u):
-            key = key * g + out[i, j]
+            key = key * g + out[i, j] % gx
+    if gp > 1:
+        for j in range(n, n + u):
+            key = key * gp + out[r, j] // gx
     return key
 
 
@@ -352,13 +440,14 @@ def _plain_weights(tb, toff, lo, hi, weight):
 
 @njit(cache=True, nogil=True)
 def _keep_fixed(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode):
-    """Zero the weight of entries disagreeing with the fixed points (outside [c0, c1))."""
+    """Zero the weight of entries disagreeing with the fixed points (outside [c0, c1));
+    ``g`` is the base of the bottom codes (a point's parent, if any, is not compared)."""
     total = 0.0
     for e in range(lo, hi):
         code = bcode[e]
         for j in range(u - 1, -1, -1):
             col = n + j
-            if (col < c0 or col >= c1) and out[r, col] != code % g:
+            if (col < c0 or col >= c1) and out[r, col] % g != code % g:
                 tb[toff + e - lo] = 0.0
                 break
             code //= g
@@ -384,14 +473,16 @@ def _clear(big_r, tail, lo, hi):
 
 
 @njit(cache=True, nogil=True)
-def _forward(out, r, n, n_first, c0, c1, lenient_at, t, work):
+def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, t, work):
     """The forward filter over row r from position n to the last window touching [c0, c1).
 
     Positions before n must already be in ``work`` (a resumed pass). Returns (status, n,
     repairs): OK, or DEAD_END / GROW at position n. Only at ``lenient_at`` may a position back
     off to the DPJ marginal with fewer rows above, and at worst restart the bottom-row chain.
+    ``kmin`` rows of context are left out everywhere (a conditional scale's first rows).
     """
     g, u, v, direct, lvl = t.levels, t.u, t.v, t.direct, t.lvl
+    gx, gp = t.gx, t.gp
     head, tail, bcode = t.ient[HEAD], t.ient[TAIL], t.ient[BCODE]
     q, m = t.fent[Q], t.fent[M]
     code, start, end = t.ctx[CODE], t.ctx[START], t.ctx[END]
@@ -401,10 +492,10 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, t, work):
     while n <= n_last:
         toff = pos[TOFF, n]
         total, lo, hi = 0.0, 0, 0
-        levels = v if n == lenient_at else 1
-        for k in range(levels + (n == lenient_at)):
+        levels = v if n == lenient_at else kmin + 1
+        for k in range(kmin, levels + (n == lenient_at)):
             restart = k == levels
-            key = 0 if restart else _context(out, r, n, u, v - 1 - k, g)
+            key = _context(out, r, n, u, 0 if restart else v - 1 - k, g, gx, gp)
             if k == 0 and len(direct):
                 ci = direct[key]
             else:
@@ -423,9 +514,9 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, t, work):
             else:
                 total = _chain_weights(tb, toff, lo, hi, big_r, head, m)
             if n < c0 or n + u > c1:
-                total = _keep_fixed(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode)
+                total = _keep_fixed(out, r, n, c0, c1, gx, u, tb, toff, lo, hi, bcode)
             if total > 0.0:
-                repairs += k > 0
+                repairs += k > kmin
                 break
         if total == 0.0:
             return DEAD_END, n, repairs
@@ -451,7 +542,7 @@ def _mass(tb, off, count):
 @njit(cache=True, nogil=True)
 def _pick(tb, off, lo, hi, state):
     """Draw an entry of [lo, hi) with probability ∝ its weight tb[off + e - lo]."""
-    x = _uniform(state) * _mass(tb, off, hi - lo)
+    x = uniform(state) * _mass(tb, off, hi - lo)
     last = lo
     for e in range(lo, hi):
         w = tb[off + e - lo]
@@ -465,25 +556,28 @@ def _pick(tb, off, lo, hi, state):
 
 @njit(cache=True, nogil=True)
 def _backward(out, r, n_last, c0, t, work, state):
-    """Draw the last window from T, then each earlier new point given the u-1 points after it."""
-    g, u, bcode, rot = t.levels, t.u, t.ient[BCODE], t.ient[ROT]
+    """Draw the last window from T, then each earlier new point given the u-1 points after it.
+
+    A point's parent, if any, stays: out holds parent · gx + level."""
+    g, u, bcode, rot = t.gx, t.u, t.ient[BCODE], t.ient[ROT]
+    parents = g if t.gp > 1 else 256        # out // parents * g: the parent part, or 0
     pos, tb = work.pos, work.tb[0]
     gu1 = g ** (u - 1)
     code = bcode[_pick(tb, pos[TOFF, n_last], pos[LO, n_last], pos[HI, n_last], state)]
     for j in range(u - 1, -1, -1):  # fixed points among these agree: _keep_fixed saw to it
-        out[r, n_last + j] = code % g
+        out[r, n_last + j] = out[r, n_last + j] // parents * g + code % g
         code //= g
     for n in range(n_last - 1, c0 - 1, -1):
         need = 0
         for j in range(n + 1, n + u):
-            need = need * g + out[r, j]
+            need = need * g + out[r, j] % g
         lo, hi = pos[LO, n], pos[HI, n]
         a = _lower_bound(rot, lo, hi, need * g)
         b = _lower_bound(rot, a, hi, need * g + g)
         off = pos[TOFF, n] + a - lo
         if a == b or _mass(tb, off, b - a) == 0.0:
             a, b, off = lo, hi, pos[TOFF, n]  # the far side was a restart: any point
-        out[r, n] = bcode[_pick(tb, off, a, b, state)] // gu1
+        out[r, n] = out[r, n] // parents * g + bcode[_pick(tb, off, a, b, state)] // gu1
 
 
 class _Work(NamedTuple):
@@ -503,10 +597,10 @@ def _new_work(g, u, w, depth):
 
 
 @njit(cache=True, nogil=True)
-def _run(out, r, n, n_first, c0, c1, lenient_at, t, work):
+def _run(out, r, n, n_first, c0, c1, lenient_at, kmin, t, work):
     """_forward, growing the T buffer as often as it asks."""
     while True:
-        status, n, repairs = _forward(out, r, n, n_first, c0, c1, lenient_at, t, work)
+        status, n, repairs = _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, t, work)
         if status != GROW:
             return status, n, repairs
         pos = work.pos
@@ -521,7 +615,7 @@ def _redraw_segment(out, r, c0, c1, t, work, state):
     """
     n_first = max(0, c0 - t.u + 1)
     work.pos[TOFF, n_first] = 0
-    status, n, _ = _run(out, r, n_first, n_first, c0, c1, np.int64(-1), t, work)
+    status, n, _ = _run(out, r, n_first, n_first, c0, c1, np.int64(-1), np.int64(0), t, work)
     if status == DEAD_END:
         if n > n_first:
             _clear(work.big_r, t.ient[TAIL], work.pos[LO, n - 1], work.pos[HI, n - 1])
@@ -544,6 +638,8 @@ def _redraw_above(out, r, n, tries, t, seg, state):
     and deeper as tries fail. Returns the first column changed, or -1 if nothing changed."""
     u = t.u
     depth = min(1 + tries // 4, MAX_REDRAW_DEPTH, r - t.v + 1)
+    if depth <= 0:
+        return -1
     half = u * (2 + 2 * (tries // 4))
     c0, c1 = max(0, n - half), min(out.shape[1], n + u + half)
     _copy_rows(out, r - depth, seg.saved, 0, depth, c0, c1)
@@ -555,12 +651,12 @@ def _redraw_above(out, r, n, tries, t, seg, state):
 
 
 @njit(cache=True, nogil=True)
-def _draw_row(out, r, t, work, seg, state, max_redraws):
-    """Draw row r given the v-1 rows above it. Returns (repairs, redraws).
+def _draw_row(out, r, kmin, t, work, seg, state, max_redraws):
+    """Draw row r given the v-1-kmin rows above it. Returns (repairs, redraws).
 
     A dead end at position n redraws the rows above around n and resumes the forward pass just
     before the redrawn columns (the filter there is unchanged); after ``max_redraws`` failed
-    tries at the same place, that position backs off instead.
+    tries at the same place, or where no full context rows lie above, that position backs off.
     """
     u, w = t.u, out.shape[1]
     tail, pos = t.ient[TAIL], work.pos
@@ -568,13 +664,13 @@ def _draw_row(out, r, t, work, seg, state, max_redraws):
     n, lenient_at, frontier = np.int64(0), np.int64(-1), np.int64(-1)
     pos[TOFF, 0] = 0
     while True:
-        status, n, rep = _run(out, r, n, 0, 0, w, lenient_at, t, work)   # literal: folded
+        status, n, rep = _run(out, r, n, 0, 0, w, lenient_at, kmin, t, work)   # 0: folded
         repairs += rep
         if status == OK:
             break
         if n > frontier:  # a dead end further along the row: a fresh budget of tries
             frontier, tries = n, 0
-        if tries >= max_redraws or t.v == 1:
+        if tries >= max_redraws or t.v == 1 or r < t.v:
             lenient_at = n  # resume at n (R still holds the filter of n - 1), backing off
             continue
         c0 = _redraw_above(out, r, n, tries, t, seg, state)
@@ -594,17 +690,19 @@ def _draw_row(out, r, t, work, seg, state, max_redraws):
 
 @njit(cache=True, nogil=True)
 def _sample_rows(out, r0, r1, t, state, max_redraws):
-    """Rows r0..r1-1 (the first call, r0 = 0, also draws the first v rows)."""
+    """Rows r0..r1-1. Without parents the first call (r0 = 0) draws the first v rows as the
+    chain of column states; with parents each of them is drawn with the rows above it."""
     w = out.shape[1]
-    work = _new_work(t.levels, t.u, w, np.int64(1))
-    seg = _new_work(t.levels, t.u, w, np.int64(MAX_REDRAW_DEPTH))
+    work = _new_work(t.gx, t.u, w, np.int64(1))
+    seg = _new_work(t.gx, t.u, w, np.int64(MAX_REDRAW_DEPTH))
     repairs = redraws = 0
     start = r0
-    if r0 == 0:
+    if r0 == 0 and t.gp == 1:
         repairs += _first_rows(out, t, state)
         start = t.v
     for r in range(start, r1):
-        rep, red = _draw_row(out, r, t, work, seg, state, max_redraws)
+        kmin = np.int64(max(0, t.v - 1 - r))
+        rep, red = _draw_row(out, r, kmin, t, work, seg, state, max_redraws)
         repairs += rep
         redraws += red
     return repairs, redraws

@@ -1,0 +1,161 @@
+"""Multi-scale DPJ (the thesis's window law, extended across scales): structure larger than the
+window.
+
+A photo is reduced by 2, 4, … (area mean); the coarsest reduction gets a plain DPJ, and every
+finer scale a *conditional* DPJ, the law of its window given the coarser levels under it. Such a
+DPJ is an ordinary DPJ over composite levels, parent · G + level (parent: the level of the
+coarser scale at the point's place), estimated by counting as in §5.2.1. Synthesis draws the
+coarsest scale as in ch. 4, then each finer scale row by row exactly given its parents
+(markov.synthesis.synthesize_given). Grey-level doubling (§4.5) is the same idea along the grey
+axis.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import skimage as ski
+
+from ..errors import InputError
+from .dpj import DPJ, MAX_LEVELS, check_window
+from .estimation import estimate_dpj
+from .levels import quantize, to_grey
+from .synthesis import SynthesisResult, synthesize, synthesize_given
+
+COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
+MAX_SCALES = 6
+COARSE_WINDOW = (5, 5)      # the coarsest scale: a wide window over few levels (the layout)
+COARSE_LEVELS = 2
+WINDOW = (3, 2)             # finer scales: the parents carry the layout, a small window the edges
+LEVELS = 4
+
+
+@dataclass(frozen=True)
+class MultiScaleDPJ:
+    """One DPJ per scale, coarsest first; every one after the first is conditional."""
+
+    dpjs: tuple
+
+    def __post_init__(self):
+        check_scales(self.dpjs)
+
+    @property
+    def scales(self) -> int:
+        return len(self.dpjs)
+
+    def levels_at(self, k: int) -> int:
+        """G of scale k (a conditional DPJ's composite levels divided by its parents')."""
+        return self.dpjs[k].levels // parent_levels(self.dpjs, k)
+
+    @property
+    def levels(self) -> int:
+        return self.levels_at(self.scales - 1)
+
+
+def parent_levels(dpjs, k: int) -> int:
+    return 1 if k == 0 else int(dpjs[k].meta.get("parent_levels", 0))
+
+
+def check_scales(dpjs) -> None:
+    """Each finer DPJ's composite levels are its parents' G times its own."""
+    if not dpjs or len(dpjs) > MAX_SCALES or not all(isinstance(d, DPJ) for d in dpjs):
+        raise InputError(f"a multi-scale DPJ has 1..{MAX_SCALES} DPJs")
+    below = dpjs[0].levels
+    for k in range(1, len(dpjs)):
+        gp = parent_levels(dpjs, k)
+        if gp != below or dpjs[k].levels % gp or dpjs[k].levels // gp < 2:
+            raise InputError(f"scale {k}: a conditional DPJ of {dpjs[k].levels} composite levels "
+                             f"does not sit on a scale of {below} levels")
+        below = dpjs[k].levels // gp
+
+
+def default_scales(shape) -> int:
+    """Enough halvings to bring the photo's shorter side to about COARSEST_SIDE points."""
+    side = min(shape[:2])
+    return int(max(1, min(MAX_SCALES, 1 + math.floor(math.log2(max(side, 1) / COARSEST_SIDE)))))
+
+
+def pyramid(grey: np.ndarray, scales: int) -> list[np.ndarray]:
+    """The photo cropped to a multiple of 2^(scales-1), then halved by area mean; coarsest first."""
+    n = 2 ** (scales - 1)
+    h, w = grey.shape[0] // n * n, grey.shape[1] // n * n
+    if h < n * 2 or w < n * 2:
+        raise InputError(f"a {grey.shape[1]}x{grey.shape[0]} photo is too small for {scales} scales")
+    out = [grey[:h, :w]]
+    for _ in range(scales - 1):
+        out.append(ski.transform.downscale_local_mean(out[-1], (2, 2)))
+    return out[::-1]
+
+
+def upsample(parents: np.ndarray, shape) -> np.ndarray:
+    """Each coarse point under the 2×2 finer points it covers, cropped to ``shape``."""
+    return np.repeat(np.repeat(parents, 2, axis=0), 2, axis=1)[: shape[0], : shape[1]]
+
+
+def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
+                    window=WINDOW, coarse_levels: int = COARSE_LEVELS,
+                    coarse_window=COARSE_WINDOW, quantizer: str = "lloyd"):
+    """Acquire a multi-scale DPJ from a photo. Returns (model, the photo's levels at each scale,
+    coarsest first). Each scale is quantised on its own (a reduced photo has less contrast)."""
+    grey = to_grey(image)
+    scales = default_scales(grey.shape) if scales is None else int(scales)
+    if not 1 <= scales <= MAX_SCALES:
+        raise InputError(f"{scales} scales: choose 1..{MAX_SCALES}")
+    if scales == 1:
+        coarse_levels, coarse_window = levels, window
+    if levels * coarse_levels > MAX_LEVELS or levels * levels > MAX_LEVELS and scales > 2:
+        raise InputError(f"G = {levels}: a conditional DPJ holds G × its parents' G levels, "
+                         f"at most {MAX_LEVELS}")
+    check_window(coarse_window, coarse_levels)
+    check_window(window, levels * max(levels, coarse_levels))
+    layers = pyramid(grey, scales)
+    per_scale = [coarse_levels] + [levels] * (scales - 1)
+    lv = [quantize(p, g, quantizer).levels for p, g in zip(layers, per_scale)]
+    dpjs = [estimate_dpj(lv[0], coarse_window, coarse_levels, wrap=True,
+                         meta={"scale": 0, "scales": scales})]
+    for k in range(1, scales):
+        gp = per_scale[k - 1]
+        composite = upsample(lv[k - 1], lv[k].shape) * per_scale[k] + lv[k]
+        dpjs.append(estimate_dpj(composite, window, gp * per_scale[k], wrap=True,
+                                 meta={"scale": k, "scales": scales, "parent_levels": gp}))
+    return MultiScaleDPJ(tuple(dpjs)), lv
+
+
+def scale_shapes(shape, scales: int) -> list[tuple[int, int]]:
+    h, w = shape
+    return [(-(-h // 2 ** (scales - 1 - k)), -(-w // 2 ** (scales - 1 - k))) for k in range(scales)]
+
+
+def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
+                      progress: Callable[[float], None] | None = None,
+                      cancel: Callable[[], bool] | None = None) -> SynthesisResult:
+    """Draw the coarsest scale, then each finer one given the one under it; the finest levels.
+
+    Scale k draws with its own seed derived from ``seed``; the same model and seed give the
+    same matrix."""
+    shapes = scale_shapes(shape, model.scales)
+    weights = np.array([h * w for h, w in shapes], float)
+    done = np.concatenate([[0], np.cumsum(weights)]) / weights.sum()
+    repairs = redraws = 0
+    levels = None
+    for k, dpj in enumerate(model.dpjs):
+        report = None if progress is None else (
+            lambda f, k=k: progress(done[k] + f * (done[k + 1] - done[k])))
+        sub = scale_seed(seed, k)
+        if k == 0:
+            r = synthesize(dpj, shapes[0], seed=sub, progress=report, cancel=cancel)
+        else:
+            r = synthesize_given(dpj, upsample(levels, shapes[k]), parent_levels(model.dpjs, k),
+                                 seed=sub, progress=report, cancel=cancel)
+        levels, repairs, redraws = r.levels, repairs + r.repairs, redraws + r.redraws
+    return SynthesisResult(levels, repairs, redraws, int(seed))
+
+
+def scale_seed(seed: int, k: int) -> int:
+    """Scale 0 uses the seed itself; finer scales a seed drawn from (seed, k)."""
+    if k == 0:
+        return int(seed)
+    return int(np.random.SeedSequence([int(seed), k]).generate_state(1, np.uint64)[0] >> np.uint64(1))

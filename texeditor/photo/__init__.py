@@ -1,0 +1,26 @@
+"""Photographic synthesis: a multi-scale DPJ (markov.multiscale) drawn, then shown with the
+photo's own greys and colours (``tone``) — photo → texture in one call.
+
+``resynthesize(photo, (H, W), seed=S)`` acquires a :class:`PhotoModel` and draws from it; the
+model can be saved as a `.dpj` (format 2) and drawn again, bit-exact from its seed.
+"""
+
+from __future__ import annotations
+
+from . import tone
+from .model import (PhotoModel, Resynthesis, Tone, acquire_model, load_model,
+                    model_from_bytes)
+
+
+def resynthesize(photo, shape, *, seed: int = 0, tone: bool = True, progress=None, cancel=None,
+                 **acquire) -> Resynthesis:
+    """A (H, W) texture like ``photo``: ``.image`` (uint8 grey or RGB) and ``.levels``.
+
+    ``acquire`` overrides the model's defaults (scales, levels, window, coarse_levels,
+    coarse_window, quantizer), chosen for quality."""
+    model = acquire_model(photo, tone=tone, **acquire)
+    return model.synthesize(shape, seed=seed, tone=tone, progress=progress, cancel=cancel)
+
+
+__all__ = ["tone", "PhotoModel", "Resynthesis", "Tone", "acquire_model", "load_model",
+           "model_from_bytes", "resynthesize"]

@@ -1,0 +1,247 @@
+"""A photo model: a multi-scale DPJ plus the photo's tone, saved as a `.dpj` of format 2.
+
+It is what `texeditor acquire --scales` writes and `texeditor synth`, `texeditor resynth` and
+:func:`texeditor.resynthesize` draw from. The file is a zip of ``model.json``, one
+``scale-K.dpj`` per scale (each an ordinary format-1 DPJ, read with all its checks) and
+``tone.npz`` (the photo's finest levels, its greys, its colours when it has them). Single-DPJ
+files (format 1) still open as DPJs (:func:`load_model` returns either).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import zipfile
+from dataclasses import dataclass
+from typing import Callable, NamedTuple
+
+import numpy as np
+
+from ..errors import FormatError, InputError
+from ..fileio import load_json, read_limited, write_file
+from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers, check_palette
+from ..markov.levels import to_grey
+from ..markov.multiscale import (COARSE_LEVELS, COARSE_WINDOW, LEVELS, WINDOW, MultiScaleDPJ,
+                                 estimate_scales, synthesize_scales)
+from .tone import ToneIndex, render, tone_index
+
+MODEL_FORMAT_VERSION = 2
+MAX_TONE_PIXELS = 4096 * 4096
+_ZIP_DATE = (1980, 1, 1, 0, 0, 0)    # fixed, so the same model always has the same bytes
+
+
+class Tone(NamedTuple):
+    """The photo as tone is drawn from it: its levels at the finest scale, greys, colours."""
+
+    levels: np.ndarray           # (h, w) uint8
+    grey: np.ndarray             # (h, w) uint8
+    colour: np.ndarray | None    # (h, w, 3) uint8, or None for a grey photo
+
+
+@dataclass(frozen=True)
+class Resynthesis:
+    """A texture drawn from a photo model."""
+
+    image: np.ndarray            # uint8: (H, W) grey or (H, W, 3) colour (tone, or the palette)
+    levels: np.ndarray           # (H, W) uint8, the document's matrix
+    model_frequencies: np.ndarray  # each level's share in the photo (the model's law)
+    repairs: int
+    seed: int
+
+
+@dataclass(frozen=True, eq=False)
+class PhotoModel:
+    scales: MultiScaleDPJ
+    palette: np.ndarray          # (G, 3) uint8: each finest level's mean colour in the photo
+    tone: Tone | None = None
+
+    @property
+    def levels(self) -> int:
+        return self.scales.levels
+
+    def frequencies(self) -> np.ndarray:
+        """Each finest level's share: the photo's when the tone keeps it, else the DPJ's."""
+        if self.tone is not None:
+            counts = np.bincount(self.tone.levels.ravel(), minlength=self.levels)
+            return counts / counts.sum()
+        finest = self.scales.dpjs[-1]
+        return np.bincount(finest.configs[:, -1, -1] % self.levels, weights=finest.probs,
+                           minlength=self.levels) / finest.probs.sum()
+
+    def synthesize(self, shape, *, seed: int = 0, tone: bool = True,
+                   progress: Callable[[float], None] | None = None,
+                   cancel: Callable[[], bool] | None = None) -> Resynthesis:
+        """Levels from the scales, shown with the photo's tone (or the palette)."""
+        result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
+                                   cancel=cancel)
+        image = self.render(result.levels, seed=seed, tone=tone)
+        return Resynthesis(image, result.levels, self.frequencies(), result.repairs, int(seed))
+
+    def render(self, levels, *, seed: int = 0, tone: bool = True) -> np.ndarray:
+        """The picture of a level matrix: tone when the model has it, else the palette."""
+        levels = np.asarray(levels)
+        if not tone or self.tone is None:
+            image = self.palette[levels]
+            return image[..., 0].copy() if self._grey_palette() else image
+        grey, colour = render(levels, self.levels, self.tone.levels, self.tone.grey,
+                              self.tone.colour, seed=seed, index=self._index())
+        return grey if colour is None else colour
+
+    def _grey_palette(self) -> bool:
+        return bool(np.all(self.palette == self.palette[:, :1]))
+
+    def _index(self) -> ToneIndex:
+        index = self.__dict__.get("_tone_index")
+        if index is None:
+            index = tone_index(self.tone.levels, self.levels)
+            object.__setattr__(self, "_tone_index", index)
+        return index
+
+    # -- files ------------------------------------------------------------------------------
+    def to_bytes(self) -> bytes:
+        meta = {"format": "texeditor photo model", "format_version": MODEL_FORMAT_VERSION,
+                "scales": self.scales.scales, "levels": self.levels,
+                "palette": self.palette.tolist(), "tone": self.tone is not None}
+        buf = io.BytesIO()
+        with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as zf:
+            _member(zf, "model.json", json.dumps(meta).encode())
+            for k, dpj in enumerate(self.scales.dpjs):
+                _member(zf, f"scale-{k}.dpj", dpj.to_bytes(), zipfile.ZIP_STORED)
+            if self.tone is not None:
+                _member(zf, "tone.npz", _tone_bytes(self.tone), zipfile.ZIP_STORED)
+        return buf.getvalue()
+
+    def save(self, path) -> None:
+        write_file(path, self.to_bytes())
+
+
+def acquire_model(image, *, scales: int | None = None, levels: int = LEVELS, window=WINDOW,
+                  coarse_levels: int = COARSE_LEVELS, coarse_window=COARSE_WINDOW,
+                  quantizer: str = "lloyd", tone: bool = True) -> PhotoModel:
+    """Acquire a photo model: its multi-scale DPJ and (``tone``) its greys and colours."""
+    image = np.asarray(image)
+    ms, lv = estimate_scales(image, scales=scales, levels=levels, window=window,
+                             coarse_levels=coarse_levels, coarse_window=coarse_window,
+                             quantizer=quantizer)
+    finest = lv[-1]
+    h, w = finest.shape
+    grey = np.round(to_grey(image)[:h, :w] * 255).astype(np.uint8)
+    colour = None
+    if image.ndim == 3 and image.shape[2] >= 3:
+        colour = _as_uint8(image[:h, :w, :3])
+    palette = _palette(finest, grey, colour, ms.levels)
+    return PhotoModel(ms, palette, Tone(finest, grey, colour) if tone else None)
+
+
+def _as_uint8(pixels: np.ndarray) -> np.ndarray:
+    if pixels.dtype == np.uint8:
+        return np.ascontiguousarray(pixels)
+    import skimage as ski
+    return ski.util.img_as_ubyte(np.clip(ski.util.img_as_float(pixels), 0, 1))
+
+
+def _palette(levels, grey, colour, g) -> np.ndarray:
+    """Each level's mean colour (or grey) in the photo."""
+    flat = levels.ravel()
+    counts = np.maximum(np.bincount(flat, minlength=g), 1)
+    channels = [grey] * 3 if colour is None else [colour[..., c] for c in range(3)]
+    means = [np.bincount(flat, weights=c.ravel().astype(float), minlength=g) / counts
+             for c in channels]
+    return np.round(np.stack(means, axis=1)).astype(np.uint8)
+
+
+# -- reading ---------------------------------------------------------------------------------
+
+def load_model(path) -> PhotoModel | DPJ:
+    """A `.dpj` file: a photo model (format 2) or a single DPJ (format 1)."""
+    data = read_limited(path, MAX_FILE_BYTES, "DPJ file")
+    return model_from_bytes(data, str(path))
+
+
+def model_from_bytes(data: bytes, name: str = "model") -> PhotoModel | DPJ:
+    try:
+        zf = zipfile.ZipFile(io.BytesIO(data))
+        names = [i.filename for i in zf.infolist()]
+    except (zipfile.BadZipFile, OSError, ValueError):
+        raise FormatError(f"{name}: not a DPJ file (not a zip archive)") from None
+    if "model.json" not in names:
+        return DPJ.from_bytes(data, name)
+    try:
+        return _parse_model(zf, names, name)
+    except FormatError:
+        raise
+    except InputError as exc:
+        raise FormatError(f"{name}: {exc}") from None
+    except Exception as exc:  # zipfile and numpy fail in many ways on hostile bytes
+        raise FormatError(f"{name}: damaged photo model ({type(exc).__name__})") from None
+
+
+def _parse_model(zf: zipfile.ZipFile, names: list, name: str) -> PhotoModel:
+    if sum(i.file_size for i in zf.infolist()) > MAX_FILE_BYTES:
+        raise FormatError(f"{name}: declared content is larger than {MAX_FILE_BYTES} bytes")
+    meta = load_json(zf.read("model.json"), f"{name}: model.json", limit=2**20)
+    if not isinstance(meta, dict) or meta.get("format_version") != MODEL_FORMAT_VERSION:
+        raise FormatError(f"{name}: photo model format {meta.get('format_version')!r} is not "
+                          f"supported (this program reads {MODEL_FORMAT_VERSION})"
+                          if isinstance(meta, dict) else f"{name}: model.json is not an object")
+    scales = meta.get("scales")
+    if not isinstance(scales, int) or isinstance(scales, bool) or not 1 <= scales <= 6:
+        raise FormatError(f"{name}: 'scales' must be 1..6")
+    expected = {"model.json", *(f"scale-{k}.dpj" for k in range(scales))}
+    if meta.get("tone"):
+        expected.add("tone.npz")
+    if set(names) != expected or len(names) != len(expected):
+        raise FormatError(f"{name}: a photo model of {scales} scales holds {sorted(expected)}; "
+                          f"found {sorted(names)}")
+    dpjs = tuple(DPJ.from_bytes(zf.read(f"scale-{k}.dpj"), f"{name}: scale {k}")
+                 for k in range(scales))
+    ms = MultiScaleDPJ(dpjs)
+    palette = check_palette(meta.get("palette"), ms.levels)
+    tone = _parse_tone(zf.read("tone.npz"), ms.levels, name) if meta.get("tone") else None
+    return PhotoModel(ms, palette, tone)
+
+
+def _member(zf, name, data, compress=zipfile.ZIP_DEFLATED) -> None:
+    info = zipfile.ZipInfo(name, _ZIP_DATE)
+    info.compress_type = compress
+    zf.writestr(info, data)
+
+
+def _tone_bytes(tone: Tone) -> bytes:
+    arrays = {"levels": tone.levels}
+    if tone.colour is None:
+        arrays["grey"] = tone.grey
+    else:
+        arrays["colour"] = tone.colour
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as zf:
+        for key, array in arrays.items():
+            npy = io.BytesIO()
+            np.lib.format.write_array(npy, np.ascontiguousarray(array), allow_pickle=False)
+            _member(zf, f"{key}.npy", npy.getvalue())
+    return buf.getvalue()
+
+
+def _parse_tone(data: bytes, g: int, name: str) -> Tone:
+    """The tone arrays, checked: uint8, one shape, levels below G; grey from colour if absent."""
+    zf = zipfile.ZipFile(io.BytesIO(data))
+    members = sorted(i.filename for i in zf.infolist())
+    if members not in (["grey.npy", "levels.npy"], ["colour.npy", "levels.npy"]):
+        raise FormatError(f"{name}: tone holds levels and grey or colour; found {members}")
+    check_npy_headers(zf, f"{name}: tone")
+    with np.load(io.BytesIO(data), allow_pickle=False) as npz:
+        arrays = {k: npz[k] for k in npz.files}
+    levels = arrays["levels"]
+    if levels.dtype != np.uint8 or levels.ndim != 2 or levels.size == 0 \
+            or levels.size > MAX_TONE_PIXELS or levels.max() >= g:
+        raise FormatError(f"{name}: tone levels must be a 2-D uint8 matrix of levels below {g}")
+    colour = arrays.get("colour")
+    if colour is not None:
+        if colour.dtype != np.uint8 or colour.shape != levels.shape + (3,):
+            raise FormatError(f"{name}: tone colour must be uint8 of shape {levels.shape + (3,)}")
+        grey = np.round(to_grey(colour) * 255).astype(np.uint8)
+    else:
+        grey = arrays["grey"]
+        if grey.dtype != np.uint8 or grey.shape != levels.shape:
+            raise FormatError(f"{name}: tone grey must be uint8 of shape {levels.shape}")
+    return Tone(levels, grey, colour)
