@@ -54,6 +54,11 @@ class MultiScaleDPJ:
     def levels(self) -> int:
         return self.levels_at(self.scales - 1)
 
+    @property
+    def palette(self) -> np.ndarray:
+        """The finest scale's G colours."""
+        return self.dpjs[-1].palette[: self.levels]
+
 
 def parent_levels(dpjs, k: int) -> int:
     return 1 if k == 0 else int(dpjs[k].meta.get("parent_levels", 0))
@@ -112,14 +117,19 @@ def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
     check_window(coarse_window, coarse_levels)
     check_window(window, levels * max(levels, coarse_levels))
     layers = pyramid(grey, scales)
+    h, w = layers[-1].shape
+    layers[-1] = np.asarray(image)[:h, :w]          # the finest palette keeps the photo's colours
     per_scale = [coarse_levels] + [levels] * (scales - 1)
-    lv = [quantize(p, g, quantizer).levels for p, g in zip(layers, per_scale)]
+    quantized = [quantize(p, g, quantizer) for p, g in zip(layers, per_scale)]
+    lv = [q.levels for q in quantized]
     dpjs = [estimate_dpj(lv[0], coarse_window, coarse_levels, wrap=True,
-                         meta={"scale": 0, "scales": scales})]
+                         palette=quantized[0].palette, meta={"scale": 0, "scales": scales})]
     for k in range(1, scales):
         gp = per_scale[k - 1]
         composite = upsample(lv[k - 1], lv[k].shape) * per_scale[k] + lv[k]
+        # composite level parent · G + level shows as its level
         dpjs.append(estimate_dpj(composite, window, gp * per_scale[k], wrap=True,
+                                 palette=np.tile(quantized[k].palette, (gp, 1)),
                                  meta={"scale": k, "scales": scales, "parent_levels": gp}))
     return MultiScaleDPJ(tuple(dpjs)), lv
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..errors import FormatError, InputError
 from ..fileio import load_json, read_limited, write_file
-from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers, check_palette
+from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers
 from ..markov.levels import to_grey
 from ..markov.multiscale import (COARSE_LEVELS, COARSE_WINDOW, LEVELS, WINDOW, MultiScaleDPJ,
                                  estimate_scales, synthesize_scales)
@@ -52,12 +52,16 @@ class Resynthesis:
 @dataclass(frozen=True, eq=False)
 class PhotoModel:
     scales: MultiScaleDPJ
-    palette: np.ndarray          # (G, 3) uint8: each finest level's mean colour in the photo
     tone: Tone | None = None
 
     @property
     def levels(self) -> int:
         return self.scales.levels
+
+    @property
+    def palette(self) -> np.ndarray:
+        """(G, 3) uint8: each finest level's mean colour in the photo."""
+        return self.scales.palette
 
     def frequencies(self) -> np.ndarray:
         """Each finest level's share: the photo's when the tone keeps it, else the DPJ's."""
@@ -101,7 +105,7 @@ class PhotoModel:
     def to_bytes(self) -> bytes:
         meta = {"format": "texeditor photo model", "format_version": MODEL_FORMAT_VERSION,
                 "scales": self.scales.scales, "levels": self.levels,
-                "palette": self.palette.tolist(), "tone": self.tone is not None}
+                "tone": self.tone is not None}
         buf = io.BytesIO()
         with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as zf:
             _member(zf, "model.json", json.dumps(meta).encode())
@@ -129,8 +133,7 @@ def acquire_model(image, *, scales: int | None = None, levels: int = LEVELS, win
     colour = None
     if image.ndim == 3 and image.shape[2] >= 3:
         colour = _as_uint8(image[:h, :w, :3])
-    palette = _palette(finest, grey, colour, ms.levels)
-    return PhotoModel(ms, palette, Tone(finest, grey, colour) if tone else None)
+    return PhotoModel(ms, Tone(finest, grey, colour) if tone else None)
 
 
 def _as_uint8(pixels: np.ndarray) -> np.ndarray:
@@ -138,16 +141,6 @@ def _as_uint8(pixels: np.ndarray) -> np.ndarray:
         return np.ascontiguousarray(pixels)
     import skimage as ski
     return ski.util.img_as_ubyte(np.clip(ski.util.img_as_float(pixels), 0, 1))
-
-
-def _palette(levels, grey, colour, g) -> np.ndarray:
-    """Each level's mean colour (or grey) in the photo."""
-    flat = levels.ravel()
-    counts = np.maximum(np.bincount(flat, minlength=g), 1)
-    channels = [grey] * 3 if colour is None else [colour[..., c] for c in range(3)]
-    means = [np.bincount(flat, weights=c.ravel().astype(float), minlength=g) / counts
-             for c in channels]
-    return np.round(np.stack(means, axis=1)).astype(np.uint8)
 
 
 # -- reading ---------------------------------------------------------------------------------
@@ -196,9 +189,8 @@ def _parse_model(zf: zipfile.ZipFile, names: list, name: str) -> PhotoModel:
     dpjs = tuple(DPJ.from_bytes(zf.read(f"scale-{k}.dpj"), f"{name}: scale {k}")
                  for k in range(scales))
     ms = MultiScaleDPJ(dpjs)
-    palette = check_palette(meta.get("palette"), ms.levels)
     tone = _parse_tone(zf.read("tone.npz"), ms.levels, name) if meta.get("tone") else None
-    return PhotoModel(ms, palette, tone)
+    return PhotoModel(ms, tone)
 
 
 def _member(zf, name, data, compress=zipfile.ZIP_DEFLATED) -> None:

@@ -387,6 +387,60 @@ class Synthesize(Action):
 
 @register
 @dataclass(frozen=True)
+class SynthesizeScales(Action):
+    """A new canvas drawn from a multi-scale DPJ: the coarsest scale as ``synthesize`` does,
+    each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
+
+    TYPE: ClassVar[str] = "synthesize_scales"
+    EFFECT: ClassVar[str] = "reset"
+    dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
+    width: int = _side("points across")
+    height: int = _side("points down")
+    seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
+
+    def _validate(self):
+        _check_canvas(self.width, self.height)
+        if not self.dpjs:
+            raise InputError("a multi-scale synthesis needs at least one DPJ")
+
+    def render_result(self, dpjs, progress=None, cancel=None):
+        """Synthesise (slow; safe in a worker thread): the finest scale's SynthesisResult."""
+        from ..markov.multiscale import synthesize_scales
+        return synthesize_scales(_scales(dpjs), (self.height, self.width),
+                                 seed=self.seed, progress=progress, cancel=cancel)
+
+    def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
+        return self.render_result(self._dpjs_of(doc), progress, cancel).levels
+
+    def apply(self, doc, prepared=None) -> None:
+        dpjs = self._dpjs_of(doc)
+        levels = self.prepare(doc) if prepared is None else np.asarray(prepared)
+        if levels.dtype != np.uint8 or levels.shape != (self.height, self.width):
+            raise InputError(f"a synthesis result must be a {self.width}x{self.height} uint8 "
+                             f"matrix, got {levels.shape} {levels.dtype}")
+        doc.set_levels(levels, _scales(dpjs).palette)
+        doc.set_current_dpj(self.dpjs[-1])
+
+    def _dpjs_of(self, doc):
+        return [Synthesize(ref, self.width, self.height)._dpj_of(doc) for ref in self.dpjs]
+
+    def canvas_shape(self, shape):
+        return (self.height, self.width)
+
+    def covers(self, shape):
+        return True
+
+    def label(self) -> str:
+        return f"Synthesise {self.width}×{self.height} on {len(self.dpjs)} scales, seed {self.seed}"
+
+
+def _scales(dpjs):
+    from ..markov.multiscale import MultiScaleDPJ
+    return MultiScaleDPJ(tuple(dpjs))
+
+
+@register
+@dataclass(frozen=True)
 class SetPalette(Action):
     """New colours for the G levels (the levels themselves do not change)."""
 
