@@ -38,11 +38,19 @@ def cmd_acquire(args) -> int:
     from .markov.estimation import estimate_dpj
     from .markov.levels import load_image, quantize
 
-    u, v = _pair(args.window, "the window")
     out = output_path(args.output, (".dpj",))
     image = load_image(args.image)
-    q = quantize(image, args.levels, method=args.quantizer)
-    meta = {"source": Path(args.image).name, "quantizer": args.quantizer}
+    if args.scales is not None:
+        model = _acquire_model(image, args)
+        model.save(out)
+        windows = ", ".join(f"{d.window[0]}x{d.window[1]}" for d in model.scales.dpjs)
+        print(f"{out}: photo model, {model.scales.scales} scales ({windows}), G = {model.levels}, "
+              f"tone {'kept' if model.tone is not None else 'off'}, {len(out.read_bytes())} bytes")
+        return 0
+    u, v = _pair(args.window or "2x2", "the window")
+    method = args.quantizer or "band"
+    q = quantize(image, args.levels, method=method)
+    meta = {"source": Path(args.image).name, "quantizer": method}
     dpj = estimate_dpj(q.levels, (u, v), args.levels, wrap=args.wrap, palette=q.palette, meta=meta)
     dpj.save(out)
     print(f"{out}: {u}x{v} window, G = {args.levels}, {len(dpj)} non-zero configurations")
@@ -50,13 +58,15 @@ def cmd_acquire(args) -> int:
 
 
 def cmd_synth(args) -> int:
-    from .markov.dpj import DPJ
     from .export import write_npy, write_png
     from .markov.synthesis import synthesize
+    from .photo import load_model
 
     width, height = _pair(args.size, "the size")
     out = output_path(args.output, SYNTH_OUTPUTS)
-    dpj = DPJ.load(args.dpj)
+    dpj = load_model(args.dpj)
+    if hasattr(dpj, "scales"):
+        return _synth_model(dpj, width, height, args.seed, out, tone=not args.no_tone)
     if out.suffix.lower() == ".texture":
         return _synth_texture(dpj, width, height, args.seed, out)
     result = synthesize(dpj, (height, width), seed=args.seed)
@@ -67,6 +77,64 @@ def cmd_synth(args) -> int:
     print(f"{out}: {width}x{height}, seed {args.seed}, dead-end repairs {result.repairs} "
           f"(rows redrawn {result.redraws})")
     return 0
+
+
+def _acquire_model(image, args):
+    from .photo import acquire_model
+
+    options = {"levels": args.levels, "quantizer": args.quantizer or "lloyd",
+               "tone": not args.no_tone}
+    if args.window:
+        options["window"] = _pair(args.window, "the window")
+    if args.coarse_window:
+        options["coarse_window"] = _pair(args.coarse_window, "the coarse window")
+    if args.coarse_levels:
+        options["coarse_levels"] = args.coarse_levels
+    scales = None if args.scales in (None, "auto") else _count(args.scales, "--scales")
+    return acquire_model(image, scales=scales, **options)
+
+
+def _count(text: str, what: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise InputError(f"{what} must be a number or 'auto', got {text!r}") from None
+
+
+def _synth_model(model, width, height, seed, out, tone=True) -> int:
+    """A photo model: its picture (PNG: tone or palette), its levels (.npy) or a .texture whose
+    log draws the same levels from the scales' DPJs."""
+    from .export import write_image, write_npy
+    from .recipe.texturefile import save_texture, synthesize_scales_texture
+
+    suffix = out.suffix.lower()
+    if suffix == ".texture":
+        save_texture(out, synthesize_scales_texture(model.scales.dpjs, width, height, seed=seed))
+        print(f"{out}: {width}x{height}, seed {seed}, one multi-scale synthesis in its log")
+        return 0
+    result = model.synthesize((height, width), seed=seed, tone=tone)
+    if suffix == ".png":
+        write_image(out, result.image)
+    else:
+        write_npy(out, result.levels)
+    print(f"{out}: {width}x{height}, seed {seed}, {model.scales.scales} scales, "
+          f"{'photographic tone' if tone and model.tone is not None else 'palette'}, "
+          f"dead-end repairs {result.repairs}")
+    return 0
+
+
+def cmd_resynth(args) -> int:
+    """Photo → texture in one command (a photo model acquired and drawn, not saved)."""
+    import time
+    from .markov.levels import load_image
+
+    width, height = _pair(args.size, "the size")
+    out = output_path(args.output, (".png", ".npy", ".texture"))
+    start = time.perf_counter()
+    model = _acquire_model(load_image(args.photo), args)
+    code = _synth_model(model, width, height, args.seed, out, tone=not args.no_tone)
+    print(f"({time.perf_counter() - start:.2f} s)")
+    return code
 
 
 def _synth_texture(dpj, width, height, seed, out) -> int:
@@ -110,11 +178,27 @@ def cmd_log(args) -> int:
 
 
 def cmd_dpj_info(args) -> int:
-    from .markov.dpj import DPJ
+    from .photo import load_model
 
-    report = DPJ.load(args.dpj).report()
-    print(json.dumps(report.to_dict(), indent=2) if args.json else "\n".join(report.lines()))
+    model = load_model(args.dpj)
+    dpjs = model.scales.dpjs if hasattr(model, "scales") else (model,)
+    reports = [d.report() for d in dpjs]
+    if args.json:
+        print(json.dumps(reports[0].to_dict() if len(reports) == 1
+                         else {"scales": [r.to_dict() for r in reports]}, indent=2))
+        return 0
+    for k, report in enumerate(reports):
+        if len(reports) > 1:
+            print(f"scale {k} of {len(reports)} (coarsest first)"
+                  + (", conditional on the scale under it" if k else ""))
+        print("\n".join(report.lines()))
     return 0
+
+
+def _model_options(p) -> None:
+    p.add_argument("--coarse-window", help="UxV of the coarsest scale (default 5x5)")
+    p.add_argument("--coarse-levels", type=int, help="G of the coarsest scale (default 2)")
+    p.add_argument("--no-tone", action="store_true", help="keep no tone (flat palette colours)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -125,10 +209,15 @@ def build_parser() -> argparse.ArgumentParser:
 
     a = sub.add_parser("acquire", help="estimate a DPJ from a photo")
     a.add_argument("image")
-    a.add_argument("--window", default="2x2", help="UxV: u columns by v rows (default 2x2)")
+    a.add_argument("--window", help="UxV: u columns by v rows (default 2x2; with --scales, "
+                   "the finer scales' window, default 3x2)")
     a.add_argument("--levels", type=int, default=4, help="G, the number of levels (2..16)")
-    a.add_argument("--quantizer", choices=("band", "lloyd"), default="band")
+    a.add_argument("--quantizer", choices=("band", "lloyd"), default=None,
+                   help="default: band (lloyd with --scales)")
     a.add_argument("--wrap", action="store_true", help="count windows on the torus")
+    a.add_argument("--scales", help="N or auto: a photo model of N scales with the photo's tone "
+                   "(a .dpj of format 2) instead of one DPJ")
+    _model_options(a)
     a.add_argument("-o", "--output", required=True, help="OUT.dpj")
     a.set_defaults(func=cmd_acquire)
 
@@ -136,7 +225,23 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("dpj")
     s.add_argument("--size", default="512x512", help="WIDTHxHEIGHT (default 512x512)")
     s.add_argument("--seed", type=int, default=0)
+    s.add_argument("--no-tone", action="store_true",
+                   help="a photo model's PNG in its palette's flat colours, not the photo's tone")
     s.add_argument("-o", "--output", required=True, help="OUT.png, OUT.npy or OUT.texture")
+
+    rs = sub.add_parser("resynth", help="photo → texture: a multi-scale DPJ drawn with the "
+                        "photo's tone (defaults chosen for quality)")
+    rs.add_argument("photo")
+    rs.add_argument("--size", default="512x512", help="WIDTHxHEIGHT (default 512x512)")
+    rs.add_argument("--seed", type=int, default=0)
+    rs.add_argument("--scales", default="auto", help="N or auto (about 64 points a side at the "
+                    "coarsest)")
+    rs.add_argument("--window", help="UxV of the finer scales (default 3x2)")
+    rs.add_argument("--levels", type=int, default=4, help="G of the finer scales (default 4)")
+    rs.add_argument("--quantizer", choices=("band", "lloyd"), default="lloyd")
+    _model_options(rs)
+    rs.add_argument("-o", "--output", required=True, help="OUT.png, OUT.npy or OUT.texture")
+    rs.set_defaults(func=cmd_resynth)
     s.set_defaults(func=cmd_synth)
 
     i = sub.add_parser("dpj-info", help="the validation report of a DPJ")

@@ -37,6 +37,13 @@ def write_png(path, levels: np.ndarray, palette: np.ndarray, scale: int = 1) -> 
     write_file(path, iio.imwrite("<bytes>", rgb, extension=".png"), error=InputError)
 
 
+def write_image(path, image: np.ndarray) -> None:
+    """Write a rendered picture (uint8 grey (H, W) or RGB (H, W, 3)) as a PNG, atomically."""
+    import imageio.v3 as iio
+    image = np.ascontiguousarray(image, dtype=np.uint8)
+    write_file(path, iio.imwrite("<bytes>", image, extension=".png"), error=InputError)
+
+
 def write_npy(path, levels: np.ndarray) -> None:
     """Write the uint8 level matrix as a `.npy` (no pickle: a plain numeric array)."""
     buf = io.BytesIO()

@@ -87,8 +87,9 @@ def pyramid(grey: np.ndarray, scales: int) -> list[np.ndarray]:
     """The photo cropped to a multiple of 2^(scales-1), then halved by area mean; coarsest first."""
     n = 2 ** (scales - 1)
     h, w = grey.shape[0] // n * n, grey.shape[1] // n * n
-    if h < n * 2 or w < n * 2:
-        raise InputError(f"a {grey.shape[1]}x{grey.shape[0]} photo is too small for {scales} scales")
+    if h < n * 8 or w < n * 8:
+        raise InputError(f"a {grey.shape[1]}x{grey.shape[0]} photo is too small for {scales} "
+                         f"scales (its coarsest reduction would have fewer than 8 points a side)")
     out = [grey[:h, :w]]
     for _ in range(scales - 1):
         out.append(ski.transform.downscale_local_mean(out[-1], (2, 2)))
@@ -96,8 +97,14 @@ def pyramid(grey: np.ndarray, scales: int) -> list[np.ndarray]:
 
 
 def upsample(parents: np.ndarray, shape) -> np.ndarray:
-    """Each coarse point under the 2×2 finer points it covers, cropped to ``shape``."""
-    return np.repeat(np.repeat(parents, 2, axis=0), 2, axis=1)[: shape[0], : shape[1]]
+    """The parent of every finer point: the coarse point under the point just below it (the
+    last row: its own). A row is drawn given the rows above and its parents, never the rows
+    below; reading the parents one row ahead lets every odd row see the coarse row it leads
+    into, which keeps the level frequencies (with the parents under the point itself, rare
+    levels thinned out by a few hundredths per scale)."""
+    h, w = shape
+    up = np.repeat(np.repeat(parents, 2, axis=0), 2, axis=1)[1: h + 1, :w]
+    return up if len(up) == h else np.vstack([up, up[-1:]])
 
 
 def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,

@@ -30,6 +30,7 @@ from ..errors import Cancelled, InputError
 MAX_PIXELS = 2**28
 ROWS_PER_CALL_PIXELS = 2**16   # work per kernel call: how often progress and cancel are checked
 DIRECT_INDEX_MAX = 2**20       # context spaces up to this size get a direct look-up table
+ABOVE_WITHOUT_PARENTS = True
 MAX_REDRAW_DEPTH = 4           # rows above a dead end that may be redrawn together
 
 
@@ -133,6 +134,7 @@ class _Tables(NamedTuple):
     v: int
     gx: int                    # the levels drawn (G); the bottom-row codes are in base gx
     gp: int                    # parent levels Gp (1: no parent), part of every context key
+    amod: int                  # rows above enter a context modulo this (gx: without parents)
     ient: np.ndarray           # (4, entries) int64: HEAD, TAIL, BCODE, ROT of each entry
     fent: np.ndarray           # (2, entries) float64: Q (probability), M (horizontal transition)
     ctx: np.ndarray            # (3, contexts) int64: CODE (sorted per level), START, END entries
@@ -173,7 +175,10 @@ def _tables(dpj: DPJ, gp: int = 1) -> _Tables:
         _evict(TABLES_MEMORY)     # before building: old tables need not stay during the build
     positive = dpj.probs > 0
     model = DPJ(dpj.configs[positive], dpj.probs[positive], dpj.levels).normalized()
-    tables = _build_tables(_above_without_parents(model, gp) if gp > 1 else model, gp)
+    if gp > 1 and ABOVE_WITHOUT_PARENTS:
+        tables = _build_tables(_above_without_parents(model, gp), gp, dpj.levels // gp)
+    else:
+        tables = _build_tables(model, gp)
     size = sum(a.nbytes for a in tables if isinstance(a, np.ndarray))
     with _cache_lock:
         _cache[id(dpj)] = (weakref.ref(dpj), tables, size)
@@ -188,7 +193,7 @@ def _evict(budget: int, keep: int = 0) -> None:
         del _cache[next(iter(_cache))]
 
 
-def _build_tables(dpj: DPJ, gp: int = 1) -> _Tables:
+def _build_tables(dpj: DPJ, gp: int = 1, amod: int = 256) -> _Tables:
     """``gp`` > 1: the DPJ's levels are composite, parent · G + level (see markov.multiscale);
     a context is then the rows above and the parents of the bottom row, and an entry's bottom
     code holds its G-levels only (its parents are fixed by the context)."""
@@ -229,7 +234,7 @@ def _build_tables(dpj: DPJ, gp: int = 1) -> _Tables:
     ient = np.stack([bcode // gx, bcode % gx ** (u - 1), bcode, cat(rot)])
     ctx_table = np.stack([cat(ctx), cat(start), cat(end)]).astype(np.int64)
     return _Tables(
-        levels=g, u=u, v=v, gx=gx, gp=gp, ient=ient, fent=np.stack([cat(q), cat(m)]),
+        levels=g, u=u, v=v, gx=gx, gp=gp, amod=amod, ient=ient, fent=np.stack([cat(q), cat(m)]),
         ctx=ctx_table, lvl=np.array([off, length], np.int64),
         direct=_direct_index(ctx[0], g ** (u * (v - 1)) * gp ** u),
         first_q=dpj.probs, first_cum=np.cumsum(dpj.probs), first_configs=dpj.configs,
@@ -391,13 +396,13 @@ def _first_rows(out, t, state):
 
 
 @njit(cache=True, nogil=True)
-def _context(out, r, n, u, rows, g, gx, gp):
+def _context(out, r, n, u, rows, g, gx, gp, amod):
     """Code of the ``rows`` rows just above row r, columns n..n+u-1 (row-major, base G), then,
     with parents (gp > 1), the parents of row r's points there (out holds parent · gx + level)."""
     key = 0
     for i in range(r - rows, r):
         for j in range(n, n + u):
-            key = key * g + out[i, j] % gx
+            key = key * g + out[i, j] % amod
     if gp > 1:
         for j in range(n, n + u):
             key = key * gp + out[r, j] // gx
@@ -495,7 +500,7 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, t, work):
         levels = v if n == lenient_at else kmin + 1
         for k in range(kmin, levels + (n == lenient_at)):
             restart = k == levels
-            key = _context(out, r, n, u, 0 if restart else v - 1 - k, g, gx, gp)
+            key = _context(out, r, n, u, 0 if restart else v - 1 - k, g, gx, gp, t.amod)
             if k == 0 and len(direct):
                 ci = direct[key]
             else:

@@ -17,7 +17,8 @@ from dataclasses import dataclass
 
 
 from ..version import __version__
-from .actions import MAX_CANVAS_SIDE, Action, Synthesize, dpj_refs, palette_param
+from .actions import (MAX_CANVAS_SIDE, Action, Synthesize, SynthesizeScales, dpj_refs,
+                      palette_param)
 from .codec import MAX_ACTIONS, MAX_LOG_BYTES, log_json, read_log
 from .document import Document, REF_LENGTH
 from ..markov.dpj import DPJ, MAX_FILE_BYTES as MAX_DPJ_BYTES, MAX_LEVELS
@@ -395,6 +396,17 @@ def synthesize_texture(dpj: DPJ, width: int, height: int, *, seed: int = 0, prog
     ref = history.add_dpj(dpj)
     action = Synthesize(ref, width, height, seed)
     history.apply(action, prepared=action.render_result(dpj, progress, cancel).levels)
+    return history
+
+
+def synthesize_scales_texture(dpjs, width: int, height: int, *, seed: int = 0, progress=None,
+                              cancel=None) -> History:
+    """A History whose log is one multi-scale synthesis (`texeditor synth MODEL.dpj -o
+    OUT.texture`): the scales' DPJs travel in the file, the log replays the same levels."""
+    history = History()
+    refs = tuple(history.add_dpj(dpj) for dpj in dpjs)
+    action = SynthesizeScales(refs, width, height, seed)
+    history.apply(action, prepared=action.render_result(dpjs, progress, cancel).levels)
     return history
 
 

@@ -1,0 +1,128 @@
+"""Multi-scale DPJ: a finer scale drawn exactly given its parents; the scales acquired and drawn."""
+
+import itertools
+
+import numpy as np
+import pytest
+import skimage as ski
+from scipy.stats import chisquare
+
+from texeditor import DPJ, estimate_dpj, quantize, synthesize
+from texeditor.errors import InputError
+from texeditor.markov import multiscale
+from texeditor.markov.synthesis import synthesize_given
+
+
+def blobs(seed, shape=(256, 256), sigma=4.0):
+    """A photo no one tuned for: smoothed noise (round blobs at a random scale)."""
+    noise = np.random.default_rng(seed).random(shape)
+    return ski.filters.gaussian(noise, sigma)
+
+
+def composite_chain(g, gp, seed):
+    """A random 2×1 composite DPJ (levels parent · g + level) with every configuration."""
+    n = g * gp
+    configs = np.array(list(itertools.product(range(n), repeat=2)), np.uint8).reshape(-1, 1, 2)
+    q = np.random.default_rng(seed).random(len(configs)) ** 2 + 0.01
+    return DPJ(configs, q / q.sum(), n)
+
+
+def test_a_row_is_drawn_exactly_given_its_parents():
+    """One row of a 2×1 window given fixed parents: the law is the composite chain restricted
+    to those parents, P(x) ∝ q(z0 z1) Π m(z_{n+1} | z_n) with z = parent · G + x."""
+    g, gp, w = 2, 3, 5
+    dpj = composite_chain(g, gp, seed=4)
+    parents = np.array([[2, 0, 0, 1, 2]], np.uint8)
+    codes = dpj.codes
+    q = dict(zip(codes.tolist(), dpj.probs.tolist()))
+    n = g * gp
+    mu = {a: sum(q.get(a * n + b, 0) for b in range(n)) for a in range(n)}
+    exact = {}
+    for xs in itertools.product(range(g), repeat=w):
+        z = [p * g + x for p, x in zip(parents[0], xs)]
+        p = q[z[0] * n + z[1]]
+        for a, b in zip(z[1:], z[2:]):
+            p *= q[a * n + b] / mu[a]
+        exact[xs] = p
+    total = sum(exact.values())
+    counts = {}
+    draws = 4000
+    for seed in range(draws):
+        row = synthesize_given(dpj, parents, gp, seed=seed).levels[0]
+        counts[tuple(row)] = counts.get(tuple(row), 0) + 1
+    keys = list(exact)
+    observed = [counts.get(k, 0) for k in keys]
+    assert chisquare(observed, [draws * exact[k] / total for k in keys]).pvalue > 1e-3
+
+
+def test_parents_decide_when_the_law_says_so():
+    """A conditional DPJ whose level always equals its parent reproduces the parents."""
+    gp = g = 2
+    photo = (blobs(1, (64, 64)) > 0.5).astype(np.uint8)
+    composite = photo * g + photo
+    dpj = estimate_dpj(composite, (3, 2), g * gp, wrap=True)
+    parents = (blobs(2, (40, 50)) > 0.5).astype(np.uint8)
+    out = synthesize_given(dpj, parents, gp, seed=3)
+    assert np.array_equal(out.levels, parents)
+
+
+@pytest.mark.parametrize("seed", [0, 7])
+def test_scales_follow_the_coarser_layout_and_keep_the_level_frequencies(seed):
+    photo = blobs(seed)
+    model, photo_levels = multiscale.estimate_scales(photo, scales=3)
+    assert model.scales == 3 and model.levels == 4
+    assert [d.meta.get("parent_levels") for d in model.dpjs] == [None, 2, 4]
+    out = multiscale.synthesize_scales(model, (200, 300), seed=seed).levels
+    assert out.shape == (200, 300) and out.dtype == np.uint8 and out.max() < 4
+    want = np.bincount(photo_levels[-1].ravel(), minlength=4) / photo_levels[-1].size
+    got = np.bincount(out.ravel(), minlength=4) / out.size
+    assert np.abs(want - got).max() <= 0.05      # blobs as large as a tenth of the picture
+    again = multiscale.synthesize_scales(model, (200, 300), seed=seed).levels
+    assert np.array_equal(out, again)
+    other = multiscale.synthesize_scales(model, (200, 300), seed=seed + 1).levels
+    assert not np.array_equal(out, other)
+
+
+def correlation_lengths(levels):
+    """Lags (across, down) at which the autocorrelation falls below one half."""
+    x = levels.astype(float) - levels.mean()
+    acf = np.real(np.fft.ifft2(np.abs(np.fft.fft2(x)) ** 2))
+    acf /= acf[0, 0]
+    return np.array([np.argmax(acf[0] < 0.5), np.argmax(acf[:, 0] < 0.5)])
+
+
+@pytest.mark.parametrize("seed", [3, 4])
+def test_blobs_keep_their_size_across_scales(seed):
+    """Structure larger than the window: blobs about 15 points across come out at their size
+    both ways, where one 3×2 window draws streaks (far longer down than across)."""
+    photo = blobs(seed, (256, 256), sigma=14)
+    model, lv = multiscale.estimate_scales(photo, scales=4)
+    out = multiscale.synthesize_scales(model, (256, 256), seed=1).levels
+    single = synthesize(estimate_dpj(lv[-1], (3, 2), 4, wrap=True), (256, 256), seed=1).levels
+    want = correlation_lengths(lv[-1])
+    assert np.all(np.abs(correlation_lengths(out) - want) <= 0.4 * want)
+    assert np.any(np.abs(correlation_lengths(single) - want) > 0.4 * want)
+
+
+def test_default_scales_bring_the_coarsest_side_near_64():
+    assert multiscale.default_scales((512, 512)) == 4
+    assert multiscale.default_scales((256, 700)) == 3
+    assert multiscale.default_scales((100, 100)) == 1
+    assert multiscale.default_scales((10**5, 10**5)) == multiscale.MAX_SCALES
+
+
+def test_bad_scales_are_refused_with_a_reason():
+    photo = blobs(0, (64, 64))
+    with pytest.raises(InputError, match="too small"):
+        multiscale.estimate_scales(photo, scales=6)
+    with pytest.raises(InputError, match="1..6"):
+        multiscale.estimate_scales(photo, scales=0)
+    with pytest.raises(InputError, match="at most 16"):
+        multiscale.estimate_scales(photo, scales=3, levels=5)
+    model, _ = multiscale.estimate_scales(photo, scales=2)
+    with pytest.raises(InputError, match="does not sit"):
+        multiscale.MultiScaleDPJ((model.dpjs[1], model.dpjs[0]))
+    with pytest.raises(InputError, match="parent"):
+        synthesize_given(model.dpjs[1], np.zeros((8, 8), np.uint8), 3)
+    with pytest.raises(InputError, match="above"):
+        synthesize_given(model.dpjs[1], np.full((8, 8), 5, np.uint8), 2)
