@@ -162,3 +162,30 @@ def test_render_refuses_a_texture_whose_hash_does_not_match(tmp_path, capsys):
     code, _, err = run(capsys, "render", bad, "-o", out)
     assert code == 2 and err.count("\n") == 1 and "SHA-256" in err
     assert not out.exists()
+
+
+def test_resynth_and_photo_models_end_to_end(tmp_path, photo, capsys):
+    """resynth in one command; acquire --scales saves a model that synth draws as a picture,
+    as levels and as a .texture that replays the same levels; dpj-info reports each scale."""
+    from skimage import io as iio
+    code, out, _ = run(capsys, "resynth", photo, "--size", "96x64", "--seed", "2",
+                       "-o", tmp_path / "r.png")
+    assert code == 0 and "2 scales" in out and "photographic tone" in out
+    picture = iio.imread(tmp_path / "r.png")
+    assert picture.shape == (64, 96) and len(np.unique(picture)) > 16
+
+    model = tmp_path / "m.dpj"
+    code, out, _ = run(capsys, "acquire", photo, "--scales", "2", "-o", model)
+    assert code == 0 and "photo model, 2 scales" in out
+    run(capsys, "synth", model, "--size", "80x60", "--seed", "5", "-o", tmp_path / "a.npy")
+    run(capsys, "synth", model, "--size", "80x60", "--seed", "5", "-o", tmp_path / "a.texture")
+    code, _, _ = run(capsys, "render", tmp_path / "a.texture", "-o", tmp_path / "b.npy")
+    assert code == 0
+    assert np.array_equal(np.load(tmp_path / "a.npy"), np.load(tmp_path / "b.npy"))
+    code, out, _ = run(capsys, "synth", model, "--no-tone", "--size", "80x60", "-o",
+                       tmp_path / "flat.png")
+    assert code == 0 and len(np.unique(iio.imread(tmp_path / "flat.png"))) <= 4
+    code, out, _ = run(capsys, "dpj-info", model)
+    assert code == 0 and "scale 1 of 2" in out
+    code, _, err = run(capsys, "resynth", photo, "--scales", "9", "-o", tmp_path / "x.png")
+    assert code == 2 and "1..6" in err and not (tmp_path / "x.png").exists()

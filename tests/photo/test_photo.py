@@ -1,0 +1,142 @@
+"""Photo models: acquired, drawn with the photo's tone, saved as format-2 .dpj, hostile files."""
+
+import io
+import zipfile
+
+import numpy as np
+import pytest
+import skimage as ski
+
+import texeditor
+from texeditor import DPJ
+from texeditor.errors import FormatError, InputError
+from texeditor.photo import acquire_model, load_model, model_from_bytes, tone
+from texeditor.recipe.texturefile import render_texture, save_texture, synthesize_scales_texture
+
+
+def speckle(shape=(128, 128), seed=0, colour=False):
+    """A textured photo made here (no bundled picture): smoothed noise, grey or RGB."""
+    rng = np.random.default_rng(seed)
+    grey = ski.filters.gaussian(rng.random(shape), 2)
+    grey = (grey - grey.min()) / np.ptp(grey)
+    if not colour:
+        return np.round(grey * 255).astype(np.uint8)
+    rgb = np.stack([grey, grey ** 2, 1 - grey], axis=2)
+    return np.round(rgb * 255).astype(np.uint8)
+
+
+@pytest.fixture(scope="module")
+def model():
+    return acquire_model(speckle(), scales=2)
+
+
+def test_resynthesize_gives_the_picture_and_the_levels():
+    r = texeditor.resynthesize(speckle(), (60, 90), seed=4, scales=2)
+    assert r.image.shape == (60, 90) and r.image.dtype == np.uint8
+    assert r.levels.shape == (60, 90) and r.levels.max() < 4
+    again = texeditor.resynthesize(speckle(), (60, 90), seed=4, scales=2)
+    assert np.array_equal(r.image, again.image) and np.array_equal(r.levels, again.levels)
+
+
+def test_tone_draws_each_point_from_photo_points_of_its_level(model):
+    """Every output grey is a grey the photo has at that level (the 3×3 context backs off to
+    the level itself at worst), so flat levels become the photo's own shading."""
+    r = model.synthesize((80, 80), seed=1)
+    photo_levels, photo_grey = model.tone.levels, model.tone.grey
+    for level in range(model.levels):
+        allowed = set(np.unique(photo_grey[photo_levels == level]).tolist())
+        assert set(np.unique(r.image[r.levels == level]).tolist()) <= allowed
+    assert len(np.unique(r.image)) > 4 * model.levels      # shaded, not four flat greys
+
+
+def test_tone_off_is_the_palette_view(model):
+    r = model.synthesize((40, 40), seed=2, tone=False)
+    assert np.array_equal(r.image, model.palette[r.levels][..., 0])
+
+
+def test_colour_photos_give_colour_textures():
+    photo = speckle(colour=True)
+    r = texeditor.resynthesize(photo, (50, 50), seed=0, scales=2)
+    assert r.image.shape == (50, 50, 3)
+    colours = {tuple(c) for c in photo.reshape(-1, 3)}
+    assert all(tuple(c) in colours for c in r.image.reshape(-1, 3)[::37])
+
+
+def test_a_saved_model_draws_the_same_texture(model, tmp_path):
+    path = tmp_path / "m.dpj"
+    model.save(path)
+    again = load_model(path)
+    a, b = model.synthesize((64, 64), seed=9), again.synthesize((64, 64), seed=9)
+    assert np.array_equal(a.image, b.image) and np.array_equal(a.levels, b.levels)
+    assert again.to_bytes() == model.to_bytes()
+    assert path.stat().st_size <= 2 * 2**20
+
+
+def test_single_dpj_files_still_open(tmp_path):
+    dpj = texeditor.estimate_dpj(np.indices((20, 20)).sum(0) % 3, (2, 2), 3)
+    dpj.save(tmp_path / "old.dpj")
+    assert isinstance(load_model(tmp_path / "old.dpj"), DPJ)
+    with pytest.raises(FormatError, match="photo model"):
+        DPJ.from_bytes(acquire_model(speckle(), scales=2, tone=False).to_bytes())
+
+
+def test_a_texture_file_replays_a_multiscale_synthesis(model, tmp_path):
+    history = synthesize_scales_texture(model.scales.dpjs, 70, 50, seed=3)
+    save_texture(tmp_path / "t.texture", history)
+    doc = render_texture(tmp_path / "t.texture")
+    want = model.synthesize((50, 70), seed=3).levels
+    assert np.array_equal(doc.levels, want)
+    assert doc.actions[-1].TYPE == "synthesize_scales"
+
+
+def _rezip(data: bytes, change) -> bytes:
+    src = zipfile.ZipFile(io.BytesIO(data))
+    members = {i.filename: src.read(i) for i in src.infolist()}
+    change(members)
+    out = io.BytesIO()
+    with zipfile.ZipFile(out, "w") as zf:
+        for name, content in members.items():
+            zf.writestr(name, content)
+    return out.getvalue()
+
+
+def _tone_with(arrays: dict) -> bytes:
+    out = io.BytesIO()
+    with zipfile.ZipFile(out, "w") as zf:
+        for name, a in arrays.items():
+            buf = io.BytesIO()
+            np.lib.format.write_array(buf, a, allow_pickle=False)
+            zf.writestr(f"{name}.npy", buf.getvalue())
+    return out.getvalue()
+
+
+HOSTILE = {
+    "no scale": lambda m: m.pop("scale-1.dpj"),
+    "extra member": lambda m: m.__setitem__("evil.py", b"print(1)"),
+    "bad version": lambda m: m.__setitem__("model.json", b'{"format_version": 3, "scales": 2}'),
+    "scales not int": lambda m: m.__setitem__("model.json",
+                                              b'{"format_version": 2, "scales": "2"}'),
+    "json bomb": lambda m: m.__setitem__("model.json", b"[" * 100000),
+    "scale not a dpj": lambda m: m.__setitem__("scale-0.dpj", b"not a zip"),
+    "scales swapped": lambda m: m.update({"scale-0.dpj": m["scale-1.dpj"],
+                                          "scale-1.dpj": m["scale-0.dpj"]}),
+    "tone levels too high": lambda m: m.__setitem__("tone.npz", _tone_with(
+        {"levels": np.full((8, 8), 9, np.uint8), "grey": np.zeros((8, 8), np.uint8)})),
+    "tone shapes differ": lambda m: m.__setitem__("tone.npz", _tone_with(
+        {"levels": np.zeros((8, 8), np.uint8), "grey": np.zeros((8, 9), np.uint8)})),
+    "tone grey not uint8": lambda m: m.__setitem__("tone.npz", _tone_with(
+        {"levels": np.zeros((8, 8), np.uint8), "grey": np.zeros((8, 8), np.float64)})),
+    "tone not a zip": lambda m: m.__setitem__("tone.npz", b"\x00" * 50),
+}
+
+
+@pytest.mark.parametrize("case", sorted(HOSTILE))
+def test_hostile_model_files_are_refused_with_a_reason(model, case):
+    data = _rezip(model.to_bytes(), HOSTILE[case])
+    with pytest.raises(FormatError):
+        model_from_bytes(data, "hostile.dpj")
+
+
+def test_tone_refuses_levels_it_cannot_show(model):
+    with pytest.raises(InputError):
+        tone.render(np.full((4, 4), 7, np.uint8), 4, model.tone.levels, model.tone.grey)
