@@ -19,8 +19,9 @@ from numba import njit
 from ..errors import InputError
 from ..markov.synthesis import uniform
 
-RANDOM_CANDIDATES = 4      # drawn from the photo points sharing the context
-FRESH_START = 1 / 16       # chance that a point considers only fresh candidates (no long copies)
+RANDOM_CANDIDATES = 8      # drawn from the photo points sharing the context
+FRESH_START = 1 / 64       # chance that a point considers only fresh candidates (no long copies)
+COHERENCE = 0.5           # a continuing candidate's mismatch counts this much (Ashikhmin)
 HALF = 2                   # the causal neighbourhood compared: rows above and left, ±HALF
 # (row, column) offsets of the 3×3 level context, and of its 4-neighbour back-off
 _NINE = tuple((di, dj) for di in (-1, 0, 1) for dj in (-1, 0, 1))
@@ -147,6 +148,7 @@ def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, s
                             if level == 3 or photo_codes[level][s] == out_codes[level][n]:
                                 cand[count] = s
                                 count += 1
+            coherent = count
             for _ in range(RANDOM_CANDIDATES):     # fresh ones (anywhere: a level unseen)
                 if level == 3:
                     cand[count] = min(np.int64(uniform(state) * ph * pw), ph * pw - 1)
@@ -156,6 +158,8 @@ def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, s
             best, chosen = np.inf, cand[0]
             for k in range(count):
                 d = _distance(grey, i, j, photo, cand[k] // pw, cand[k] % pw, best)
+                if k < coherent:
+                    d *= COHERENCE
                 if d < best:
                     best, chosen = d, cand[k]
             source[i, j] = chosen
