@@ -33,6 +33,8 @@ def one_of_each() -> list:
     """(type, History) for every action type: the base actions, and one example of each other
     type applied to the document its own tests use (their EXAMPLES)."""
     from texeditor.spots.actions import PlaceSpot, ScatterSpots
+    from texeditor.markov.multiscale import estimate_scales
+    from texeditor.recipe.actions import SynthesizeScales
     from texeditor.texture.actions import DoubleLevels
 
     from . import paint, spots as spot, texture
@@ -62,6 +64,12 @@ def one_of_each() -> list:
     table = h.document.store_dpj(doubling.learn(photo, 3, "band", name="gravel"))
     h.apply(DoubleLevels(table, 5))             # a doubling table: a stored DPJ
     histories.append(("double_levels", h))
+    h = History()
+    model, _ = estimate_scales(photo, scales=2)
+    refs = tuple(h.add_dpj(dpj) for dpj in model.dpjs)
+    h.apply(SynthesizeScales(refs, 30, 20, seed=4))    # a multi-scale synthesis
+    h.apply(SetPalette([(0, 0, 0), (90, 90, 90), (170, 170, 170), (255, 255, 255)]))
+    histories.append(("synthesize_scales", h))
     h = spot.canvas(base=1)
     h.apply(PlaceSpot(spot.DISC, 16, 16, level=2, contour=0.2, seed=5))
     h.apply(ScatterSpots(spot.DISC, 12, seed=7, scale=0.5, level=3))
