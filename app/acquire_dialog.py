@@ -32,6 +32,7 @@ IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.gif *.webp);;All
 QUANTISERS = (("Band (thesis: 90 % central band)", "band"), ("Lloyd–Max (least squares)", "lloyd"))
 DEBOUNCE_MS = 150
 SCALE_STRIP = 2 * PREVIEW + 6      # the scale previews share the width of the two big ones
+SCALE_SIDE = 100                   # ... each at most this square (the dialog fits 800 pixels)
 
 
 @dataclass
@@ -215,8 +216,9 @@ class AcquireDialog(QtWidgets.QDialog):
         self.auto_scales.setToolTip("As many scales as bring the photo's shorter side to about "
                                     "64 points at the coarsest")
         self.auto_scales.toggled.connect(self._auto_toggled)
-        self.tone = QtWidgets.QCheckBox("Photographic tone (show textures with the photo's own "
-                                        "greys and colours)")
+        self.tone = QtWidgets.QCheckBox("Photographic tone")
+        self.tone.setToolTip("Keep the photo's greys and colours with the model: its textures "
+                             "are shown with them instead of the palette")
         self.tone.setChecked(True)
         self.tone.toggled.connect(self._schedule)
         self.synthesise_now = QtWidgets.QCheckBox("Synthesise a texture from it now")
@@ -384,6 +386,13 @@ class AcquireDialog(QtWidgets.QDialog):
             self._show_model(out.model)
         else:
             self._show_report(out.report)
+        QtCore.QTimer.singleShot(0, self._make_room)    # once the new widgets have their sizes
+
+    def _make_room(self) -> None:
+        """Grow to show the scales' strip and the wrapped report whole: the layout's minimum
+        does not count a word-wrapped label's lines, and the previews would overlap."""
+        self.layout().activate()
+        self.resize(self.size().expandedTo(self.sizeHint()))
 
     def _show_scales(self, views) -> None:
         """Each scale's levels, small and side by side, captioned with its reduction; the
@@ -396,7 +405,7 @@ class AcquireDialog(QtWidgets.QDialog):
         if not views:
             return
         n = len(views)
-        side = min(120, (SCALE_STRIP - 6 * (n - 1)) // n)
+        side = min(SCALE_SIDE, (SCALE_STRIP - 6 * (n - 1)) // n)
         for k, view in enumerate(views):
             label = QtWidgets.QLabel()
             label.setObjectName(f"scale{k}")
@@ -423,13 +432,13 @@ class AcquireDialog(QtWidgets.QDialog):
             u, v = dpj.window
             given = f" given {ms.levels_at(k - 1)}" if k else ""
             parts.append(f"{scale_caption(k, ms.scales)}: {u}×{v}, G = {ms.levels_at(k)}{given}, "
-                         f"{len(dpj):,}")
+                         f"{len(dpj):,} configurations")
         tone = ("shown with the photo's own " + ("colours" if model.tone.colour is not None
                                                   else "greys")
                 if model.tone is not None else "shown with the palette (no tone)")
         self.info.setStyleSheet("")
-        self.info.setText(f"<b>A photo model of {ms.scales} scales</b> (from a {w}×{h} photo; "
-                          f"window, configurations): {'; '.join(parts)}.<br>"
+        self.info.setText(f"<b>A photo model of {ms.scales} scales</b> from a {w}×{h} photo — "
+                          f"{'; '.join(parts)}.<br>"
                           f"<span style='color: #308030'>Each finer scale is drawn given the "
                           f"coarser one under it; textures are {tone}.</span>")
         self.info.setToolTip("The coarsest scale is an ordinary DPJ; each finer one is a "
