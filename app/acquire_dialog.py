@@ -1,7 +1,9 @@
 """File ▸ Acquire DPJ from image…: quantise a photo into G levels and count its u×v windows.
 
 This is the automatic acquisition of thesis §5.2: the dialog shows the photo, its quantised levels
-and the size of the estimated DPJ while the user tunes window, G, quantiser and wrap. Reading,
+and the size of the estimated DPJ while the user tunes window, G, quantiser and wrap. With more
+than one scale it acquires a photo model instead (photo.PhotoModel: a multi-scale DPJ, the
+photo's tone) and shows the photo's levels at each scale, coarsest first. Reading,
 quantising and counting take seconds on a large photo, so they run in a worker, the latest
 setting winning: the dialog never freezes, and Acquire is enabled only for the current result.
 """
@@ -18,6 +20,8 @@ from texeditor.markov.dpj import DPJ, MAX_SIDE
 from texeditor.errors import Cancelled, TexeditorError
 from texeditor.markov.estimation import estimate_dpj
 from texeditor.markov.levels import load_image, quantize
+from texeditor.markov.multiscale import MAX_SCALES, MultiScaleDPJ, default_scales, estimate_scales
+from texeditor.photo import PhotoModel, photo_tone
 
 from .canvas import colourize
 from .dpj_editor.preview import LatestWins
@@ -27,6 +31,8 @@ PREVIEW = 240
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.gif *.webp);;All files (*)"
 QUANTISERS = (("Band (thesis: 90 % central band)", "band"), ("Lloyd–Max (least squares)", "lloyd"))
 DEBOUNCE_MS = 150
+SCALE_STRIP = 2 * PREVIEW + 6      # the scale previews share the width of the two big ones
+SCALE_SIDE = 100                   # ... each at most this square (the dialog fits 800 pixels)
 
 
 @dataclass
@@ -40,6 +46,9 @@ class Acquired:
     dpj: DPJ | None = None
     report: object = None
     levels: QtGui.QImage | None = None    # the quantised levels' preview
+    model: PhotoModel | None = None       # several scales: the photo model (dpj: its finest)
+    scale_levels: tuple = ()              # several scales: each one's levels, coarsest first
+    scale_views: tuple = ()               # ... and their previews
     error: str = ""
 
 
@@ -85,9 +94,55 @@ def chain_advice(report, wrap: bool) -> tuple[str, str, bool]:
             False)
 
 
-def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, cancel) -> Acquired:
+def scale_caption(k: int, scales: int) -> str:
+    """A scale's reduction of the photo: "1/4", "1/2", "1/1" for 3 scales."""
+    return f"1/{2 ** (scales - 1 - k)}"
+
+
+def scale_name(name: str, k: int, scales: int) -> str:
+    """The name of scale k's DPJ, as the DPJ lists show it: "brick scale 2/3"."""
+    return f"{name} scale {k + 1}/{scales}"
+
+
+def named_scales(ms: MultiScaleDPJ, meta: dict) -> MultiScaleDPJ:
+    """The scales' DPJs with a name each (and the photo's ``meta``), so the document's DPJ lists
+    tell them apart."""
+    n = ms.scales
+    return MultiScaleDPJ(tuple(
+        DPJ(d.configs, d.probs, d.levels, palette=d.palette,
+            meta={**d.meta, **meta, "name": scale_name(meta["name"], k, n)})
+        for k, d in enumerate(ms.dpjs)))
+
+
+def scale_palette(ms: MultiScaleDPJ, k: int) -> np.ndarray:
+    """The colours of scale k's own levels (a conditional DPJ repeats them per parent)."""
+    return ms.dpjs[k].palette[: ms.levels_at(k)]
+
+
+def acquire_scales(out: Acquired, scales, window, levels: int, method: str, tone: bool,
+                   meta: dict, cancel) -> Acquired:
+    """A photo model of several scales, the photo's levels at each and their previews."""
+    ms, lv = estimate_scales(out.image, scales=scales, levels=levels, window=window,
+                             quantizer=method)
+    if cancel():
+        raise Cancelled("a newer setting was asked for")
+    ms = named_scales(ms, meta)
+    out.model = PhotoModel(ms, photo_tone(out.image, lv[-1]) if tone else None)
+    out.dpj = ms.dpjs[-1]
+    out.scale_levels = tuple(lv)
+    out.scale_views = tuple(qimage_from_rgb(colourize(v, scale_palette(ms, k)))
+                            for k, v in enumerate(lv))
+    out.levels = preview_image(colourize(lv[-1], ms.palette))
+    out.quantization = None
+    return out
+
+
+def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, cancel,
+            scales: int | None = 1, tone: bool = True) -> Acquired:
     """Read the photo (unless ``image`` is given), quantise it and count its windows: all the
-    slow part of the dialog, for the worker. Stops between stages when ``cancel()``."""
+    slow part of the dialog, for the worker. Stops between stages when ``cancel()``.
+    ``scales``: 1 for one DPJ, more for a photo model (``tone``: with the photo's tone), None
+    for as many as the photo's size suggests (markov.multiscale.default_scales)."""
     out = Acquired(path, image)
     try:
         if image is None:
@@ -99,7 +154,11 @@ def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, can
     if cancel():
         raise Cancelled("a newer setting was asked for")
     meta = {"name": path.stem, "image": path.name, "quantiser": method}
+    if scales is None:
+        scales = default_scales(np.shape(out.image))
     try:
+        if scales > 1:
+            return acquire_scales(out, scales, window, levels, method, tone, meta, cancel)
         out.quantization = q = quantize(out.image, levels, method)
         if cancel():
             raise Cancelled("a newer setting was asked for")
@@ -115,7 +174,8 @@ def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, can
 
 
 class AcquireDialog(QtWidgets.QDialog):
-    """Build it, set a photo, adjust the widgets, accept: ``dpj`` is then the acquired DPJ."""
+    """Build it, set a photo, adjust the widgets, accept: ``dpj`` is then the acquired DPJ;
+    with several scales ``model`` is the photo model and ``dpj`` its finest scale's DPJ."""
 
     def __init__(self, samples: list[Path] = (), parent=None):
         super().__init__(parent)
@@ -123,6 +183,8 @@ class AcquireDialog(QtWidgets.QDialog):
         self.image = None                 # the photo at ``path``, once read
         self.path: Path | None = None
         self.dpj = None                   # the result of the current settings, once ready
+        self.model = None                 # ... a PhotoModel, when it has several scales
+        self.scale_levels = ()            # ... and the photo's levels at each scale
         self.quantization = None
         self.worker = LatestWins(self, delay_ms=DEBOUNCE_MS)
         self.worker.done.connect(self._computed)
@@ -146,11 +208,30 @@ class AcquireDialog(QtWidgets.QDialog):
         self.method.currentIndexChanged.connect(self._schedule)
         self.wrap = QtWidgets.QCheckBox("Wrap around the edges (the photo is periodic)")
         self.wrap.toggled.connect(self._schedule)
+        self.scales = self._spin(1, MAX_SCALES, 1, "Scales: 1 acquires one DPJ; more acquire a "
+                                 "photo model, the photo reduced by 2, 4… with a DPJ per scale "
+                                 "(each finer one given the coarser levels under it), so the "
+                                 "texture keeps structure larger than the window")
+        self.auto_scales = QtWidgets.QCheckBox("auto")
+        self.auto_scales.setToolTip("As many scales as bring the photo's shorter side to about "
+                                    "64 points at the coarsest")
+        self.auto_scales.toggled.connect(self._auto_toggled)
+        self.tone = QtWidgets.QCheckBox("Photographic tone")
+        self.tone.setToolTip("Keep the photo's greys and colours with the model: its textures "
+                             "are shown with them instead of the palette")
+        self.tone.setChecked(True)
+        self.tone.toggled.connect(self._schedule)
         self.synthesise_now = QtWidgets.QCheckBox("Synthesise a texture from it now")
         self.synthesise_now.setChecked(True)
 
         self.photo_view = self._preview_label("photo")
         self.levels_view = self._preview_label("quantised")
+        self.levels_caption = QtWidgets.QLabel("Quantised to G levels")
+        self.scale_strip = QtWidgets.QWidget()           # the scales' previews, coarsest first
+        self.scale_strip.setObjectName("scales")
+        self.scale_strip_layout = QtWidgets.QGridLayout(self.scale_strip)
+        self.scale_strip_layout.setContentsMargins(0, 0, 0, 0)
+        self.scale_strip.hide()
         self.info = QtWidgets.QLabel()
         self.info.setWordWrap(True)
         self.info.setTextInteractionFlags(QtCore.Qt.TextInteractionFlag.TextSelectableByMouse)
@@ -168,6 +249,7 @@ class AcquireDialog(QtWidgets.QDialog):
         self.buttons.accepted.connect(self.accept)
         self.buttons.rejected.connect(self.reject)
         self._layout()
+        self._follow_scales()
 
         if samples:
             self.set_image_path(samples[0])
@@ -207,13 +289,19 @@ class AcquireDialog(QtWidgets.QDialog):
         form.addRow("Levels G", self.levels)
         form.addRow("Quantiser", self.method)
         form.addRow("", self.wrap)
+        scales_row = QtWidgets.QHBoxLayout()
+        scales_row.addWidget(self.scales)
+        scales_row.addWidget(self.auto_scales)
+        scales_row.addStretch(1)
+        form.addRow("Scales", scales_row)
+        form.addRow("", self.tone)
 
         previews = QtWidgets.QGridLayout()
         previews.addWidget(self.photo_view, 0, 0)
         previews.addWidget(self.levels_view, 0, 1)
         previews.addWidget(QtWidgets.QLabel("Photo"), 1, 0, QtCore.Qt.AlignmentFlag.AlignHCenter)
-        previews.addWidget(QtWidgets.QLabel("Quantised to G levels"), 1, 1,
-                           QtCore.Qt.AlignmentFlag.AlignHCenter)
+        previews.addWidget(self.levels_caption, 1, 1, QtCore.Qt.AlignmentFlag.AlignHCenter)
+        previews.addWidget(self.scale_strip, 2, 0, 1, 2)
 
         layout = QtWidgets.QVBoxLayout(self)
         layout.addLayout(form)
@@ -236,7 +324,23 @@ class AcquireDialog(QtWidgets.QDialog):
         self.recompute()
 
     def _schedule(self, *_args) -> None:
+        self._follow_scales()
         self.recompute()
+
+    def _auto_toggled(self, on: bool) -> None:
+        self.scales.setEnabled(not on)
+        self._schedule()
+
+    def _follow_scales(self) -> None:
+        """Only what the current number of scales uses is enabled: the scales wrap around the
+        photo's edges always, and tone belongs to a photo model."""
+        several = self.auto_scales.isChecked() or self.scales.value() > 1
+        self.wrap.setEnabled(not several)
+        self.tone.setEnabled(several)
+
+    def requested_scales(self) -> int | None:
+        """The number of scales asked for (None: auto)."""
+        return None if self.auto_scales.isChecked() else self.scales.value()
 
     # -- the estimate ---------------------------------------------------------------------------------
     def recompute(self) -> None:
@@ -247,11 +351,12 @@ class AcquireDialog(QtWidgets.QDialog):
         path, image = self.path, self.image
         window, levels = (self.u.value(), self.v.value()), self.levels.value()
         method, wrap = self.method.currentData(), self.wrap.isChecked()
-        self.dpj = None
+        scales, tone = self.requested_scales(), self.tone.isChecked()
+        self.dpj, self.model = None, None
         self.ok_button.setEnabled(False)
         self.busy.show()
         self.worker.request(lambda _progress, cancel: acquire(path, image, window, levels,
-                                                              method, wrap, cancel))
+                                                              method, wrap, cancel, scales, tone))
 
     def wait(self, timeout_ms: int = 30_000) -> bool:
         """Block until the current settings' result is shown (tests and scripts only)."""
@@ -270,14 +375,79 @@ class AcquireDialog(QtWidgets.QDialog):
                 self.source.addItem(out.path.name, str(out.path))
             self.source.setCurrentIndex(self.source.findData(str(out.path)))
         if out.dpj is None:
+            self._show_scales(())
             self._show_error(out.error)
             return
-        self.quantization, self.dpj = out.quantization, out.dpj
+        self.quantization, self.dpj, self.model = out.quantization, out.dpj, out.model
+        self.scale_levels = out.scale_levels
         self.levels_view.setPixmap(QtGui.QPixmap.fromImage(out.levels))
-        self._show_report(out.report)
+        self._show_scales(out.scale_views)
+        if out.model is not None:
+            self._show_model(out.model)
+        else:
+            self._show_report(out.report)
+        QtCore.QTimer.singleShot(0, self._make_room)    # once the new widgets have their sizes
+
+    def _make_room(self) -> None:
+        """Grow to show the scales' strip and the wrapped report whole: the layout's minimum
+        does not count a word-wrapped label's lines, and the previews would overlap."""
+        self.layout().activate()
+        self.resize(self.size().expandedTo(self.sizeHint()))
+
+    def _show_scales(self, views) -> None:
+        """Each scale's levels, small and side by side, captioned with its reduction; the
+        coarse ones enlarged without smoothing, so their blocks show what they hold."""
+        grid = self.scale_strip_layout
+        while grid.count():
+            grid.takeAt(0).widget().deleteLater()
+        self.scale_strip.setVisible(bool(views))
+        self.levels_caption.setText("Finest scale, G levels" if views else "Quantised to G levels")
+        if not views:
+            return
+        n = len(views)
+        side = min(SCALE_SIDE, (SCALE_STRIP - 6 * (n - 1)) // n)
+        for k, view in enumerate(views):
+            label = QtWidgets.QLabel()
+            label.setObjectName(f"scale{k}")
+            label.setFixedSize(side, side)
+            label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+            label.setStyleSheet("background: #2b2b2b;")
+            label.setPixmap(QtGui.QPixmap.fromImage(view.scaled(
+                side, side, QtCore.Qt.AspectRatioMode.KeepAspectRatio,
+                QtCore.Qt.TransformationMode.FastTransformation)))
+            caption = QtWidgets.QLabel(scale_caption(k, n))
+            caption.setObjectName(f"scale{k}caption")
+            grid.addWidget(label, 0, k, QtCore.Qt.AlignmentFlag.AlignHCenter)
+            grid.addWidget(caption, 1, k, QtCore.Qt.AlignmentFlag.AlignHCenter)
+
+    def _show_model(self, model: PhotoModel) -> None:
+        ms = model.scales
+        if self.auto_scales.isChecked():
+            self.scales.blockSignals(True)        # the number auto chose, without asking again
+            self.scales.setValue(ms.scales)
+            self.scales.blockSignals(False)
+        h, w = self.scale_levels[-1].shape
+        parts = []
+        for k, dpj in enumerate(ms.dpjs):
+            u, v = dpj.window
+            given = f" given {ms.levels_at(k - 1)}" if k else ""
+            parts.append(f"{scale_caption(k, ms.scales)}: {u}×{v}, G = {ms.levels_at(k)}{given}, "
+                         f"{len(dpj):,} configurations")
+        tone = ("shown with the photo's own " + ("colours" if model.tone.colour is not None
+                                                  else "greys")
+                if model.tone is not None else "shown with the palette (no tone)")
+        self.info.setStyleSheet("")
+        self.info.setText(f"<b>A photo model of {ms.scales} scales</b> from a {w}×{h} photo — "
+                          f"{'; '.join(parts)}.<br>"
+                          f"<span style='color: #308030'>Each finer scale is drawn given the "
+                          f"coarser one under it; textures are {tone}.</span>")
+        self.info.setToolTip("The coarsest scale is an ordinary DPJ; each finer one is a "
+                             "conditional DPJ over composite levels parent · G + level.")
+        self.ok_button.setEnabled(True)
 
     def _unreadable(self, message: str) -> None:
-        self.path, self.image, self.dpj = None, None, None
+        self.path, self.image, self.dpj, self.model = None, None, None, None
+        self._show_scales(())
         self.photo_view.clear()
         self.levels_view.clear()
         self.photo_view.setText("cannot read this file")

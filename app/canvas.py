@@ -13,7 +13,7 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6 import QtCore, QtGui
 
-from .mip import box_average, mip_level
+from .mip import box_average, box_average_rgb, mip_level
 
 GRID_MIN_ZOOM = 12.0          # screen pixels per cell before the pixel grid is drawn
 ZOOM_STEP = math.sqrt(2.0)    # one +/- key press
@@ -189,6 +189,7 @@ class CanvasView(pg.GraphicsView):
     def __init__(self, parent=None):
         self._levels: np.ndarray | None = None
         self._lut: np.ndarray | None = None      # the palette's 256-entry table
+        self._picture: np.ndarray | None = None  # (H, W, 3) shown instead of lut[levels]: tone
         self._mips: dict[int, np.ndarray] = {}   # mip level k -> its picture, for this image
         self._shown_level: int | None = None     # the level the image item holds (None: stale)
         self._tiled = False
@@ -216,9 +217,18 @@ class CanvasView(pg.GraphicsView):
         self.scene().sigMouseMoved.connect(self._mouse_moved)
 
     # -- content ----------------------------------------------------------------------------------
-    def set_image(self, levels: np.ndarray, palette) -> None:
-        """Show a level matrix through a palette; a new shape fits the view to it."""
+    def set_image(self, levels: np.ndarray, palette, picture: np.ndarray | None = None) -> None:
+        """Show a level matrix through a palette; a new shape fits the view to it. ``picture``
+        (uint8, grey (H, W) or RGB (H, W, 3), the levels' shape): shown instead of the palette's
+        colours — the levels drawn with a photo's tone — while the cursor still reads levels."""
         new_shape = self._levels is None or self._levels.shape != levels.shape
+        if picture is not None:
+            picture = np.asarray(picture, dtype=np.uint8)
+            if picture.shape[:2] != levels.shape:
+                raise ValueError(f"a {picture.shape} picture for {levels.shape} levels")
+            if picture.ndim == 2:
+                picture = np.repeat(picture[..., None], 3, axis=2)
+        self._picture = picture
         self._levels = levels
         self._lut = palette_lut(palette)
         self._mips.clear()
@@ -236,6 +246,7 @@ class CanvasView(pg.GraphicsView):
         screen, nothing else is uploaded. False (nothing done) when a full ``set_image`` is
         needed: another shape, no picture yet, or a picture format this does not patch."""
         if (self._levels is None or levels.shape != self._levels.shape or box is None
+                or self._picture is not None
                 or self._shown_level is None or self.image.qimage is None
                 or self.image.image is None):
             return False
@@ -268,8 +279,11 @@ class CanvasView(pg.GraphicsView):
         return True
 
     def set_palette(self, palette) -> None:
-        """Recolour without touching the matrix (used by the palette dock's live preview)."""
+        """Recolour without touching the matrix (used by the palette dock's live preview); a
+        picture shown instead of the palette's colours (tone) stays as it is."""
         self._lut = palette_lut(palette)
+        if self._picture is not None:
+            return
         self._mips.clear()
         if self._shown_level == 0:
             self.image.setLookupTable(self._lut)
@@ -282,7 +296,9 @@ class CanvasView(pg.GraphicsView):
         """Mip level k of the shown picture (box averages of 2^k × 2^k cells), built once per
         image or palette change and kept until the next."""
         mip = self._mips.get(k)
-        if mip is None:
+        if mip is None and self._picture is not None:
+            mip = self._mips[k] = box_average_rgb(self._picture, k)
+        elif mip is None:
             mip = self._mips[k] = box_average(self._levels, self._lut, k)
         return mip
 
@@ -303,7 +319,10 @@ class CanvasView(pg.GraphicsView):
         if k == self._shown_level:
             return
         h, w = self._levels.shape
-        if k == 0:
+        if k == 0 and self._picture is not None:
+            self.image.setImage(self._picture, lut=None, levels=(0, 255), autoLevels=False)
+            self.image.setRect(QtCore.QRectF(0, 0, w, h))
+        elif k == 0:
             self.image.setImage(self._levels, lut=self._lut, levels=(0, 255), autoLevels=False)
             self.image.setRect(QtCore.QRectF(0, 0, w, h))
         else:
@@ -317,8 +336,15 @@ class CanvasView(pg.GraphicsView):
     def levels(self) -> np.ndarray | None:
         return self._levels
 
+    @property
+    def picture(self) -> np.ndarray | None:
+        """The (H, W, 3) picture shown instead of the palette's colours (tone), or None."""
+        return self._picture
+
     def displayed_colour(self, x: int, y: int) -> tuple[int, int, int]:
         """The colour the canvas shows at cell (x, y) — what the user sees, for checks."""
+        if self._picture is not None:
+            return tuple(int(c) for c in self._picture[y, x])
         return tuple(int(c) for c in self._lut[self._levels[y, x]][:3])
 
     # -- tiled preview ----------------------------------------------------------------------------

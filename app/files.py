@@ -10,7 +10,7 @@ from pathlib import Path
 
 from PySide6 import QtCore, QtWidgets
 
-from texeditor.export import write_png
+from texeditor.export import write_picture, write_png
 from texeditor.recipe.actions import NewCanvas
 from texeditor.errors import TexeditorError
 from texeditor.recipe.history import History
@@ -98,6 +98,9 @@ class FileOps:
         if not self.maybe_save():
             return False
         history = History()
+        if self.photo_model is not None:       # its scales stay at hand for a synthesis
+            for dpj in self.photo_model.scales.dpjs:
+                history.add_dpj(dpj)
         old = self.history.document.dpj if self.history is not None else None
         if old is not None and old.levels == levels:
             history.add_dpj(old)
@@ -191,8 +194,12 @@ class FileOps:
         if path.suffix.lower() != ".png":
             path = path.with_name(path.name + ".png")
         doc = self.history.document
+        picture = self.tone_picture()        # the picture on show: the photo's tone, if it is
         try:
-            write_png(path, doc.levels, doc.palette, scale)   # atomic: no half-written file
+            if picture is not None:
+                write_picture(path, picture, scale)
+            else:
+                write_png(path, doc.levels, doc.palette, scale)   # atomic: no half-written file
         except (TexeditorError, OSError) as exc:
             self.show_error("Cannot export", exc)
             return False

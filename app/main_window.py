@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor import warmup
-from texeditor.recipe.actions import SetPalette, Synthesize
+from texeditor.recipe.actions import SetPalette, Synthesize, SynthesizeScales
 from texeditor.errors import TexeditorError
 from texeditor.recipe.history import EVERYTHING, History
 
@@ -31,6 +31,7 @@ from .grain_rendering_dock import GrainRenderingDock
 from .grain_stamps_dock import GrainStampsDock
 from .history_dock import HistoryDock
 from .palette_dock import PaletteDock
+from .photo_ops import PhotoOps
 from .synthesis_dock import SynthesisDock
 from .synthesis_worker import TaskRunner, render_synthesis
 from .tool_dock import ToolOptionsDock
@@ -73,7 +74,7 @@ MENUS = (("FileMenu", "&File"), ("EditMenu", "&Edit"), ("ImageMenu", "&Image"),
          ("ViewMenu", "&View"), ("ToolsMenu", "&Tools"), ("GrainStampsMenu", "Grain &stamps"))
 
 
-class MainWindow(FileOps, QtWidgets.QMainWindow):
+class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
     def __init__(self, history: History | None = None, path=None):
         super().__init__()
         self.setWindowTitle(APP_NAME)
@@ -91,6 +92,9 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.peano_dialog = None          # non-modal dialogs, kept to be shown again
         self.composition_dialog = None
         self.doubling_dialog = None
+        self.photo_model = None    # the photo model acquired or opened last (app.photo_ops)
+        self._tone_cache = None    # (key, picture) of the last tone rendering
+        self.tone_seconds = 0.0    # how long the last tone rendering took
 
         self.canvas = CanvasView()
         self.setCentralWidget(self.canvas)
@@ -207,6 +211,9 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
                             "Write the texture as an image, optionally enlarged")
         self.act_acquire = a("&Acquire DPJ from image…", self.acquire, "Ctrl+I",
                              "Estimate a DPJ from a photo (thesis §5.2)")
+        self.act_open_dpj = a("Open DPJ or photo &model…", lambda: self.open_dpj(),
+                              "Ctrl+Shift+O", "Open a .dpj file: a DPJ, or a photo model whose "
+                              "scales are added to the texture")
         self.act_new_dpj = a("New &DPJ…", lambda: dpj_editor.open_editor(self, new=True),
                              "Ctrl+Shift+N", "Enter a DPJ by hand: window, G, then paint "
                              "configurations and give them probabilities (thesis §5.2.2)")
@@ -236,6 +243,12 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.act_tiled = a("&Tiled preview (3×3)", self.canvas.set_tiled, "W",
                            "Repeat the texture 3×3 to judge its seams", checkable=True)
         self.act_tiled.setIconText("Tiled")
+        self.act_tone = a("Photographic &tone", lambda _=False: None, "T",
+                          "Show the texture with the photo's own greys and colours (a photo "
+                          "model's tone) instead of the palette", checkable=True)
+        self.act_tone.setChecked(True)
+        self.act_tone.setEnabled(False)
+        self.act_tone.toggled.connect(self._tone_toggled)     # also when the dock's box toggles
 
     def _build_menus(self) -> None:
         for name, title in MENUS:
@@ -249,7 +262,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         menu.addActions([self.act_save, self.act_save_as, self.act_export])
         menu.addAction(self.bank_dock.act_save)
         menu.addSeparator()
-        menu.addAction(self.act_acquire)
+        menu.addActions([self.act_acquire, self.act_open_dpj])
         menu.addActions([self.act_new_dpj, self.act_edit_dpj])
         menu.addSeparator()
         menu.addAction(self.act_quit)
@@ -263,7 +276,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         menu = self.menu("ViewMenu")
         menu.addActions([self.act_zoom_in, self.act_zoom_out, self.act_fit, self.act_actual])
         menu.addSeparator()
-        menu.addAction(self.act_tiled)
+        menu.addActions([self.act_tiled, self.act_tone])
         menu.addSeparator()
         menu.addActions([dock.toggleViewAction() for dock in self.docks()])
 
@@ -347,6 +360,8 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         self.canvas.hovered.connect(self._show_hover)
         self.canvas.zoomChanged.connect(self._show_zoom)
         self.synthesis_dock.requested.connect(self.synthesise)
+        self.synthesis_dock.tone_box.toggled.connect(self.act_tone.setChecked)
+        self.act_tone.toggled.connect(self.synthesis_dock.tone_box.setChecked)
         self.palette_dock.committed.connect(self._palette_committed)
         self.palette_dock.preview.connect(self.canvas.set_palette)
         self.history_dock.stepClicked.connect(self.goto_step)
@@ -399,6 +414,7 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         if self._unsubscribe is not None:
             self._unsubscribe()
         self.history, self.path, self._name = history, path, name
+        self.keep_model_for(history)
         self._unsubscribe = history.subscribe(self._history_changed)
         self.history_dock.set_history(history)
         self.mark_clean()
@@ -415,10 +431,13 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
             self.palette_dock.set_palette(doc.palette)
         if what & {"log", "dpj"}:
             self.history_dock.refresh()
-            self.synthesis_dock.refresh(self.history)
+            refs = self.scale_refs()
+            self.synthesis_dock.refresh(self.history, [doc.dpjs[r] for r in refs])
             self.density_dock.refresh()
         self.act_undo.setEnabled(self.can_undo())
         self.act_redo.setEnabled(self.history.can_redo)
+        self.act_tone.setEnabled(self.tone_available())
+        self.synthesis_dock.set_tone_available(self.tone_available())
         moved = len(self.history.retargeted)
         self.retargeted_label.setText(f"⚠ {moved} step(s) re-targeted" if moved else "")
         self._update_title()
@@ -427,8 +446,13 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
     def _show_document(self, doc, change) -> None:
         """Redraw the canvas as little as the change allows: a box of cells, a recolouring,
         or (a new matrix, a replay) the whole picture."""
+        picture = self.tone_picture() if doc.levels.size else None
         if not doc.levels.size:
             self.canvas.image.clear()
+        elif picture is not None:       # tone: the whole picture is drawn again (scan order)
+            self.canvas.set_image(doc.levels, doc.palette, picture)
+        elif self.canvas.picture is not None:        # tone was shown: back to the palette
+            self.canvas.set_image(doc.levels, doc.palette)
         elif change is not None and change.what & {"levels", "palette"} == {"palette"} \
                 and self.canvas.levels is not None and self.canvas.levels.shape == doc.shape:
             self.canvas.set_palette(doc.palette)
@@ -552,9 +576,16 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
     def synthesise_from_dock(self) -> None:
         self.synthesise(*self.synthesis_dock.values())
 
-    def synthesise(self, width: int, height: int, seed: int) -> None:
-        """Synthesise from the current DPJ in the worker, then apply a Synthesize action."""
+    def synthesise(self, width: int, height: int, seed: int, scales: int | None = None) -> None:
+        """Synthesise from the current DPJ in the worker, then apply a Synthesize action; when
+        the current DPJ is a scale of a photo model, from its first ``scales`` scales (None:
+        the Synthesis dock's number) with a SynthesizeScales action."""
         doc = self.history.document
+        refs = self.scale_refs()
+        if refs:
+            n = self.synthesis_dock.scale_count() if scales is None else scales
+            self._synthesise_scales(refs[:max(1, min(n, len(refs)))], width, height, seed)
+            return
         if doc.dpj is None:
             QtWidgets.QMessageBox.information(self, "No DPJ", "Acquire a DPJ from an image first "
                                               "(File ▸ Acquire DPJ from image…).")
@@ -570,6 +601,25 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         history = self.history
         self.runner.run(f"Synthesising {width}×{height}…",
                         lambda progress, cancel: render_synthesis(action, dpj, progress, cancel),
+                        lambda result: self._synthesis_done(history, action, result, start),
+                        on_cancel=lambda: self.statusBar().showMessage(
+                            "Synthesis cancelled: the document is unchanged.", 8000),
+                        on_error=lambda exc: self.show_error("Synthesis failed", exc))
+
+    def _synthesise_scales(self, refs, width: int, height: int, seed: int) -> None:
+        """The same path for a multi-scale synthesis: the scales' DPJs drawn in the worker, the
+        levels applied here by SynthesizeScales."""
+        if self.runner.busy:
+            return
+        try:
+            action = SynthesizeScales(tuple(refs), width, height, seed)
+        except TexeditorError as exc:
+            self.show_error("Cannot synthesise", exc)
+            return
+        dpjs, start = [self.history.document.dpjs[r] for r in refs], time.perf_counter()
+        history = self.history
+        self.runner.run(f"Synthesising {width}×{height} on {len(refs)} scales…",
+                        lambda progress, cancel: render_synthesis(action, dpjs, progress, cancel),
                         lambda result: self._synthesis_done(history, action, result, start),
                         on_cancel=lambda: self.statusBar().showMessage(
                             "Synthesis cancelled: the document is unchanged.", 8000),
@@ -668,12 +718,20 @@ class MainWindow(FileOps, QtWidgets.QMainWindow):
         return dialog
 
     def use_acquired(self, dialog: AcquireDialog) -> None:
-        """The acquired DPJ becomes the current one (and is synthesised if asked)."""
+        """The acquired DPJ becomes the current one (and is synthesised if asked); a photo
+        model's scales are all added, the finest current, and the model attached."""
         dpj = dialog.dpj
-        self.history.add_dpj(dpj)
-        u, v = dpj.window
-        self.statusBar().showMessage(f"Acquired a {u}×{v} DPJ with G = {dpj.levels} from "
-                                     f"{dialog.path.name}: {len(dpj):,} configurations.", 10000)
+        if dialog.model is not None:
+            self.attach_model(dialog.model)
+            self.statusBar().showMessage(f"Acquired a photo model of {dialog.model.scales.scales} "
+                                         f"scales with G = {dialog.model.levels} from "
+                                         f"{dialog.path.name}.", 10000)
+        else:
+            self.history.add_dpj(dpj)
+            u, v = dpj.window
+            self.statusBar().showMessage(f"Acquired a {u}×{v} DPJ with G = {dpj.levels} from "
+                                         f"{dialog.path.name}: {len(dpj):,} configurations.",
+                                         10000)
         if dialog.synthesise_now.isChecked():
             self.synthesise_from_dock()
 

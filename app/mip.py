@@ -34,6 +34,18 @@ def box_average(levels: np.ndarray, lut: np.ndarray, k: int) -> np.ndarray:
     return out
 
 
+def box_average_rgb(rgb: np.ndarray, k: int) -> np.ndarray:
+    """The same mean colours for a picture that is already (H, W, 3) uint8 RGB (a texture shown
+    with its photo's tone): each channel averaged through an identity table."""
+    ramp = np.repeat(np.arange(256, dtype=np.uint8)[:, None], 3, axis=1)
+    f = 1 << k
+    h, w = rgb.shape[:2]
+    out = np.empty(((h + f - 1) // f, (w + f - 1) // f, 3), np.uint8)
+    for c in range(3):
+        out[..., c] = box_average(rgb[..., c], ramp, k)[..., 0]
+    return out
+
+
 def _readonly(a: np.ndarray) -> np.ndarray:
     """A C-contiguous uint8 read-only view: one compiled signature (numba types read-only arrays
     apart, and the document hands out read-only views) and one compilation."""

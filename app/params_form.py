@@ -25,7 +25,13 @@ def new_seed() -> int:
 def dpj_summary(dpj) -> str:
     u, v = dpj.window
     source = dpj.meta.get("name") or dpj.meta.get("source") or "DPJ"
-    return f"{source}: {u}×{v}, G = {dpj.levels}, {len(dpj):,} configurations"
+    parents = dpj.meta.get("parent_levels")
+    if isinstance(parents, int) and parents > 1 and dpj.levels % parents == 0:
+        # a photo model's finer scale: its levels given the coarser scale's (composite levels)
+        g = f"{dpj.levels // parents} given {parents} ({dpj.levels} composite levels)"
+    else:
+        g = str(dpj.levels)
+    return f"{source}: {u}×{v}, G = {g}, {len(dpj):,} configurations"
 
 
 class SeedEdit(QtWidgets.QWidget):

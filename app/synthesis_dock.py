@@ -1,4 +1,5 @@
-"""The synthesis dock: the current DPJ, the size and seed of the next texture, and its button.
+"""The synthesis dock: the current DPJ, the size and seed of the next texture, and its button;
+for a photo model's scales, how many of them to draw, and whether to show the photo's tone.
 
 Synthesis itself runs in a worker (synthesis_worker.py); this panel only gathers the parameters of
 the Synthesize Action the main window will submit.
@@ -8,6 +9,7 @@ from __future__ import annotations
 
 from PySide6 import QtCore, QtWidgets
 
+from texeditor.markov.multiscale import MultiScaleDPJ
 from texeditor.recipe.actions import MAX_CANVAS_SIDE
 
 from .params_form import SeedEdit, dpj_summary
@@ -17,13 +19,23 @@ DEFAULT_SIZE = 256
 DEFAULT_SEED = 1984
 
 
+SYNTHESES = ("synthesize", "synthesize_scales")
+
+
 def synthesis_step(history):
-    """The Synthesize step that made the current texture (None when the last new canvas was not
-    a synthesis, or there is none)."""
+    """The Synthesize (or SynthesizeScales) step that made the current texture (None when the
+    last new canvas was not a synthesis, or there is none)."""
     for action in reversed(history.applied):
         if action.EFFECT == "reset":
-            return action if action.TYPE == "synthesize" else None
+            return action if action.TYPE in SYNTHESES else None
     return None
+
+
+def scales_summary(dpjs) -> tuple[str, str]:
+    """Two lines for a photo model's scales: its name and number of scales, the finest one."""
+    name = dpjs[-1].meta.get("name", "photo model").rpartition(" scale ")[0] or "photo model"
+    u, v = dpjs[-1].window
+    return f"{name}: {len(dpjs)} scales", f"finest {u}×{v}, G = {MultiScaleDPJ(tuple(dpjs)).levels}"
 
 
 class SynthesisDock(QtWidgets.QDockWidget):
@@ -44,15 +56,31 @@ class SynthesisDock(QtWidgets.QDockWidget):
         size_row.addWidget(QtWidgets.QLabel("×"))
         size_row.addWidget(self.height_box, 1)
         self.seed = SeedEdit(DEFAULT_SEED)
+        self.scales_box = QtWidgets.QSpinBox()
+        self.scales_box.setRange(1, 1)
+        self.scales_box.setToolTip("How many scales of the photo model to draw, coarsest first "
+                                   "(all of them: the photo's size of structure); only for a "
+                                   "photo model's DPJ")
+        self.tone_box = QtWidgets.QCheckBox("Photographic tone")
+        self.tone_box.setChecked(True)
+        self.tone_box.setToolTip("Show the texture with the photo's own greys and colours instead "
+                                 "of the palette (View ▸ Photographic tone, T)")
+        scales_row = QtWidgets.QHBoxLayout()
+        scales_row.addWidget(self.scales_box)
+        scales_row.addWidget(self.tone_box, 1)
         self.button = QtWidgets.QPushButton("Synthesise")
         self.button.setToolTip("Draw a new texture from the current DPJ (Ctrl+R)")
         self.button.clicked.connect(self._request)
         form.addRow("DPJ", self.dpj_label)
         form.addRow("Size", size_row)
         form.addRow("Seed", self.seed)
+        form.addRow("Scales", scales_row)
         form.addRow(self.button)
         self.setWidget(scrolled(body))
+        self.scale_dpjs: list = []
         self.set_dpj(None)
+        self.set_scales([])
+        self.set_tone_available(False)
 
     def _side(self) -> QtWidgets.QSpinBox:
         box = QtWidgets.QSpinBox()
@@ -71,22 +99,48 @@ class SynthesisDock(QtWidgets.QDockWidget):
         self.dpj_label.setToolTip(dpj_summary(dpj) if dpj is not None else "")
         self.button.setEnabled(self.has_dpj and not getattr(self, "busy", False))
 
-    def refresh(self, history) -> None:
-        """Follow the document after any change (undo, redo, replay, open): its DPJ, and the
-        size and seed of the synthesis that made the current texture. Those are shown when that
-        step changes, so values typed for the next synthesis survive unrelated edits (a stroke)."""
+    def set_scales(self, dpjs) -> None:
+        """The scales (DPJs, coarsest first) the current DPJ belongs to, or none: a new set
+        offers all its scales, the same set keeps the number chosen."""
+        dpjs = list(dpjs)
+        same = [d.ref for d in dpjs] == [d.ref for d in self.scale_dpjs]
+        self.scale_dpjs = dpjs
+        n = max(1, len(dpjs))
+        self.scales_box.setRange(1, n)
+        if not same:
+            self.scales_box.setValue(n)
+        self.scales_box.setEnabled(len(dpjs) > 1)
+        if dpjs:
+            first, second = scales_summary(dpjs)
+            self.dpj_label.setText(f"{first}\n{second}")
+            self.dpj_label.setToolTip("\n".join(dpj_summary(d) for d in dpjs))
+
+    def set_tone_available(self, available: bool) -> None:
+        self.tone_box.setEnabled(available)
+
+    def scale_count(self) -> int:
+        return self.scales_box.value()
+
+    def refresh(self, history, scale_dpjs=()) -> None:
+        """Follow the document after any change (undo, redo, replay, open): its DPJ (and the
+        scales it belongs to), and the size, seed and scales of the synthesis that made the
+        current texture. Those are shown when that step changes, so values typed for the next
+        synthesis survive unrelated edits (a stroke)."""
         doc = history.document
         self.set_dpj(doc.dpj)
+        self.set_scales(scale_dpjs)
         step = synthesis_step(history)
         if step is not None and step != getattr(self, "_shown_step", None):
             self.show_step(step)
         self._shown_step = step
 
     def show_step(self, action) -> None:
-        """Show a Synthesize step's size and seed."""
+        """Show a Synthesize step's size and seed (a SynthesizeScales step's scales too)."""
         self.width_box.setValue(action.width)
         self.height_box.setValue(action.height)
         self.seed.set_value(action.seed)
+        if action.TYPE == "synthesize_scales":
+            self.scales_box.setValue(len(action.dpjs))
 
     def set_busy(self, busy: bool) -> None:
         self.busy = busy

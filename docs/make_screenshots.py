@@ -556,5 +556,28 @@ def shot_dpj_editor(app, window, out: Path) -> None:
 MORE_SHOTS.append(shot_dpj_editor)
 
 
+def shot_photo_model(app, window, out: Path) -> None:
+    """A photo model (issue 19): the acquisition dialog on 3 scales with each scale's levels,
+    then a 256×256 texture drawn from the scales and shown with the photo's tone. Last: the
+    model stays attached to the window."""
+    dialog = window.acquire()
+    dialog.set_image_path(ROOT / "resources" / "images" / "brick.png")
+    dialog.v.setValue(2)
+    dialog.scales.setValue(3)
+    dialog.wait()
+    settle(app, 300)
+    save(dialog, out / "acquire-scales.png")
+    dialog.synthesise_now.setChecked(False)
+    dialog.ok_button.click()
+    window.synthesise(256, 256, 1984)
+    window.runner.wait()
+    window.canvas.fit()
+    settle(app)
+    save(window, out / "photo-tone.png")
+
+
+MORE_SHOTS.append(shot_photo_model)
+
+
 if __name__ == "__main__":
     sys.exit(main())

@@ -22,19 +22,35 @@ def to_rgb(levels: np.ndarray, palette: np.ndarray) -> np.ndarray:
 
 def write_png(path, levels: np.ndarray, palette: np.ndarray, scale: int = 1) -> None:
     """Write the texture as a PNG, each point drawn as a scale×scale block; grey if the palette is."""
-    if not isinstance(scale, int) or scale < 1:
-        raise InputError(f"the upscale factor must be a positive integer, got {scale!r}")
-    if levels.size * scale * scale > MAX_EXPORT_PIXELS:
-        raise InputError("the exported picture would be too large: choose a smaller upscale")
+    _check_scale(levels.shape, scale)    # before the (maybe huge) RGB array is made
     rgb = to_rgb(levels, palette)
-    if scale > 1:
-        rgb = np.repeat(np.repeat(rgb, scale, axis=0), scale, axis=1)
     pal = np.asarray(palette)
     if np.all(pal[:, 0] == pal[:, 1]) and np.all(pal[:, 1] == pal[:, 2]):
         rgb = rgb[:, :, 0]
+    write_picture(path, rgb, scale)
+
+
+def write_picture(path, picture: np.ndarray, scale: int = 1) -> None:
+    """Write a uint8 picture, grey (H, W) or RGB (H, W, 3), as a PNG, each pixel drawn as a
+    scale×scale block (a texture shown with its photo's tone, photo.PhotoModel.render)."""
+    picture = np.asarray(picture)
+    if picture.dtype != np.uint8 or picture.ndim not in (2, 3) or \
+            (picture.ndim == 3 and picture.shape[2] != 3):
+        raise InputError(f"a picture is uint8 (H, W) or (H, W, 3), got {picture.shape} "
+                         f"{picture.dtype}")
+    _check_scale(picture.shape, scale)
+    if scale > 1:
+        picture = np.repeat(np.repeat(picture, scale, axis=0), scale, axis=1)
     import imageio.v3 as iio  # scikit-image's own reader/writer; loaded only when exporting
 
-    write_file(path, iio.imwrite("<bytes>", rgb, extension=".png"), error=InputError)
+    write_file(path, iio.imwrite("<bytes>", picture, extension=".png"), error=InputError)
+
+
+def _check_scale(shape, scale) -> None:
+    if not isinstance(scale, int) or scale < 1:
+        raise InputError(f"the upscale factor must be a positive integer, got {scale!r}")
+    if shape[0] * shape[1] * scale * scale > MAX_EXPORT_PIXELS:
+        raise InputError("the exported picture would be too large: choose a smaller upscale")
 
 
 def write_image(path, image: np.ndarray) -> None:

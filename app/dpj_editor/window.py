@@ -16,6 +16,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 from texeditor.markov import dpj_edit
 from texeditor.markov.dpj import DPJ, MAX_LEVELS, MAX_SIDE, decode
 from texeditor.errors import TexeditorError
+from texeditor.photo import load_model
 
 from ..synthesis_worker import TaskRunner
 from ..widgets import fit_to_screen, scrolled
@@ -443,9 +444,15 @@ class DPJEditor(QtWidgets.QMainWindow):
                 return False
         path = Path(path)
         try:
-            dpj = DPJ.load(path)
+            dpj = load_model(path)
         except TexeditorError as exc:
             self.show_error(f"Cannot open {path.name}", exc)
+            return False
+        if not isinstance(dpj, DPJ):
+            self.show_error(f"Cannot open {path.name}", f"{path.name} is a photo model of "
+                            f"{dpj.scales.scales} scales: open it with the main window's File ▸ "
+                            "Open DPJ or photo model…, which adds each scale's DPJ to the "
+                            "texture; Edit DPJ then opens the current one here.")
             return False
         dpj = DPJ(dpj.configs, dpj.probs, dpj.levels, palette=dpj.palette,
                   meta={"name": path.stem, **dpj.meta})

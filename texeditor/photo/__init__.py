@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from . import tone
 from .model import (PhotoModel, Resynthesis, Tone, acquire_model, load_model,
-                    model_from_bytes)
+                    model_from_bytes, photo_tone)
 
 
 def resynthesize(photo, shape, *, seed: int = 0, tone: bool = True, progress=None, cancel=None,
@@ -23,4 +23,4 @@ def resynthesize(photo, shape, *, seed: int = 0, tone: bool = True, progress=Non
 
 
 __all__ = ["tone", "PhotoModel", "Resynthesis", "Tone", "acquire_model", "load_model",
-           "model_from_bytes", "resynthesize"]
+           "model_from_bytes", "photo_tone", "resynthesize"]

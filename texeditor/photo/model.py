@@ -127,13 +127,19 @@ def acquire_model(image, *, scales: int | None = None, levels: int = LEVELS, win
     ms, lv = estimate_scales(image, scales=scales, levels=levels, window=window,
                              coarse_levels=coarse_levels, coarse_window=coarse_window,
                              quantizer=quantizer)
-    finest = lv[-1]
+    return PhotoModel(ms, photo_tone(image, lv[-1]) if tone else None)
+
+
+def photo_tone(image, finest: np.ndarray) -> Tone:
+    """The photo's tone for its finest levels (``estimate_scales``'s last level matrix, which
+    covers the photo's top-left corner): its greys, and its colours when it has them."""
+    image = np.asarray(image)
     h, w = finest.shape
     grey = np.round(to_grey(image)[:h, :w] * 255).astype(np.uint8)
     colour = None
     if image.ndim == 3 and image.shape[2] >= 3:
         colour = _as_uint8(image[:h, :w, :3])
-    return PhotoModel(ms, Tone(finest, grey, colour) if tone else None)
+    return Tone(finest, grey, colour)
 
 
 def _as_uint8(pixels: np.ndarray) -> np.ndarray:

@@ -1,0 +1,126 @@
+"""Photo models in the main window: their scale DPJs in the document, multi-scale synthesis, and
+the canvas drawn with the photo's tone.
+
+A mixin of MainWindow. A photo model (photo.PhotoModel, from the acquire dialog or a `.dpj` of
+format 2) puts its scale DPJs in the document's DPJ store, where SynthesizeScales steps refer to
+them and a `.texture` keeps them; the model itself (its tone) stays with the window, which shows
+any document whose levels it can draw with the photo's greys and colours instead of the palette.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import time
+from pathlib import Path
+
+import numpy as np
+from PySide6 import QtWidgets
+
+from texeditor.errors import TexeditorError
+from texeditor.markov.dpj import DPJ
+from texeditor.photo import PhotoModel, load_model
+
+from .acquire_dialog import named_scales
+from .synthesis_dock import synthesis_step
+
+DPJ_FILTER = "DPJ files and photo models (*.dpj);;All files (*)"
+
+
+class PhotoOps:
+    """Attach a photo model, find the current DPJ's scales, render tone (needs history, canvas,
+    act_tone, photo_model, synthesis_dock)."""
+
+    # -- the model and its scales -------------------------------------------------------------------
+    def attach_model(self, model: PhotoModel) -> None:
+        """Add a photo model's scale DPJs to the document (coarsest first: the finest becomes
+        the current DPJ) and keep the model for its tone."""
+        self.photo_model = model
+        self._tone_cache = None
+        for dpj in model.scales.dpjs:
+            self.history.add_dpj(dpj)
+        self._show_document(self.history.document, None)
+
+    def scale_refs(self) -> tuple[str, ...]:
+        """The scales (references, coarsest first) the current DPJ belongs to: the attached
+        model's, or those of a multi-scale synthesis in the log (a reopened `.texture`); ()
+        when the current DPJ is a plain one."""
+        doc = self.history.document
+        sets = []
+        if self.photo_model is not None:
+            sets.append(tuple(d.ref for d in self.photo_model.scales.dpjs))
+        sets += [a.dpjs for a in reversed(self.history.actions) if a.TYPE == "synthesize_scales"]
+        for refs in sets:
+            if doc.dpj_ref in refs and all(r in doc.dpjs for r in refs):
+                return tuple(refs)
+        return ()
+
+    def keep_model_for(self, history) -> None:
+        """Another document is shown: the model stays attached only if the document holds its
+        scales (a texture made from it), so other textures show with their own palette."""
+        model = self.photo_model
+        if model is not None and model.scales.dpjs[-1].ref not in history.document.dpjs:
+            self.photo_model = None
+            self._tone_cache = None
+
+    # -- File ▸ Open DPJ ------------------------------------------------------------------------------
+    def open_dpj(self, path=None) -> bool:
+        """A `.dpj` file: a photo model (format 2) adds its scales and is attached; a single DPJ
+        (format 1) becomes the current DPJ, as an acquired one does."""
+        if path is None:
+            path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Open a DPJ or photo model",
+                                                            self._folder(), DPJ_FILTER)
+            if not path:
+                return False
+        if self.edits_locked():
+            return False
+        path = Path(path)
+        try:
+            loaded = load_model(path)
+        except (TexeditorError, OSError) as exc:
+            self.show_error(f"Cannot open {path.name}", exc)
+            return False
+        if isinstance(loaded, PhotoModel):
+            model = PhotoModel(named_scales(loaded.scales, {"name": path.stem}), loaded.tone)
+            self.attach_model(model)
+            tone = "with its tone" if model.tone is not None else "without tone"
+            self.statusBar().showMessage(f"Opened the photo model {path.name}: {model.scales.scales} "
+                                         f"scales, G = {model.levels}, {tone}.", 10000)
+            return True
+        dpj = loaded if "name" in loaded.meta else DPJ(
+            loaded.configs, loaded.probs, loaded.levels, palette=loaded.palette,
+            meta={**loaded.meta, "name": path.stem})
+        self.history.add_dpj(dpj)
+        u, v = dpj.window
+        self.statusBar().showMessage(f"Opened {path.name}: a {u}×{v} DPJ with G = {dpj.levels}, "
+                                     "now the current DPJ.", 10000)
+        return True
+
+    # -- tone -------------------------------------------------------------------------------------------
+    def tone_available(self) -> bool:
+        """A model with tone is attached and the document's levels are levels it knows."""
+        model, doc = self.photo_model, self.history.document
+        return (model is not None and model.tone is not None and doc.levels.size > 0
+                and doc.num_levels <= model.levels)
+
+    def tone_picture(self) -> np.ndarray | None:
+        """The document's levels drawn with the photo's tone when tone is on and available
+        (seeded by the synthesis that made the texture, so a picture is the same each time it is
+        shown); None: the palette's colours are shown."""
+        if not (self.act_tone.isChecked() and self.tone_available()):
+            return None
+        doc = self.history.document
+        step = synthesis_step(self.history)
+        seed = int(step.seed) if step is not None else 0
+        key = (id(self.photo_model), seed, doc.shape,
+               hashlib.blake2b(np.ascontiguousarray(doc.levels).data, digest_size=16).digest())
+        if self._tone_cache is not None and self._tone_cache[0] == key:
+            return self._tone_cache[1]
+        start = time.perf_counter()
+        picture = self.photo_model.render(doc.levels, seed=seed)
+        self.tone_seconds = time.perf_counter() - start
+        self._tone_cache = (key, picture)
+        return picture
+
+    def _tone_toggled(self, _on: bool = False) -> None:
+        if self.history is not None:
+            self._show_document(self.history.document, None)

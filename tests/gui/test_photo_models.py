@@ -1,0 +1,270 @@
+"""Photo models in the window, as sessions: acquire one with several scales (or open a format-2
+`.dpj`), synthesise from its scales in the Synthesis dock, look at it with and without the
+photo's tone, paint, undo to the start and redo, edit a scale's DPJ, save and reopen; asserts are
+on the document, the log and the picture on the canvas."""
+
+import imageio.v3 as iio
+import numpy as np
+from PySide6 import QtCore, QtWidgets
+
+from texeditor.markov.dpj import DPJ
+from texeditor.markov.levels import load_image
+from texeditor.photo import PhotoModel, acquire_model
+from texeditor.recipe.actions import SynthesizeScales
+
+from tests.support import ROOT
+
+from .support import cell_pos, click, press_key, type_into
+
+CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
+SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier
+LEFT = QtCore.Qt.MouseButton.LeftButton
+Key = QtCore.Qt.Key
+
+
+def rgb(picture):
+    return np.repeat(picture[..., None], 3, axis=2) if picture.ndim == 2 else picture
+
+
+def tone_of(window, seed):
+    """What the canvas must show with tone on: the document's levels in the photo's tone."""
+    return rgb(window.photo_model.render(window.document.levels, seed=seed))
+
+
+def palette_shown(window):
+    """With tone off the canvas draws each level in its palette colour."""
+    doc = window.document
+    assert window.canvas.picture is None
+    h, w = doc.shape
+    for x, y in ((0, 0), (w - 1, h - 1), (w // 2, h // 3)):
+        level = doc.levels[y, x]
+        assert window.canvas.displayed_colour(x, y) == tuple(int(c) for c in doc.palette[level])
+
+
+def synthesise(qtbot, window, width, height, seed, scales=None):
+    dock = window.synthesis_dock
+    type_into(qtbot, dock.width_box, str(width))
+    type_into(qtbot, dock.height_box, str(height))
+    type_into(qtbot, dock.seed.edit, str(seed))
+    if scales is not None:
+        type_into(qtbot, dock.scales_box, str(scales))
+    qtbot.mouseClick(dock.button, LEFT)
+    assert window.runner.wait(120_000)
+    assert not window.errors
+
+
+def undo_to_start(qtbot, window):
+    while window.can_undo():
+        qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert window.history.index == 1
+
+
+def redo_to_end(qtbot, window):
+    while window.history.can_redo:
+        qtbot.keyClick(window, Key.Key_Z, CTRL | SHIFT)
+
+
+def fill_a_cell(qtbot, window):
+    """Fill tool: a click on a cell whose level is not the current one (a step that changes
+    something)."""
+    press_key(window, Key.Key_F)
+    doc, level = window.document, window.current_level
+    ys, xs = np.nonzero(doc.levels != level)
+    steps = len(window.history.actions)
+    click(window.canvas.viewport(), cell_pos(window.canvas, int(xs[0]), int(ys[0])))
+    assert len(window.history.actions) == steps + 1
+    assert window.history.actions[-1].TYPE == "fill"
+
+
+def test_acquire_scales_synthesise_tone_undo_edit_save_reopen(qtbot, window, tmp_path):
+    start = window.document.levels.copy()
+    start_seed = window.history.actions[0].seed
+
+    # File ▸ Acquire with 3 scales, a 3×2 window, tone on
+    qtbot.keyClick(window, Key.Key_I, CTRL)
+    dialog = window.acquire_dialog
+    assert dialog.wait() and dialog.model is None          # 1 scale: a DPJ, as before
+    assert not dialog.tone.isEnabled() and dialog.scale_strip.isHidden()
+    type_into(qtbot, dialog.v, "2")
+    type_into(qtbot, dialog.scales, "3")
+    assert dialog.wait()
+    model = dialog.model
+    assert isinstance(model, PhotoModel) and model.scales.scales == 3 and model.tone is not None
+    assert dialog.tone.isEnabled() and not dialog.wrap.isEnabled()
+    captions = [dialog.findChild(QtWidgets.QLabel, f"scale{k}caption").text() for k in range(3)]
+    assert captions == ["1/4", "1/2", "1/1"] and dialog.scale_strip.isVisibleTo(dialog)
+    h, w = dialog.scale_levels[-1].shape
+    assert [lv.shape for lv in dialog.scale_levels] == [(h // 4, w // 4), (h // 2, w // 2), (h, w)]
+    assert "3 scales" in dialog.info.text() and dialog.ok_button.isEnabled()
+    dialog.synthesise_now.setChecked(False)
+    qtbot.mouseClick(dialog.ok_button, LEFT)
+    window.activateWindow()                # the window manager's part, offscreen
+    qtbot.waitUntil(lambda: QtWidgets.QApplication.activeWindow() is window, timeout=3000)
+
+    doc = window.document
+    names = [d.meta["name"] for d in model.scales.dpjs]
+    stem = dialog.path.stem
+    assert names == [f"{stem} scale {k}/3" for k in (1, 2, 3)]
+    refs = tuple(d.ref for d in model.scales.dpjs)
+    assert all(r in doc.dpjs for r in refs) and doc.dpj_ref == refs[-1]
+    finest = doc.dpjs[refs[-1]]
+    assert finest.window == (3, 2) and finest.levels == 16
+    assert window.photo_model is model and window.scale_refs() == refs
+    dock = window.synthesis_dock
+    assert dock.scales_box.isEnabled() and dock.scale_count() == 3
+    assert "3 scales" in dock.dpj_label.text()
+    assert np.array_equal(doc.levels, start)           # adding DPJs adds no step
+    assert np.array_equal(window.canvas.picture, tone_of(window, start_seed))
+
+    # Synthesise 128×128 on 3 scales from the dock
+    synthesise(qtbot, window, 128, 128, 5)
+    doc = window.document
+    step = window.history.actions[-1]
+    assert step.TYPE == "synthesize_scales" and step.dpjs == refs and step.seed == 5
+    assert doc.shape == (128, 128) and doc.num_levels == 4 and int(doc.levels.max()) < 4
+    expected = SynthesizeScales(refs, 128, 128, 5).render_result(
+        [doc.dpjs[r] for r in refs]).levels
+    assert np.array_equal(doc.levels, expected)
+    assert np.array_equal(doc.palette, model.palette)
+    assert np.array_equal(window.canvas.levels, doc.levels)
+    toned = tone_of(window, 5)
+    assert np.array_equal(window.canvas.picture, toned)
+    after_synthesis = doc.levels.copy()
+
+    # tone off with its key (with the focus off the seed field typed last), on again with the
+    # dock's box
+    window.canvas.setFocus()
+    press_key(window, Key.Key_T)
+    assert not window.act_tone.isChecked() and not dock.tone_box.isChecked()
+    palette_shown(window)
+    qtbot.mouseClick(dock.tone_box, LEFT)
+    assert window.act_tone.isChecked()
+    assert np.array_equal(window.canvas.picture, toned)
+
+    # a fill: the tone picture follows the document
+    fill_a_cell(qtbot, window)
+    filled = window.document.levels.copy()
+    assert not np.array_equal(filled, after_synthesis)
+    assert np.array_equal(window.canvas.picture, tone_of(window, 5))
+
+    # undo to the start, redo to the end
+    undo_to_start(qtbot, window)
+    assert np.array_equal(window.document.levels, start)
+    assert window.document.shape == (48, 64) and dock.width_box.value() == 64
+    assert np.array_equal(window.canvas.picture, tone_of(window, start_seed))
+    redo_to_end(qtbot, window)
+    assert np.array_equal(window.document.levels, filled)
+    assert (dock.width_box.value(), dock.seed.value(), dock.scale_count()) == (128, 5, 3)
+    assert np.array_equal(window.canvas.picture, tone_of(window, 5))
+
+    # again with another seed on 2 scales: the coarser scales' texture
+    synthesise(qtbot, window, 128, 128, 6, scales=2)
+    step = window.history.actions[-1]
+    assert step.TYPE == "synthesize_scales" and step.dpjs == refs[:2] and step.seed == 6
+    assert window.document.shape == (128, 128) and window.document.num_levels == 4
+    assert window.document.dpj_ref == refs[1]
+    assert not np.array_equal(window.document.levels, filled)
+    assert window.scale_refs() == refs and dock.scale_count() == 2
+    assert np.array_equal(window.canvas.picture, tone_of(window, 6))
+    qtbot.keyClick(window, Key.Key_Z, CTRL)                   # the dock shows the step's values
+    assert (dock.seed.value(), dock.scale_count()) == (5, 3)
+    qtbot.keyClick(window, Key.Key_Z, CTRL | SHIFT)
+    assert (dock.seed.value(), dock.scale_count()) == (6, 2)
+
+    # Edit DPJ opens the current scale's DPJ: composite levels, its name in the title
+    qtbot.keyClick(window, Key.Key_J, CTRL)
+    editor = window.dpj_editor
+    assert editor.dpj is window.document.dpj and editor.dpj.levels == 8
+    assert editor.dpj.window == (3, 2) and "scale 2/3" in editor.windowTitle()
+    assert editor.report is not None or editor.checked_report() is not None
+    editor.close()
+    window.activateWindow()
+    qtbot.waitUntil(lambda: QtWidgets.QApplication.activeWindow() is window, timeout=3000)
+
+    # export shows what is on screen; save, reopen: the scales travel in the file
+    png = tmp_path / "toned.png"
+    assert window.export_to(png)
+    assert np.array_equal(rgb(iio.imread(png)), window.canvas.picture)
+    levels = window.document.levels.copy()
+    path = tmp_path / "scales.texture"
+    assert window.save_to(path)
+    window.open_file(path)
+    assert window.runner.wait(120_000) and not window.errors
+    doc = window.document
+    assert np.array_equal(doc.levels, levels)
+    assert [a.TYPE for a in window.history.actions][-3:] == ["synthesize_scales", "fill",
+                                                             "synthesize_scales"]
+    assert all(r in doc.dpjs for r in refs) and window.scale_refs() == refs
+    assert window.photo_model is model                  # its scales are in the texture
+    assert np.array_equal(window.canvas.picture, tone_of(window, 6))
+    undo_to_start(qtbot, window)
+    assert np.array_equal(window.document.levels, start)
+    redo_to_end(qtbot, window)
+    assert np.array_equal(window.document.levels, levels)
+
+
+def test_open_a_photo_model_file_then_a_single_dpj(qtbot, window, photo_path, tmp_path,
+                                                  monkeypatch):
+    start = window.document.levels.copy()
+    model_path = tmp_path / "brick-model.dpj"
+    acquire_model(load_image(photo_path), scales=3).save(model_path)
+    chosen = [str(model_path)]
+    monkeypatch.setattr(QtWidgets.QFileDialog, "getOpenFileName",
+                        lambda *a, **k: (chosen[0], ""))
+
+    # File ▸ Open DPJ or photo model… on a format-2 file
+    qtbot.keyClick(window, Key.Key_O, CTRL | SHIFT)
+    model = window.photo_model
+    assert isinstance(model, PhotoModel) and model.scales.scales == 3 and not window.errors
+    refs = window.scale_refs()
+    assert len(refs) == 3 and window.document.dpj_ref == refs[-1]
+    assert [window.document.dpjs[r].meta["name"] for r in refs] == \
+        [f"brick-model scale {k}/3" for k in (1, 2, 3)]
+    assert window.act_tone.isEnabled()
+
+    synthesise(qtbot, window, 96, 80, 3)
+    step = window.history.actions[-1]
+    assert step.TYPE == "synthesize_scales" and step.dpjs == refs
+    assert window.document.shape == (80, 96)
+    assert np.array_equal(window.canvas.picture, tone_of(window, 3))
+    window.act_tone.trigger()                                # View ▸ Photographic tone
+    palette_shown(window)
+    window.act_tone.trigger()
+    assert np.array_equal(window.canvas.picture, tone_of(window, 3))
+    made = window.document.levels.copy()
+
+    # the DPJ editor's own Open says where a photo model opens
+    qtbot.keyClick(window, Key.Key_J, CTRL)
+    editor = window.dpj_editor
+    assert not editor.open_file(model_path)
+    assert window.errors and "photo model" in window.errors[-1][1]
+    window.errors.clear()
+    editor.close()
+    window.activateWindow()
+    qtbot.waitUntil(lambda: QtWidgets.QApplication.activeWindow() is window, timeout=3000)
+
+    # a format-1 file: the current DPJ, no scales; its synthesis is a plain one, and its 8
+    # levels are more than the model's 4: shown with the palette
+    single = tmp_path / "grass.dpj"
+    DPJ.load(ROOT / "resources" / "dpj" / "grass-2x2-g8.dpj").save(single)
+    chosen[0] = str(single)
+    window.act_open_dpj.trigger()
+    assert window.scale_refs() == () and not window.synthesis_dock.scales_box.isEnabled()
+    assert window.document.dpj.levels == 8 and window.document.dpj.window == (2, 2)
+    assert "grass" in window.synthesis_dock.dpj_label.text()
+    synthesise(qtbot, window, 40, 30, 4)
+    assert window.history.actions[-1].TYPE == "synthesize"
+    assert window.document.num_levels == 8
+    assert not window.act_tone.isEnabled() and not window.synthesis_dock.tone_box.isEnabled()
+    palette_shown(window)
+
+    undo_to_start(qtbot, window)
+    assert np.array_equal(window.document.levels, start)
+    redo_to_end(qtbot, window)
+    assert window.document.shape == (30, 40)
+    qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert np.array_equal(window.document.levels, made)
+    # 4 levels again: the photo's tone is back, and Synthesise follows the current DPJ (grass,
+    # current since it was opened)
+    assert np.array_equal(window.canvas.picture, tone_of(window, 3))
+    assert window.document.dpj.levels == 8 and window.synthesis_dock.scale_count() == 1
