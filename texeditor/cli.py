@@ -104,7 +104,7 @@ def _count(text: str, what: str) -> int:
 def _synth_model(model, width, height, seed, out, tone=True) -> int:
     """A photo model: its picture (PNG: tone or palette), its levels (.npy) or a .texture whose
     log draws the same levels from the scales' DPJs."""
-    from .export import write_image, write_npy
+    from .export import write_npy, write_picture
     from .recipe.texturefile import save_texture, synthesize_scales_texture
 
     suffix = out.suffix.lower()
@@ -114,7 +114,7 @@ def _synth_model(model, width, height, seed, out, tone=True) -> int:
         return 0
     result = model.synthesize((height, width), seed=seed, tone=tone)
     if suffix == ".png":
-        write_image(out, result.image)
+        write_picture(out, result.image)
     else:
         write_npy(out, result.levels)
     print(f"{out}: {width}x{height}, seed {seed}, {model.scales.scales} scales, "

@@ -53,13 +53,6 @@ def _check_scale(shape, scale) -> None:
         raise InputError("the exported picture would be too large: choose a smaller upscale")
 
 
-def write_image(path, image: np.ndarray) -> None:
-    """Write a rendered picture (uint8 grey (H, W) or RGB (H, W, 3)) as a PNG, atomically."""
-    import imageio.v3 as iio
-    image = np.ascontiguousarray(image, dtype=np.uint8)
-    write_file(path, iio.imwrite("<bytes>", image, extension=".png"), error=InputError)
-
-
 def write_npy(path, levels: np.ndarray) -> None:
     """Write the uint8 level matrix as a `.npy` (no pickle: a plain numeric array)."""
     buf = io.BytesIO()

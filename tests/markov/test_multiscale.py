@@ -7,7 +7,7 @@ import pytest
 import skimage as ski
 from scipy.stats import chisquare
 
-from texeditor import DPJ, estimate_dpj, quantize, synthesize
+from texeditor import DPJ, estimate_dpj, synthesize
 from texeditor.errors import InputError
 from texeditor.markov import multiscale
 from texeditor.markov.synthesis import synthesize_given
