@@ -15,6 +15,7 @@ from texeditor.recipe.actions import SynthesizeScales
 from tests.support import ROOT
 
 from .support import cell_pos, click, press_key, type_into
+from .test_history_edits import edit_and_apply, recipe
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier
@@ -233,6 +234,18 @@ def test_open_a_photo_model_file_then_a_single_dpj(qtbot, window, photo_path, tm
     assert np.array_equal(window.canvas.picture, tone_of(window, 3))
     made = window.document.levels.copy()
 
+    # the step's seed edited in the History dock: replayed in the worker, undone with Ctrl+Z
+    before = edit_and_apply(qtbot, window, 1, "seed", "31")
+    step = window.history.actions[1]
+    assert step.TYPE == "synthesize_scales" and step.seed == 31 and step.dpjs == refs
+    expected = SynthesizeScales(refs, 96, 80, 31).render_result(
+        [window.document.dpjs[r] for r in refs]).levels
+    assert np.array_equal(window.document.levels, expected)
+    assert np.array_equal(window.canvas.picture, tone_of(window, 31))
+    qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert recipe(window) == before and np.array_equal(window.document.levels, made)
+    assert np.array_equal(window.canvas.picture, tone_of(window, 3))
+
     # the DPJ editor's own Open says where a photo model opens
     qtbot.keyClick(window, Key.Key_J, CTRL)
     editor = window.dpj_editor
@@ -264,7 +277,10 @@ def test_open_a_photo_model_file_then_a_single_dpj(qtbot, window, photo_path, tm
     assert window.document.shape == (30, 40)
     qtbot.keyClick(window, Key.Key_Z, CTRL)
     assert np.array_equal(window.document.levels, made)
-    # 4 levels again: the photo's tone is back, and Synthesise follows the current DPJ (grass,
-    # current since it was opened)
+    # 4 levels again: the photo's tone is back, and the dock offers the scales exactly when the
+    # current DPJ (which the history restores) is one of them
     assert np.array_equal(window.canvas.picture, tone_of(window, 3))
-    assert window.document.dpj.levels == 8 and window.synthesis_dock.scale_count() == 1
+    dock = window.synthesis_dock
+    scaled = window.document.dpj_ref in refs
+    assert window.scale_refs() == (refs if scaled else ())
+    assert dock.scales_box.isEnabled() == scaled and dock.scale_count() == (3 if scaled else 1)
