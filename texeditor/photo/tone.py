@@ -90,13 +90,7 @@ def render(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=None,
 @njit(cache=True, nogil=True)
 def _bucket(keys, starts, key):
     """(first, end) of the photo points with context ``key``; (0, 0) if the photo has none."""
-    a, b = 0, len(keys)
-    while a < b:
-        mid = (a + b) >> 1
-        if keys[mid] < key:
-            a = mid + 1
-        else:
-            b = mid
+    a = np.searchsorted(keys, key)
     if a < len(keys) and keys[a] == key:
         return starts[a], starts[a + 1]
     return 0, 0
