@@ -597,14 +597,7 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         except TexeditorError as exc:
             self.show_error("Cannot synthesise", exc)
             return
-        dpj, start = doc.dpj, time.perf_counter()
-        history = self.history
-        self.runner.run(f"Synthesising {width}×{height}…",
-                        lambda progress, cancel: render_synthesis(action, dpj, progress, cancel),
-                        lambda result: self._synthesis_done(history, action, result, start),
-                        on_cancel=lambda: self.statusBar().showMessage(
-                            "Synthesis cancelled: the document is unchanged.", 8000),
-                        on_error=lambda exc: self.show_error("Synthesis failed", exc))
+        self._run_synthesis(action, doc.dpj, f"Synthesising {width}×{height}…")
 
     def _synthesise_scales(self, refs, width: int, height: int, seed: int) -> None:
         """The same path for a multi-scale synthesis: the scales' DPJs drawn in the worker, the
@@ -616,10 +609,15 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         except TexeditorError as exc:
             self.show_error("Cannot synthesise", exc)
             return
-        dpjs, start = [self.history.document.dpjs[r] for r in refs], time.perf_counter()
-        history = self.history
-        self.runner.run(f"Synthesising {width}×{height} on {len(refs)} scales…",
-                        lambda progress, cancel: render_synthesis(action, dpjs, progress, cancel),
+        dpjs = [self.history.document.dpjs[r] for r in refs]
+        self._run_synthesis(action, dpjs, f"Synthesising {width}×{height} on {len(refs)} scales…")
+
+    def _run_synthesis(self, action, source, label: str) -> None:
+        """Draw ``action``'s levels from ``source`` (its DPJ or DPJs) in the worker, with
+        progress and Cancel; the levels are applied on this thread when done."""
+        start, history = time.perf_counter(), self.history
+        self.runner.run(label,
+                        lambda progress, cancel: render_synthesis(action, source, progress, cancel),
                         lambda result: self._synthesis_done(history, action, result, start),
                         on_cancel=lambda: self.statusBar().showMessage(
                             "Synthesis cancelled: the document is unchanged.", 8000),

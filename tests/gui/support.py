@@ -128,3 +128,22 @@ def set_probability(qtbot, editor, text):
     qtbot.keyClicks(line, text)
     qtbot.keyClick(line, Key.Key_Return)
 
+
+def recipe(window) -> tuple:
+    history = window.history
+    return (history.actions, history.index, history.document.levels.tobytes(),
+            history.document.palette.tobytes())
+
+
+def edit_and_apply(qtbot, window, step: int, name: str, text: str) -> tuple:
+    """Click a step in the History list, type a new value for one parameter, Apply & replay;
+    returns the recipe as it was once the step was clicked (where an undo of the edit goes)."""
+    dock = window.history_dock
+    qtbot.mouseClick(dock.view.viewport(), QtCore.Qt.MouseButton.LeftButton, pos=dock.row_rect(step).center())
+    clicked = recipe(window)
+    kind, editor = dock.form.editors[name]
+    type_into(qtbot, editor.edit if kind == "seed" else editor, text)
+    qtbot.mouseClick(dock.apply_button, QtCore.Qt.MouseButton.LeftButton)
+    assert window.runner.wait(60_000)
+    qtbot.waitUntil(lambda: window.history_dock.view.isEnabled())
+    return clicked

@@ -8,7 +8,7 @@ from PySide6 import QtCore
 from texeditor.recipe.actions import SetLevels, SetPalette
 from texeditor.regions.actions import Fill
 
-from .support import cell_pos, click, type_into
+from .support import cell_pos, click, edit_and_apply, recipe
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier
@@ -16,29 +16,9 @@ LEFT = QtCore.Qt.MouseButton.LeftButton
 DISPLAY = QtCore.Qt.ItemDataRole.DisplayRole
 
 
-def recipe(window) -> tuple:
-    history = window.history
-    return (history.actions, history.index, history.document.levels.tobytes(),
-            history.document.palette.tobytes())
-
-
 def row_text(window, row: int) -> str:
     model = window.history_dock.model
     return model.data(model.index(row), DISPLAY)
-
-
-def edit_and_apply(qtbot, window, step: int, name: str, text: str) -> tuple:
-    """Click a step in the History list, type a new value for one parameter, Apply & replay;
-    returns the recipe as it was once the step was clicked (where an undo of the edit goes)."""
-    dock = window.history_dock
-    qtbot.mouseClick(dock.view.viewport(), LEFT, pos=dock.row_rect(step).center())
-    clicked = recipe(window)
-    kind, editor = dock.form.editors[name]
-    type_into(qtbot, editor.edit if kind == "seed" else editor, text)
-    qtbot.mouseClick(dock.apply_button, LEFT)
-    assert window.runner.wait(60_000)
-    qtbot.waitUntil(lambda: window.history_dock.view.isEnabled())
-    return clicked
 
 
 def test_apply_and_replay_is_undone_and_redone_with_the_keys(qtbot, window):

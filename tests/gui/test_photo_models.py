@@ -14,8 +14,7 @@ from texeditor.recipe.actions import SynthesizeScales
 
 from tests.support import ROOT
 
-from .support import cell_pos, click, press_key, type_into
-from .test_history_edits import edit_and_apply, recipe
+from .support import cell_pos, click, edit_and_apply, press_key, recipe, type_into
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier

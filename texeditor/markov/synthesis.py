@@ -30,7 +30,6 @@ from ..errors import Cancelled, InputError
 MAX_PIXELS = 2**28
 ROWS_PER_CALL_PIXELS = 2**16   # work per kernel call: how often progress and cancel are checked
 DIRECT_INDEX_MAX = 2**20       # context spaces up to this size get a direct look-up table
-ABOVE_WITHOUT_PARENTS = True
 MAX_REDRAW_DEPTH = 4           # rows above a dead end that may be redrawn together
 
 
@@ -175,7 +174,7 @@ def _tables(dpj: DPJ, gp: int = 1) -> _Tables:
         _evict(TABLES_MEMORY)     # before building: old tables need not stay during the build
     positive = dpj.probs > 0
     model = DPJ(dpj.configs[positive], dpj.probs[positive], dpj.levels).normalized()
-    if gp > 1 and ABOVE_WITHOUT_PARENTS:
+    if gp > 1:
         tables = _build_tables(_above_without_parents(model, gp), gp, dpj.levels // gp)
     else:
         tables = _build_tables(model, gp)
