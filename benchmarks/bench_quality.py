@@ -2,7 +2,7 @@
 Resynthesizer, and the photo's own two halves as the yardstick of "same texture".
 
 Run: python benchmarks/bench_quality.py [--photos brick grass gravel] [--size 512] [--seeds 1]
-                                         [--montage-dir docs/img]
+                                         [--large 2048] [--montage-dir docs/img]
 Photos are scikit-image data names or picture files. Metrics (benchmarks/quality.py) compare each
 output with the photo in grey; lower is closer. Time: the whole photo → picture call, warmed on
 64² first (numba), best of --seeds; the metrics are those of the first seed's output.
@@ -31,6 +31,7 @@ import texeditor  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 PEERS = ROOT.parent / "shared" / "peers"
 WARM_SHAPE = (64, 64)
+DRIFT_SEEDS = 4             # the level-frequency drift: the worst of this many seeds
 MULTI = "texeditor multi-scale + tone"
 OLD = "texeditor 1984 (3x3, G=4, single scale)"
 
@@ -93,7 +94,7 @@ def level_drift(result) -> float | None:
     return float(np.abs(quality.level_frequencies(levels, len(model)) - model).max())
 
 
-def bench_photo(name: str, size: int, seeds: int) -> tuple[str, list[np.ndarray]]:
+def bench_photo(name: str, size: int, seeds: int, large: int) -> tuple[str, list[np.ndarray]]:
     """Prints one photo's table; returns its label and the montage panels."""
     label, photo = load_photo(name)
     grey = quality.grey_u8(photo)
@@ -113,13 +114,19 @@ def bench_photo(name: str, size: int, seeds: int) -> tuple[str, list[np.ndarray]
         if title != "image quilting (baseline)":
             panels.append(image)
         if title == MULTI and (drift := level_drift(result)) is not None:
-            print(f"{'':<42} largest |level frequency - model's| = {drift:.3f}")
+            drifts = [drift] + [level_drift(multi_scale(photo, shape, seed)[1])
+                                for seed in range(1, DRIFT_SEEDS)]
+            print(f"{'':<42} largest |level frequency - model's| = {drift:.3f} "
+                  f"(seeds 0..{DRIFT_SEEDS - 1}: {max(drifts):.3f})")
     for k in (9, 30):
         peer = PEERS / f"{label}-resynthesizer-{k}.png"
         if peer.exists():
             print(row(f"Resynthesizer-{k} (peer file)", None, scores(io.imread(peer), grey)))
     if resynthesize is None:
         print(f"({MULTI}: skipped, texeditor.resynthesize does not exist yet)")
+    elif large:
+        seconds, *_ = timed(multi_scale, photo, (large, large), seeds)
+        print(f"{MULTI} at {large}x{large}: {seconds:.2f} s")
     return label, panels
 
 
@@ -150,12 +157,13 @@ def main() -> None:
     ap.add_argument("--photos", nargs="+", default=["brick", "grass", "gravel"])
     ap.add_argument("--size", type=int, default=512)
     ap.add_argument("--seeds", type=int, default=1)
+    ap.add_argument("--large", type=int, default=2048, help="also time this size (0: no)")
     ap.add_argument("--montage-dir", type=Path, default=ROOT / "docs" / "img")
     args = ap.parse_args()
     print("lower is closer; copied% = share of the output's 8x8 blocks found as is in the photo")
     args.montage_dir.mkdir(parents=True, exist_ok=True)
     for name in args.photos:
-        label, panels = bench_photo(name, args.size, args.seeds)
+        label, panels = bench_photo(name, args.size, args.seeds, args.large)
         path = args.montage_dir / f"quality-{label}.png"
         io.imsave(path, montage(panels), check_contrast=False)
         titles = ["photo", OLD] + ([MULTI] if len(panels) > 2 else [])

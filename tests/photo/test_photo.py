@@ -140,3 +140,29 @@ def test_hostile_model_files_are_refused_with_a_reason(model, case):
 def test_tone_refuses_levels_it_cannot_show(model):
     with pytest.raises(InputError):
         tone.render(np.full((4, 4), 7, np.uint8), 4, model.tone.levels, model.tone.grey)
+
+
+@pytest.mark.parametrize("colour, shape", [(False, (300, 170)), (True, (97, 260))])
+def test_tone_drawn_beside_the_synthesis_is_the_tone_of_the_finished_levels(colour, shape):
+    """The tone runs on a second thread behind the synthesis, on rows said to be final: the
+    picture is the one rendered from the finished levels, and no final row changes after."""
+    model = acquire_model(speckle((256, 256), seed=2, colour=colour), scales=3)
+    result = model.synthesize(shape, seed=5)
+    assert np.array_equal(result.image, model.render(result.levels, seed=5))
+
+    seen = []
+    from texeditor.markov.multiscale import synthesize_scales
+    final = synthesize_scales(model.scales, shape, seed=5,
+                              rows_final=lambda lv, n: seen.append(lv[:n].copy())).levels
+    assert seen and len(seen[-1]) == shape[0]
+    assert all(np.array_equal(rows, final[:len(rows)]) for rows in seen)
+    assert np.array_equal(final, result.levels)
+
+
+def test_cancel_stops_the_synthesis_and_its_tone(model):
+    from texeditor.errors import Cancelled
+    calls = []
+    with pytest.raises(Cancelled):
+        model.synthesize((600, 600), seed=1, progress=calls.append,
+                         cancel=lambda: len(calls) >= 3)
+    assert model.synthesize((40, 40), seed=1).image.shape == (40, 40)   # nothing left stuck

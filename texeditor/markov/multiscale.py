@@ -31,6 +31,8 @@ COARSE_WINDOW = (5, 5)      # the coarsest scale: a wide window over few levels 
 COARSE_LEVELS = 2
 WINDOW = (3, 2)             # finer scales: the parents carry the layout, a small window the edges
 LEVELS = 4
+FREQUENCY_TOLERANCE = 0.01  # a coarse scale is redrawn while a level's share is further off
+COARSE_TRIES = 8            # draws of a coarse scale (the next-to-finest: 2; the finest: 1)
 
 
 @dataclass(frozen=True)
@@ -58,6 +60,12 @@ class MultiScaleDPJ:
     def palette(self) -> np.ndarray:
         """The finest scale's G colours."""
         return self.dpjs[-1].palette[: self.levels]
+
+    def frequencies(self, k: int) -> np.ndarray:
+        """Each level's share at scale k, by the DPJ (its windows' bottom-right point)."""
+        dpj, g = self.dpjs[k], self.levels_at(k)
+        return np.bincount(dpj.configs[:, -1, -1] % g, weights=dpj.probs,
+                           minlength=g) / dpj.probs.sum()
 
 
 def parent_levels(dpjs, k: int) -> int:
@@ -148,27 +156,67 @@ def scale_shapes(shape, scales: int) -> list[tuple[int, int]]:
 
 def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       progress: Callable[[float], None] | None = None,
-                      cancel: Callable[[], bool] | None = None) -> SynthesisResult:
-    """Draw the coarsest scale, then each finer one given the one under it; the finest levels.
+                      cancel: Callable[[], bool] | None = None,
+                      rows_final: Callable[[np.ndarray, int], None] | None = None
+                      ) -> SynthesisResult:
+    """Draw the coarsest scale, then each finer one given the one under it; the finest levels
+    (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
 
-    Scale k draws with its own seed derived from ``seed``; the same model and seed give the
-    same matrix."""
+    A coarse scale's field has long-range correlations: one draw of it can hold a level's share
+    a tenth off the model's, and every finer scale inherits it. So a coarse scale is drawn again
+    (up to COARSE_TRIES times, with seeds derived from ``seed``) until every level's share is
+    within FREQUENCY_TOLERANCE of its DPJ's: the field conditioned on its level histogram (the
+    closest draw is kept if none is). The same model and seed give the same matrix."""
     shapes = scale_shapes(shape, model.scales)
     weights = np.array([h * w for h, w in shapes], float)
     done = np.concatenate([[0], np.cumsum(weights)]) / weights.sum()
     repairs = redraws = 0
     levels = None
-    for k, dpj in enumerate(model.dpjs):
-        report = None if progress is None else (
-            lambda f, k=k: progress(done[k] + f * (done[k + 1] - done[k])))
-        sub = scale_seed(seed, k)
-        if k == 0:
-            r = synthesize(dpj, shapes[0], seed=sub, progress=report, cancel=cancel)
-        else:
-            r = synthesize_given(dpj, upsample(levels, shapes[k]), parent_levels(model.dpjs, k),
-                                 seed=sub, progress=report, cancel=cancel)
+    for k in range(model.scales):
+        tries = _tries(k, model.scales)
+        best = None
+        for t in range(tries):
+            report = None if progress is None else (
+                lambda f, k=k, t=t: progress(done[k] + (t + f) / tries * (done[k + 1] - done[k])))
+            final = rows_final if k == model.scales - 1 else None
+            r = _draw_scale(model, k, shapes[k], levels, _try_seed(seed, k, t), report, cancel,
+                            final)
+            off = _frequency_error(r.levels, model.frequencies(k))
+            if best is None or off < best[0]:
+                best = (off, r)
+            if off <= FREQUENCY_TOLERANCE:
+                break
+        r = best[1]
         levels, repairs, redraws = r.levels, repairs + r.repairs, redraws + r.redraws
     return SynthesisResult(levels, repairs, redraws, int(seed))
+
+
+def _tries(k: int, scales: int) -> int:
+    """The finest scale is drawn once (it is most of the work, and given its parents its level
+    shares come out right), the next one at most twice, the small coarse ones more often."""
+    return 1 if k == scales - 1 else 2 if k == scales - 2 else COARSE_TRIES
+
+
+def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final=None):
+    dpj = model.dpjs[k]
+    if k == 0:
+        return synthesize(dpj, shape, seed=seed, progress=progress, cancel=cancel,
+                          rows_final=rows_final)
+    return synthesize_given(dpj, upsample(parents, shape), parent_levels(model.dpjs, k),
+                            seed=seed, progress=progress, cancel=cancel, rows_final=rows_final)
+
+
+def _frequency_error(levels: np.ndarray, expected: np.ndarray) -> float:
+    shares = np.bincount(levels.ravel(), minlength=len(expected)) / levels.size
+    return float(np.abs(shares - expected).max())
+
+
+def _try_seed(seed: int, k: int, t: int) -> int:
+    """The first draw of scale k uses scale_seed; a redraw, a seed drawn from (seed, k, t)."""
+    if t == 0:
+        return scale_seed(seed, k)
+    state = np.random.SeedSequence([int(seed), k, t]).generate_state(1, np.uint64)[0]
+    return int(state >> np.uint64(1))
 
 
 def scale_seed(seed: int, k: int) -> int:

@@ -43,25 +43,31 @@ class SynthesisResult:
 
 def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
                progress: Callable[[float], None] | None = None,
-               cancel: Callable[[], bool] | None = None, max_redraws: int = 16) -> SynthesisResult:
+               cancel: Callable[[], bool] | None = None, max_redraws: int = 16,
+               rows_final: Callable[[np.ndarray, int], None] | None = None) -> SynthesisResult:
     """Draw an (H, W) level matrix from ``dpj``; same DPJ and seed → same matrix.
 
     ``progress(fraction)`` is called between bands of rows; ``cancel()`` returning True stops the
-    work with :class:`Cancelled`. ``shape`` is (height, width).
+    work with :class:`Cancelled`. ``shape`` is (height, width). ``rows_final(levels, n)``, called
+    between bands too, says that rows 0..n-1 of ``levels`` will not change any more (a dead end
+    may redraw up to MAX_REDRAW_DEPTH rows above it), so later work can start on them.
     """
     h, w = _check_request(dpj, shape)
     out = np.zeros((h, w), dtype=np.uint8)
-    return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws)
+    return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws, rows_final)
 
 
 def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed: int = 0,
                      progress: Callable[[float], None] | None = None,
                      cancel: Callable[[], bool] | None = None,
-                     max_redraws: int = 16) -> SynthesisResult:
+                     max_redraws: int = 16,
+                     rows_final: Callable[[np.ndarray, int], None] | None = None
+                     ) -> SynthesisResult:
     """Draw a level matrix given a parent level at every point (a finer scale given the coarser
     one under it, markov.multiscale): ``dpj``'s levels are composite, parent · G + level, with
     G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
-    parents, as :func:`synthesize`; the result holds the G-levels alone."""
+    parents, as :func:`synthesize`; the result holds the G-levels alone (so do the rows
+    ``rows_final`` is told of)."""
     gp = int(parent_levels)
     if gp < 2 or dpj.levels % gp:
         raise InputError(f"a DPJ of {dpj.levels} composite levels cannot have {gp} parent levels")
@@ -73,13 +79,25 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     h, w = _check_request(dpj, parents.shape)
     gx = dpj.levels // gp
     out = (parents.astype(np.uint8) * np.uint8(gx))
-    result = _draw(out, _tables(dpj, gp), seed, progress, cancel, max_redraws)
+    result = _draw(out, _tables(dpj, gp), seed, progress, cancel, max_redraws,
+                   rows_final and _own_levels(out, gx, rows_final))
     np.remainder(result.levels, gx, out=result.levels)
     return result
 
 
-def _draw(out, t, seed, progress, cancel, max_redraws) -> SynthesisResult:
-    """Fill ``out`` band by band (progress and cancel between bands)."""
+def _own_levels(out, gx, rows_final):
+    """A rows_final callback that passes on the G-levels of the composite rows."""
+    levels, done = np.empty_like(out), [0]
+
+    def report(_, n):
+        np.remainder(out[done[0]:n], gx, out=levels[done[0]:n])
+        done[0] = max(done[0], n)
+        rows_final(levels, n)
+    return report
+
+
+def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None) -> SynthesisResult:
+    """Fill ``out`` band by band (progress, cancel and the rows now final between bands)."""
     h, w = out.shape
     state = np.random.SeedSequence(_check_seed(seed)).generate_state(1, np.uint64)
     band = max(t.v, ROWS_PER_CALL_PIXELS // w)
@@ -92,6 +110,8 @@ def _draw(out, t, seed, progress, cancel, max_redraws) -> SynthesisResult:
         redraws += red
         if progress is not None:
             progress(min(h, r0 + band) / h)
+        if rows_final is not None:
+            rows_final(out, h if r0 + band >= h else max(0, r0 + band - MAX_REDRAW_DEPTH))
     return SynthesisResult(out, int(repairs), int(redraws), int(seed))
 
 

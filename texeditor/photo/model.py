@@ -12,6 +12,7 @@ from __future__ import annotations
 import io
 import json
 import zipfile
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Callable, NamedTuple
 
@@ -23,7 +24,7 @@ from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers
 from ..markov.levels import to_grey
 from ..markov.multiscale import (COARSE_LEVELS, COARSE_WINDOW, LEVELS, WINDOW, MultiScaleDPJ,
                                  estimate_scales, synthesize_scales)
-from .tone import ToneIndex, render, tone_index
+from .tone import Renderer, ToneIndex, render, tone_index
 
 MODEL_FORMAT_VERSION = 2
 MAX_TONE_PIXELS = 4096 * 4096
@@ -68,18 +69,46 @@ class PhotoModel:
         if self.tone is not None:
             counts = np.bincount(self.tone.levels.ravel(), minlength=self.levels)
             return counts / counts.sum()
-        finest = self.scales.dpjs[-1]
-        return np.bincount(finest.configs[:, -1, -1] % self.levels, weights=finest.probs,
-                           minlength=self.levels) / finest.probs.sum()
+        return self.scales.frequencies(self.scales.scales - 1)
 
     def synthesize(self, shape, *, seed: int = 0, tone: bool = True,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
-        """Levels from the scales, shown with the photo's tone (or the palette)."""
-        result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
-                                   cancel=cancel)
-        image = self.render(result.levels, seed=seed, tone=tone)
+        """Levels from the scales, shown with the photo's tone (or the palette). The tone is
+        drawn on a second thread as the finest rows come out (the same picture as
+        ``render(levels)`` afterwards, in about half the time on two cores)."""
+        if not tone or self.tone is None:
+            result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
+                                       cancel=cancel)
+            image = self.render(result.levels, seed=seed, tone=False)
+        else:
+            result, image = self._synthesize_with_tone(shape, seed, progress, cancel)
         return Resynthesis(image, result.levels, self.frequencies(), result.repairs, int(seed))
+
+    def _synthesize_with_tone(self, shape, seed, progress, cancel):
+        renderer = []
+        with ThreadPoolExecutor(1, thread_name_prefix="tone") as worker:
+            jobs = []
+
+            def rows_final(levels, n):
+                if not renderer:
+                    renderer.append(Renderer(levels.shape, self.levels, self.tone.levels,
+                                             self.tone.grey, self.tone.colour, seed=seed,
+                                             index=self._index()))
+                if jobs and jobs[-1].done():
+                    jobs[-1].result()                   # a tone error stops the synthesis
+                jobs.append(worker.submit(renderer[0].advance, levels, n))
+            try:
+                result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
+                                           cancel=cancel, rows_final=rows_final)
+            except BaseException:
+                for job in jobs:
+                    job.cancel()
+                raise
+            for job in jobs:
+                job.result()
+        grey, colour = renderer[0].result()
+        return result, (grey if colour is None else colour)
 
     def render(self, levels, *, seed: int = 0, tone: bool = True) -> np.ndarray:
         """The picture of a level matrix: tone when the model has it, else the palette."""

@@ -23,9 +23,6 @@ RANDOM_CANDIDATES = 8      # drawn from the photo points sharing the context
 FRESH_START = 1 / 64       # chance that a point considers only fresh candidates (no long copies)
 COHERENCE = 0.5           # a continuing candidate's mismatch counts this much (Ashikhmin)
 HALF = 2                   # the causal neighbourhood compared: rows above and left, ±HALF
-# (row, column) offsets of the 3×3 level context, and of its 4-neighbour back-off
-_NINE = tuple((di, dj) for di in (-1, 0, 1) for dj in (-1, 0, 1))
-_FIVE = ((-1, 0), (0, -1), (0, 0), (0, 1), (1, 0))
 
 
 class ToneIndex(NamedTuple):
@@ -38,16 +35,30 @@ class ToneIndex(NamedTuple):
 
 
 def context_codes(levels: np.ndarray, num_levels: int) -> tuple:
-    """The three context codes of every point (the border repeated outwards)."""
-    lv = np.pad(np.asarray(levels, np.int64), 1, mode="edge")
-    h, w = np.shape(levels)
-    codes = []
-    for cells in (_NINE, _FIVE, ((0, 0),)):
-        code = np.zeros((h, w), np.int64)
-        for di, dj in cells:
-            code = code * num_levels + lv[1 + di:1 + di + h, 1 + dj:1 + dj + w]
-        codes.append(code.ravel())
+    """The three context codes of every point (the border repeated outwards), row-major."""
+    lv = np.ascontiguousarray(levels, dtype=np.uint8)
+    codes = np.empty((3, lv.size), np.int64)
+    _context_codes(lv, np.int64(num_levels), codes)
     return tuple(codes)
+
+
+@njit(cache=True, nogil=True)
+def _context_codes(lv, g, codes):
+    h, w = lv.shape
+    for i in range(h):
+        for j in range(w):
+            nine = np.int64(0)
+            for di in range(-1, 2):
+                y = min(max(i + di, 0), h - 1)
+                for dj in range(-1, 2):
+                    nine = nine * g + lv[y, min(max(j + dj, 0), w - 1)]
+            five = np.int64(lv[max(i - 1, 0), j])
+            five = five * g + lv[i, max(j - 1, 0)]
+            five = five * g + lv[i, j]
+            five = five * g + lv[i, min(j + 1, w - 1)]
+            five = five * g + lv[min(i + 1, h - 1), j]
+            n = i * w + j
+            codes[0, n], codes[1, n], codes[2, n] = nine, five, lv[i, j]
 
 
 def tone_index(levels: np.ndarray, num_levels: int) -> ToneIndex:
@@ -71,20 +82,56 @@ def render(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=None,
     and ``photo_pixels`` its colours (h, w, 3) uint8, or None for a grey photo.
     """
     levels = np.ascontiguousarray(levels, dtype=np.uint8)
-    if levels.ndim != 2 or levels.size == 0 or levels.max() >= num_levels:
-        raise InputError(f"tone needs a non-empty matrix of levels 0..{num_levels - 1}")
-    photo_grey = np.ascontiguousarray(photo_grey, dtype=np.uint8)
-    index = index or tone_index(photo_levels, num_levels)
-    state = np.random.SeedSequence([int(seed), 0x70E]).generate_state(1, np.uint64)
-    source = np.empty(levels.shape, np.int64)
-    grey = np.empty(levels.shape, np.uint8)
-    _render(context_codes(levels, num_levels), index.codes, index.keys, index.starts,
-            index.points, photo_grey, source, grey, state)
-    pixels = None
-    if photo_pixels is not None:
-        flat = np.asarray(photo_pixels).reshape(-1, photo_pixels.shape[-1])
-        pixels = flat[source.ravel()].reshape(*levels.shape, flat.shape[-1])
-    return grey, pixels
+    renderer = Renderer(levels.shape, num_levels, photo_levels, photo_grey, photo_pixels,
+                        seed=seed, index=index)
+    renderer.advance(levels, len(levels))
+    return renderer.result()
+
+
+class Renderer:
+    """The tone drawn band by band, as a synthesis makes rows final: the picture is the same
+    as one :func:`render` of the finished levels, and the work can run beside the synthesis."""
+
+    def __init__(self, shape, num_levels: int, photo_levels, photo_grey, photo_pixels=None, *,
+                 seed: int = 0, index: ToneIndex | None = None):
+        shape = tuple(shape)
+        if len(shape) != 2 or 0 in shape:
+            raise InputError(f"tone needs a non-empty matrix of levels 0..{num_levels - 1}")
+        self.num_levels = num_levels
+        self.photo_grey = np.ascontiguousarray(photo_grey, dtype=np.uint8)
+        self.photo_pixels = photo_pixels
+        self.index = index or tone_index(photo_levels, num_levels)
+        self.state = np.random.SeedSequence([int(seed), 0x70E]).generate_state(1, np.uint64)
+        self.source = np.empty(shape, np.int64)
+        self.grey = np.empty(shape, np.uint8)
+        self.done = 0
+
+    def advance(self, levels, final: int) -> None:
+        """Render the rows whose 3×3 context lies in ``levels``' rows 0..final-1 (all of them
+        once ``final`` is the height)."""
+        h = len(self.grey)
+        stop = h if final >= h else max(self.done, final - 1)
+        if stop <= self.done:
+            return
+        a, b = max(0, self.done - 1), min(h, stop + 1)
+        band = np.ascontiguousarray(levels[a:b], dtype=np.uint8)
+        if band.max() >= self.num_levels:
+            raise InputError(f"tone needs a matrix of levels 0..{self.num_levels - 1}")
+        w = band.shape[1]
+        first, last = (self.done - a) * w, (stop - a) * w
+        codes = tuple(c[first:last] for c in context_codes(band, self.num_levels))
+        ix = self.index
+        _render(codes, ix.codes, ix.keys, ix.starts, ix.points, self.photo_grey, self.source,
+                self.grey, self.state, self.done, stop)
+        self.done = stop
+
+    def result(self):
+        """(grey, pixels or None) of the rows rendered so far (all, after the last advance)."""
+        pixels = None
+        if self.photo_pixels is not None:
+            flat = np.asarray(self.photo_pixels).reshape(-1, self.photo_pixels.shape[-1])
+            pixels = flat[self.source.ravel()].reshape(*self.grey.shape, flat.shape[-1])
+        return self.grey, pixels
 
 
 @njit(cache=True, nogil=True)
@@ -102,14 +149,15 @@ def _distance(grey, i, j, photo, pi, pj, best):
     photo around (pi, pj); stops once past ``best``. Points off either picture are skipped."""
     w = grey.shape[1]
     pw = photo.shape[1]
-    total = 0.0
+    total = np.int64(0)
     for di in range(-HALF, 1):
-        for dj in range(-HALF, HALF + 1):
-            if di == 0 and dj >= 0:
-                break
-            y, x, py, px = i + di, j + dj, pi + di, pj + dj
-            if 0 <= y and 0 <= x < w and 0 <= py and 0 <= px < pw:
-                d = float(grey[y, x]) - float(photo[py, px])
+        y, py = i + di, pi + di
+        if y < 0 or py < 0:
+            continue
+        for dj in range(-HALF, HALF + 1 if di < 0 else 0):
+            x, px = j + dj, pj + dj
+            if 0 <= x < w and 0 <= px < pw:
+                d = np.int64(grey[y, x]) - np.int64(photo[py, px])
                 total += d * d
         if total > best:
             return total
@@ -117,14 +165,15 @@ def _distance(grey, i, j, photo, pi, pj, best):
 
 
 @njit(cache=True, nogil=True)
-def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, state):
-    """Scan order: coherent and fresh candidates of the right context, the best match wins."""
-    h, w = grey.shape
+def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, state, i0, i1):
+    """Rows i0..i1-1 in scan order (``out_codes`` hold theirs): coherent and fresh candidates
+    of the right context, the best match wins."""
+    w = grey.shape[1]
     ph, pw = photo.shape
     cand = np.empty(4 + RANDOM_CANDIDATES, np.int64)
-    for i in range(h):
+    for i in range(i0, i1):
         for j in range(w):
-            n = i * w + j
+            n = (i - i0) * w + j
             level, a, b = 0, 0, 0
             while level < 3:
                 a, b = _bucket(keys[level], starts[level], out_codes[level][n])
@@ -151,9 +200,9 @@ def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, s
                 count += 1
             best, chosen = np.inf, cand[0]
             for k in range(count):
-                d = _distance(grey, i, j, photo, cand[k] // pw, cand[k] % pw, best)
-                if k < coherent:
-                    d *= COHERENCE
+                weight = COHERENCE if k < coherent else 1.0
+                d = weight * _distance(grey, i, j, photo, cand[k] // pw, cand[k] % pw,
+                                       best / weight)
                 if d < best:
                     best, chosen = d, cand[k]
             source[i, j] = chosen
