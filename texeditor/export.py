@@ -31,13 +31,15 @@ def write_png(path, levels: np.ndarray, palette: np.ndarray, scale: int = 1) -> 
 
 
 def write_picture(path, picture: np.ndarray, scale: int = 1) -> None:
-    """Write a uint8 picture, grey (H, W) or RGB (H, W, 3), as a PNG, each pixel drawn as a
-    scale×scale block (a texture shown with its photo's tone, photo.PhotoModel.render)."""
+    """Write a uint8 picture, grey (H, W) or RGB (H, W, 3), or a 16-bit grey one (uint16
+    (H, W): a height map, relief.write_height_map) as a PNG, each pixel drawn as a scale×scale
+    block (a texture shown with its photo's tone, photo.PhotoModel.render)."""
     picture = np.asarray(picture)
-    if picture.dtype != np.uint8 or picture.ndim not in (2, 3) or \
-            (picture.ndim == 3 and picture.shape[2] != 3):
-        raise InputError(f"a picture is uint8 (H, W) or (H, W, 3), got {picture.shape} "
-                         f"{picture.dtype}")
+    if not (picture.dtype == np.uint8 and (picture.ndim == 2 or picture.ndim == 3
+                                           and picture.shape[2] == 3)
+            or picture.dtype == np.uint16 and picture.ndim == 2):
+        raise InputError(f"a picture is uint8 (H, W) or (H, W, 3), or uint16 (H, W), got "
+                         f"{picture.shape} {picture.dtype}")
     _check_scale(picture.shape, scale)
     if scale > 1:
         picture = np.repeat(np.repeat(picture, scale, axis=0), scale, axis=1)
