@@ -161,6 +161,35 @@ def cmd_render(args) -> int:
     return 0
 
 
+def cmd_export(args) -> int:
+    """A .texture replayed, then its relief maps written: the height map (16-bit grey PNG) and
+    the tangent-space normal map (RGB PNG, OpenGL's green unless --directx)."""
+    from .recipe.texturefile import render_texture
+    from .relief import write_height_map, write_normal_map
+    from .relief.shading import check_strength
+
+    if not (args.height or args.normal):
+        raise InputError("say what to export: --height H.png, --normal N.png, or both")
+    outs = [output_path(p, (".png",)) if p else None for p in (args.height, args.normal)]
+    if None not in outs and outs[0].resolve() == outs[1].resolve():
+        raise InputError("--height and --normal name the same file")
+    strength = check_strength(args.strength)
+    doc = render_texture(args.texture)   # replays and checks the stored hash
+    if not doc.levels.size:
+        raise InputError(f"{args.texture}: its log draws no texture: nothing to export")
+    height, normal = outs
+    if height is not None:
+        write_height_map(height, doc.levels, doc.palette)
+        print(f"{height}: height map, {doc.shape[1]}x{doc.shape[0]}, 16-bit grey")
+    if normal is not None:
+        write_normal_map(normal, doc.levels, doc.palette, strength=strength,
+                         directx=args.directx, wrap=not args.no_wrap)
+        print(f"{normal}: normal map, strength {strength:g}, "
+              f"{'DirectX' if args.directx else 'OpenGL'} green, "
+              f"{'one-sided at the border' if args.no_wrap else 'seamless (wrapped)'}")
+    return 0
+
+
 def cmd_log(args) -> int:
     from .recipe.texturefile import describe_log, optimize_texture, read_texture
 
@@ -254,6 +283,20 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--scale", type=int, default=1, help="PNG upscale: each point as NxN pixels")
     r.add_argument("-o", "--output", required=True, help="OUT.png or OUT.npy")
     r.set_defaults(func=cmd_render)
+
+    e = sub.add_parser("export", help="replay a .texture and write its relief: a height map "
+                       "and a normal map")
+    e.add_argument("texture")
+    e.add_argument("--height", metavar="H.png", help="the height map: the texture's greys as a "
+                   "16-bit grey PNG")
+    e.add_argument("--normal", metavar="N.png", help="the tangent-space normal map, an RGB PNG")
+    e.add_argument("--strength", type=float, default=4.0,
+                   help="heights are the greys (0..1) times this (default 4)")
+    e.add_argument("--directx", action="store_true",
+                   help="green points down the picture (DirectX); default up (OpenGL)")
+    e.add_argument("--no-wrap", action="store_true", help="one-sided differences at the border "
+                   "(default: on the torus, seamless when the texture tiles)")
+    e.set_defaults(func=cmd_export)
 
     lg = sub.add_parser("log", help="list the actions of a .texture (or write an optimised copy)")
     lg.add_argument("texture")
