@@ -32,6 +32,7 @@ from .grain_stamps_dock import GrainStampsDock
 from .history_dock import HistoryDock
 from .palette_dock import PaletteDock
 from .photo_ops import PhotoOps
+from .relief_dock import ReliefDock
 from .synthesis_dock import SynthesisDock
 from .synthesis_worker import TaskRunner, render_synthesis
 from .tool_dock import ToolOptionsDock
@@ -67,6 +68,8 @@ DOCKS = (
              hidden=True, fills_menu="GrainStampsMenu"),
     DockSpec("density_dock", GrainRenderingDock, "GrainDensityDock", LEFT,
              tab_with="grain_dock"),
+    DockSpec("relief_dock", ReliefDock, "ReliefDock", LEFT, tab_with="density_dock",
+             hidden=True),
 )
 
 # (objectName, title), in menu bar order
@@ -207,7 +210,7 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         self.act_open = a("&Open…", lambda: self.open_file(), K.Open, "Open a .texture file")
         self.act_save = a("&Save", self.save, K.Save, "Save the texture (DPJ + actions)")
         self.act_save_as = a("Save &As…", self.save_as, K.SaveAs)
-        self.act_export = a("&Export PNG…", self.export_png, "Ctrl+E",
+        self.act_export = a("&PNG picture…", self.export_png, "Ctrl+E",
                             "Write the texture as an image, optionally enlarged")
         self.act_acquire = a("&Acquire DPJ from image…", self.acquire, "Ctrl+I",
                              "Estimate a DPJ from a photo (thesis §5.2)")
@@ -259,7 +262,10 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         self.recent_menu.setObjectName("RecentMenu")
         self.recent_menu.aboutToShow.connect(self._fill_recent_menu)
         menu.addSeparator()
-        menu.addActions([self.act_save, self.act_save_as, self.act_export])
+        menu.addActions([self.act_save, self.act_save_as])
+        export = menu.addMenu("&Export")
+        export.setObjectName("ExportMenu")      # the Relief dock adds its maps
+        export.addAction(self.act_export)
         menu.addAction(self.bank_dock.act_save)
         menu.addSeparator()
         menu.addActions([self.act_acquire, self.act_open_dpj])
@@ -429,6 +435,8 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
             self._show_document(doc, change)
         if "palette" in what:
             self.palette_dock.set_palette(doc.palette)
+        if "levels" in what or "palette" in what:
+            self.relief_dock.document_changed()
         if what & {"log", "dpj"}:
             self.history_dock.refresh()
             refs = self.scale_refs()

@@ -50,7 +50,7 @@ class SettingsModel(QtCore.QObject):
              get: Callable[[], Any] | None = None, put: Callable[[Any], None] | None = None,
              signal=None) -> None:
         """Mirror field ``name`` in ``widget`` (a combo box's item data, a check box, a spin
-        box or slider ×``scale``, a line edit; or ``get``/``put``/``signal`` given). A field
+        box or a slider ×``scale``, a line edit; or ``get``/``put``/``signal`` given). A field
         the dataclass lacks is not bound (a widget shared by tools with different settings)."""
         if not self.has(name):
             return
@@ -92,7 +92,7 @@ def _adapter(widget, scale: float):
         return widget.isChecked, widget.setChecked, widget.toggled
     if isinstance(widget, QtWidgets.QLineEdit):
         return widget.text, widget.setText, widget.textChanged
-    if isinstance(widget, QtWidgets.QSpinBox):
+    if isinstance(widget, (QtWidgets.QSpinBox, QtWidgets.QAbstractSlider)):
         if scale == 1:
             return widget.value, lambda v: widget.setValue(round(v)), widget.valueChanged
         return (lambda: widget.value() / scale, lambda v: widget.setValue(round(v * scale)),
