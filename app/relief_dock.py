@@ -235,7 +235,6 @@ class ReliefDock(QtWidgets.QDockWidget):
         layout.addStretch(1)
         self.setWidget(scrolled(body))
         self.model.changed.connect(self._settings_changed)
-        self.visibilityChanged.connect(lambda shown: shown and self._stale and self.refresh())
         self._settings_changed()
 
     # -- building -----------------------------------------------------------------------------------
@@ -297,6 +296,12 @@ class ReliefDock(QtWidgets.QDockWidget):
                 ("ExportMenu", self.act_normal)]
 
     # -- showing ------------------------------------------------------------------------------------
+    def showEvent(self, ev) -> None:
+        """Shown (View ▸ Relief, its tab chosen): the previews of the document as it is now."""
+        super().showEvent(ev)
+        if self._stale:
+            self.refresh()
+
     def _settings_changed(self, _name: str = "") -> None:
         value = self.model.value
         self.ball.set_light(value.azimuth, value.elevation)

@@ -22,7 +22,7 @@ from .support import cell_pos, click, press_key
 Key = QtCore.Qt.Key
 # The layouts users saved name docks by these: they must never change.
 SAVED_DOCK_NAMES = {"ToolOptionsDock", "SynthesisDock", "PaletteDock", "HistoryDock", "BankDock",
-                    "BrushDock", "GrainDock", "GrainDensityDock"}
+                    "BrushDock", "GrainDock", "GrainDensityDock", "ReliefDock"}
 
 
 @pytest.fixture(autouse=True)
