@@ -221,7 +221,7 @@ def shot_spots(app, window, out: Path) -> None:
         editor.density.set_value(depth)
         editor.seed.set_value(11 if name == "Stone" else 12)
         opts.count.setValue(count)
-        opts.scale.setValue(sizes[0])
+        opts.scale_box.setValue(sizes[0])
         opts.scale_max.setValue(sizes[1])
         window.palette_dock.swatches.current = levels[0]
         window.palette_dock._level_clicked(levels[0])
@@ -235,7 +235,7 @@ def shot_spots(app, window, out: Path) -> None:
     window.palette_dock.swatches.current = 4
     window.palette_dock._level_clicked(4)
     opts.mode.setCurrentIndex(opts.mode.findData("place"))
-    opts.scale.setValue(1.3)
+    opts.scale_box.setValue(1.3)
     opts.angle.setValue(20)
     settle(app, 300)
     canvas = window.canvas
@@ -577,6 +577,37 @@ def shot_photo_model(app, window, out: Path) -> None:
 
 
 MORE_SHOTS.append(shot_photo_model)
+
+
+def shot_relief(app, window, out: Path) -> None:
+    """Relief (issue 20): a gravel texture in earth colours with the Relief dock open, the
+    light dragged to the upper left, the previews on a plane and a sphere."""
+    from texeditor.markov.dpj import DPJ
+    from texeditor.recipe.actions import SetPalette
+    from texeditor.recipe.history import History
+    from texeditor.resources import bundled_dpj
+
+    previous = window.history
+    history = History()
+    history.add_dpj(DPJ.load(bundled_dpj("gravel-3x3-g4")))
+    window.set_history(history)
+    window.synthesise(256, 256, 1984)
+    window.runner.wait()
+    settle(app)
+    window.submit(SetPalette([[62, 48, 36], [118, 92, 66], [166, 138, 102], [214, 194, 160]]))
+    dock = window.relief_dock
+    dock.show()
+    dock.raise_()
+    window.resizeDocks([dock], [400], QtCore.Qt.Orientation.Horizontal)
+    dock.model.update(azimuth=125, elevation=40, strength=6.0)
+    window.canvas.fit()
+    settle(app, 300)
+    save(window, out / "relief.png")
+    dock.hide()
+    window.set_history(previous)
+
+
+MORE_SHOTS.append(shot_relief)
 
 
 if __name__ == "__main__":
