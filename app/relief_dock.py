@@ -226,11 +226,11 @@ class ReliefDock(QtWidgets.QDockWidget):
         layout.addWidget(self.previews)
         self.act_height = QtGui.QAction("&Height map…", self)
         self.act_height.setStatusTip("Write the texture's greys as a 16-bit grey PNG")
-        self.act_height.triggered.connect(lambda: self.export_height())
+        self.act_height.triggered.connect(self.export_height)
         self.act_normal = QtGui.QAction("&Normal map…", self)
         self.act_normal.setStatusTip("Write the tangent-space normal map of the relief as an RGB "
                                      "PNG (OpenGL or DirectX green)")
-        self.act_normal.triggered.connect(lambda: self.export_normal())
+        self.act_normal.triggered.connect(self.export_normal)
         layout.addLayout(self._export_row())
         layout.addStretch(1)
         self.setWidget(scrolled(body))
@@ -316,7 +316,7 @@ class ReliefDock(QtWidgets.QDockWidget):
             self.refresh()
 
     def refresh(self) -> None:
-        """Draw both previews of the document (about 10 ms each, whatever its size)."""
+        """Draw both previews of the document (10–20 ms each, whatever its size)."""
         history = self.main_window.history
         levels = history.document.levels if history is not None else np.zeros((0, 0))
         self._stale = False
@@ -330,31 +330,36 @@ class ReliefDock(QtWidgets.QDockWidget):
         self.previews.show_pictures(self.shown)
 
     # -- exports ------------------------------------------------------------------------------------
-    def export_height(self, path=None) -> bool:
-        """Write the height map (asks where unless ``path`` is given)."""
-        if path is None:
-            path, _ = self._ask("Export the height map", "height", HEIGHT_FILTER, HEIGHT_FILTER)
-        if not path:
+    def export_height(self) -> bool:
+        """Ask where, then write the height map."""
+        if not self._has_texture():
             return False
-        return self._write(path, "height map", write_height_map)
+        path, _ = self._ask("Export the height map", "height", HEIGHT_FILTER, HEIGHT_FILTER)
+        return bool(path) and self._write(path, "height map", "", write_height_map)
 
-    def export_normal(self, path=None, directx: bool | None = None) -> bool:
-        """Write the normal map with the dock's strength and wrap; the file dialog's type
-        chooses OpenGL or DirectX (remembered for next time)."""
-        if path is None:
-            chosen = DIRECTX_FILTER if self.model.value.directx else OPENGL_FILTER
-            path, picked = self._ask("Export the normal map", "normal",
-                                     f"{OPENGL_FILTER};;{DIRECTX_FILTER}", chosen)
-            directx = picked == DIRECTX_FILTER
+    def export_normal(self) -> bool:
+        """Ask where, then write the normal map with the dock's strength and wrap; the file
+        dialog's type chooses OpenGL or DirectX (remembered for next time)."""
+        if not self._has_texture():
+            return False
+        chosen = DIRECTX_FILTER if self.model.value.directx else OPENGL_FILTER
+        path, picked = self._ask("Export the normal map", "normal",
+                                 f"{OPENGL_FILTER};;{DIRECTX_FILTER}", chosen)
         if not path:
             return False
-        if directx is not None and directx != self.model.value.directx:
-            self.model.update(directx=directx)
+        if (picked == DIRECTX_FILTER) != self.model.value.directx:
+            self.model.update(directx=picked == DIRECTX_FILTER)
         value = self.model.value
-        return self._write(path, f"normal map ({'DirectX' if value.directx else 'OpenGL'})",
+        return self._write(path, "normal map", f" ({'DirectX' if value.directx else 'OpenGL'})",
                            lambda p, levels, palette: write_normal_map(
                                p, levels, palette, strength=value.strength,
                                directx=value.directx, wrap=value.wrap))
+
+    def _has_texture(self) -> bool:
+        if self.main_window.history.document.levels.size:
+            return True
+        self.main_window.statusBar().showMessage("Nothing to export: the canvas is empty.", 5000)
+        return False
 
     def _ask(self, title: str, what: str, filters: str, chosen: str) -> tuple[str, str]:
         window = self.main_window
@@ -363,19 +368,19 @@ class ReliefDock(QtWidgets.QDockWidget):
         start = str(folder / f"{stem}-{what}.png")
         return QtWidgets.QFileDialog.getSaveFileName(window, title, start, filters, chosen)
 
-    def _write(self, path, what: str, write) -> bool:
+    def _write(self, path, what: str, detail: str, write) -> bool:
+        """``write(path, levels, palette)`` the document's map (atomic: no half-written file);
+        a failure is a dialog."""
         path = Path(path)
         if path.suffix.lower() != ".png":
             path = path.with_name(path.name + ".png")
         doc = self.main_window.history.document
-        if not doc.levels.size:
-            return False
         try:
-            write(path, doc.levels, doc.palette)       # atomic: no half-written file
+            write(path, doc.levels, doc.palette)
         except (TexeditorError, OSError) as exc:
-            self.main_window.show_error(f"Cannot export the {what.split(' (')[0]}", exc)
+            self.main_window.show_error(f"Cannot export the {what}", exc)
             return False
         h, w = doc.shape
-        self.main_window.statusBar().showMessage(f"Exported the {what} {path} ({w}×{h}).", 8000)
+        self.main_window.statusBar().showMessage(f"Exported the {what}{detail} {path} "
+                                                 f"({w}×{h}).", 8000)
         return True
-

@@ -220,13 +220,13 @@ def test_the_plane_is_seen_in_perspective():
 
 def test_the_sphere_frames_are_orthonormal_and_face_the_viewer_at_the_centre():
     view = previews.sphere_view((16, 16), 16)
-    t, b, n = view.frame.astype(np.float64)
+    t, b, n = view.frame.transpose(1, 0, 2).astype(np.float64)
     for a in (t, b, n):
         assert np.allclose(np.linalg.norm(a, axis=0), 1, atol=1e-6)
     assert np.allclose((t * b).sum(0), 0, atol=1e-6) and np.allclose((t * n).sum(0), 0, atol=1e-6)
     assert np.allclose(np.cross(t, b, axis=0), n, atol=1e-6)       # right-handed: T × B = N
     centre = np.argmin(np.abs(n[0]) + np.abs(n[1]))
-    assert np.allclose(view.frame[:, :, centre], np.eye(3), atol=0.1)
+    assert np.allclose(view.frame[:, :, centre], np.eye(3), atol=0.1)      # T, B, N = x, y, z
     # T runs the way the texture's columns do: left to right across the middle of the sphere
     rows, cols = view.rows_cols
     middle = np.abs(n[1]) < 0.05
@@ -243,7 +243,7 @@ def test_the_sphere_preview_turns_each_wrapped_normal_into_the_spheres_frame():
     view = previews.sphere_view(levels.shape, size)
     rows, cols = view.rows_cols
     n = formula(GREYS[levels, 0] / 255 * strength, wrap=True)[rows, cols]
-    world = np.einsum("ki,ijk->kj", n, view.frame.astype(np.float64))    # n_u T + n_v B + n_z N
+    world = np.einsum("ki,jik->kj", n, view.frame.astype(np.float64))    # n_u T + n_v B + n_z N
     samples = np.full(((size * 2) ** 2, 3), float(previews.BACKGROUND))
     samples[view.pixels] = GREYS[levels[rows, cols]] * (0.1 + 0.9 * np.maximum(0, world @ light))[:, None]
     expected = supersampled(samples.reshape(size * 2, size * 2, 3), size)

@@ -3,7 +3,7 @@ perspective, and wrapped round a sphere (x = sinθ sinφ, y = cosφ, z = cosθ s
 
 Each preview pixel is SUPERSAMPLE² samples; a sample's bump normal is the wrapped normal_map's
 (central differences on the torus: the texture repeats) computed at its point only, so a
-preview costs what it shows, whatever the size of the texture (about 10 ms for 256²).
+preview costs what it shows, whatever the size of the texture (10–20 ms for 256², `benchmarks/bench_relief.py`).
 """
 
 from __future__ import annotations
@@ -27,9 +27,10 @@ BACKGROUND = 48              # grey round the sphere
 class View:
     """Where a preview's samples fall: ``pixels`` their flat indices in the supersampled
     picture; ``points`` (5, k) the flat indices in the texture (of ``shape``) of each sample's
-    point and of its neighbours right, left, above and below; ``frame`` (3, 3, k) the tangent
-    T (along u), bitangent B (up v) and normal N of the surface at each sample, in view space
-    (x right, y up, z towards the viewer), or None for a plane whose frame is the texture's."""
+    point and of its neighbours right, left, above and below; ``frame`` (3, 3, k): the x, y
+    and z in view space (right, up, towards the viewer) of the tangent T (along u), bitangent B
+    (up v) and normal N of the surface at each sample; None for a plane whose frame is the
+    texture's own."""
 
     size: int
     shape: tuple[int, int]
@@ -83,9 +84,10 @@ def sphere_view(shape: tuple[int, int], size: int) -> View:
     cols = np.floor((theta + math.pi) * w / math.pi).astype(np.intp) % w
     rows = np.floor(phi * w / math.pi).astype(np.intp) % h
     sin_t, cos_t, cos_p = np.sin(theta), np.cos(theta), np.cos(phi)
-    tangent = [cos_t, np.zeros_like(x), -sin_t]              # ∂p/∂θ, normalised
-    bitangent = [-sin_t * cos_p, np.sin(phi), -cos_t * cos_p]    # −∂p/∂φ: up the texture
-    frame = np.array([tangent, bitangent, [x, y, z]], dtype=np.float32)
+    # columns T = ∂p/∂θ normalised, B = −∂p/∂φ (up the texture), N = p; rows x, y, z
+    frame = np.array([[cos_t, -sin_t * cos_p, x],
+                      [np.zeros_like(x), np.sin(phi), y],
+                      [-sin_t, -cos_t * cos_p, z]], dtype=np.float32)
     return _view(shape, size, inside, rows, cols, frame)
 
 
@@ -115,7 +117,7 @@ def render(view: View, levels: np.ndarray, palette, strength: float, light: np.n
     P = (palette_grey(palette) * check_strength(strength)).astype(np.float32)[at[1:]]
     du, dv = (P[0] - P[1]) / 2, (P[2] - P[3]) / 2
     light = light.astype(np.float32)
-    t_l, b_l, n_l = light if view.frame is None else np.tensordot(light, view.frame, (0, 1))
+    t_l, b_l, n_l = light if view.frame is None else sum(c * f for c, f in zip(light, view.frame))
     cosine = (n_l - du * t_l - dv * b_l) / np.sqrt(1 + du * du + dv * dv)
     n = view.size * SUPERSAMPLE
     samples = np.full((n * n, 3), BACKGROUND, dtype=np.float32)
