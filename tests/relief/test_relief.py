@@ -245,6 +245,7 @@ def test_the_sphere_preview_turns_each_wrapped_normal_into_the_spheres_frame():
     n = formula(GREYS[levels, 0] / 255 * strength, wrap=True)[rows, cols]
     world = np.einsum("ki,jik->kj", n, view.frame.astype(np.float64))    # n_u T + n_v B + n_z N
     samples = np.full(((size * 2) ** 2, 3), float(previews.BACKGROUND))
-    samples[view.pixels] = GREYS[levels[rows, cols]] * (0.1 + 0.9 * np.maximum(0, world @ light))[:, None]
+    intensity = 0.1 + 0.9 * np.maximum(0, world @ light)
+    samples[view.pixels] = GREYS[levels[rows, cols]] * intensity[:, None]
     expected = supersampled(samples.reshape(size * 2, size * 2, 3), size)
     assert np.abs(picture.astype(int) - expected).max() <= 1

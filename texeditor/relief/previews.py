@@ -3,7 +3,8 @@ perspective, and wrapped round a sphere (x = sinθ sinφ, y = cosφ, z = cosθ s
 
 Each preview pixel is SUPERSAMPLE² samples; a sample's bump normal is the wrapped normal_map's
 (central differences on the torus: the texture repeats) computed at its point only, so a
-preview costs what it shows, whatever the size of the texture (10–20 ms for 256², `benchmarks/bench_relief.py`).
+preview costs what it shows, whatever the size of the texture (10–20 ms for 256²,
+benchmarks/bench_relief.py).
 """
 
 from __future__ import annotations
@@ -104,7 +105,8 @@ def sphere_preview(levels: np.ndarray, palette, *, size: int = 256, strength: fl
                    azimuth: float = 135.0, elevation: float = 45.0, ambient: float = 0.3,
                    diffuse: float = 0.7) -> np.ndarray:
     """(size, size, 3) uint8: the shaded texture on a sphere, its normal perturbed by the bump
-    normals (N̂ = n_u T + n_v B + n_z N); the light in view space (elevation 90: from the viewer)."""
+    normals (N̂ = n_u T + n_v B + n_z N); the light in view space (elevation 90: from the
+    viewer)."""
     return render(sphere_view(levels.shape, size), levels, palette, strength,
                   light_direction(azimuth, elevation), ambient, diffuse)
 
