@@ -593,7 +593,7 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         if self.runner.busy:
             return
         try:
-            action = Synthesize(doc.dpj_ref, width, height, seed)
+            action = Synthesize(doc.dpj_ref, width, height, seed, self.synthesis_dock.tileable())
         except TexeditorError as exc:
             self.show_error("Cannot synthesise", exc)
             return
@@ -605,7 +605,8 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         if self.runner.busy:
             return
         try:
-            action = SynthesizeScales(tuple(refs), width, height, seed)
+            action = SynthesizeScales(tuple(refs), width, height, seed,
+                                      self.synthesis_dock.tileable())
         except TexeditorError as exc:
             self.show_error("Cannot synthesise", exc)
             return

@@ -331,6 +331,11 @@ class NewCanvas(Action):
         return f"New canvas {self.width}×{self.height}, G = {self.levels}"
 
 
+def _tileable():
+    return param("bool", default=False, doc="drawn on the torus: the texture repeats without a "
+                                            "seam (windows across the seams are DPJ windows)")
+
+
 @register
 @dataclass(frozen=True)
 class Synthesize(Action):
@@ -342,6 +347,7 @@ class Synthesize(Action):
     width: int = _side("points across")
     height: int = _side("points down")
     seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
+    tileable: bool = _tileable()
 
     def _validate(self):
         _check_canvas(self.width, self.height)
@@ -353,7 +359,7 @@ class Synthesize(Action):
         if not dpj.has_ref(self.dpj):
             raise InputError(f"this DPJ is not {self.dpj}, the one the action refers to")
         return synthesize(dpj, (self.height, self.width), seed=self.seed, progress=progress,
-                          cancel=cancel)
+                          cancel=cancel, tileable=self.tileable)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpj_of(doc), progress, cancel).levels
@@ -382,7 +388,8 @@ class Synthesize(Action):
         return True
 
     def label(self) -> str:
-        return f"Synthesise {self.width}×{self.height}, seed {self.seed}"
+        tiles = ", tileable" if self.tileable else ""
+        return f"Synthesise {self.width}×{self.height}, seed {self.seed}{tiles}"
 
 
 @register
@@ -397,6 +404,7 @@ class SynthesizeScales(Action):
     width: int = _side("points across")
     height: int = _side("points down")
     seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
+    tileable: bool = _tileable()
 
     def _validate(self):
         _check_canvas(self.width, self.height)
@@ -407,7 +415,8 @@ class SynthesizeScales(Action):
         """Synthesise (slow; safe in a worker thread): the finest scale's SynthesisResult."""
         from ..markov.multiscale import synthesize_scales
         return synthesize_scales(_scales(dpjs), (self.height, self.width),
-                                 seed=self.seed, progress=progress, cancel=cancel)
+                                 seed=self.seed, progress=progress, cancel=cancel,
+                                 tileable=self.tileable)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
@@ -431,7 +440,9 @@ class SynthesizeScales(Action):
         return True
 
     def label(self) -> str:
-        return f"Synthesise {self.width}×{self.height} on {len(self.dpjs)} scales, seed {self.seed}"
+        tiles = ", tileable" if self.tileable else ""
+        return (f"Synthesise {self.width}×{self.height} on {len(self.dpjs)} scales, "
+                f"seed {self.seed}{tiles}")
 
 
 def _scales(dpjs):

@@ -390,22 +390,22 @@ def describe_log(actions) -> list[str]:
 
 
 def synthesize_texture(dpj: DPJ, width: int, height: int, *, seed: int = 0, progress=None,
-                       cancel=None) -> History:
+                       cancel=None, tileable: bool = False) -> History:
     """A History whose log is one synthesis (`texeditor synth ... -o OUT.texture`)."""
     history = History()
     ref = history.add_dpj(dpj)
-    action = Synthesize(ref, width, height, seed)
+    action = Synthesize(ref, width, height, seed, tileable)
     history.apply(action, prepared=action.render_result(dpj, progress, cancel).levels)
     return history
 
 
 def synthesize_scales_texture(dpjs, width: int, height: int, *, seed: int = 0, progress=None,
-                              cancel=None) -> History:
+                              cancel=None, tileable: bool = False) -> History:
     """A History whose log is one multi-scale synthesis (`texeditor synth MODEL.dpj -o
     OUT.texture`): the scales' DPJs travel in the file, the log replays the same levels."""
     history = History()
     refs = tuple(history.add_dpj(dpj) for dpj in dpjs)
-    action = SynthesizeScales(refs, width, height, seed)
+    action = SynthesizeScales(refs, width, height, seed, tileable)
     history.apply(action, prepared=action.render_result(dpjs, progress, cancel).levels)
     return history
 
