@@ -93,8 +93,8 @@ def test_build_an_envelope_with_clicks_and_drags(window, qtbot):
     assert len(editor.envelope.parallels) == 1 and editor.envelope.parallels[0].offset > 5
 
     # the outline kind is an option
-    editor.kind.setCurrentIndex(editor.kind.findData("bezier"))
-    assert editor.envelope.kind == "bezier"
+    editor.kind.setCurrentIndex(editor.kind.findData("bezier_curve"))
+    assert editor.envelope.kind == "bezier_curve"
 
 
 def test_drag_the_equator_and_draw_a_contour_freehand(window, qtbot):
