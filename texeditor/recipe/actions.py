@@ -239,8 +239,8 @@ class Action:
         return False
 
     def access(self, shape: tuple[int, int] | None) -> Access | None:
-        """What this step reads and writes on a canvas of ``shape`` (None: a shape not known).
-        None means not known: the log optimiser then moves nothing across the step."""
+        """What this step reads and writes on a canvas of ``shape`` (``shape`` None: not known).
+        Returning None says the step cannot tell: the log optimiser moves nothing across it."""
         return None
 
     def refers_to(self, log, at: int) -> tuple[int, ...]:

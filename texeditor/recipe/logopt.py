@@ -300,7 +300,7 @@ def _partner(actions, known, earlier, j, settled):
     """(i, forward) for the nearest earlier step i of the same type that step j merges with
     once they are neighbours, when j can move back to it (forward False) or i forward to j."""
     second = actions[j]
-    if _merge(actions[j - 1], known[j - 1], second) is not None:
+    if not earlier or _merge(actions[j - 1], known[j - 1], second) is not None:
         return None                    # it merges where it is
     for i in reversed(earlier[bisect_left(earlier, max(settled, j - REACH)):]):
         first = actions[i]
