@@ -168,14 +168,15 @@ def cmd_render(args) -> int:
 def cmd_log(args) -> int:
     from .recipe.texturefile import describe_log, optimize_texture, read_texture
 
-    if args.optimize:
-        if not args.output:
-            raise InputError("--optimize needs -o NEW.texture")
-        before, after = optimize_texture(args.texture, output_path(args.output, (".texture",)))
-        print(f"{args.output}: {before} actions optimised to {after}, same result")
+    if args.optimise:
+        out = args.output and output_path(args.output, (".texture",))
+        before, after, notes = optimize_texture(args.texture, out)
+        print(f"{args.output}: {before} actions optimised to {after}, same result" if out else
+              f"{before} actions would be optimised to {after} (-o NEW.texture writes them)")
+        print("\n".join(f"  {note}" for note in notes) or "  (nothing to do)")
         return 0
     if args.output:
-        raise InputError("-o is only for --optimize")
+        raise InputError("-o is only for --optimise")
     tex = read_texture(args.texture)
     print("\n".join(describe_log(tex.actions)) or "(no actions)")
     return 0
@@ -264,8 +265,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     lg = sub.add_parser("log", help="list the actions of a .texture (or write an optimised copy)")
     lg.add_argument("texture")
-    lg.add_argument("--optimize", action="store_true", help="simplify the log (same result)")
-    lg.add_argument("-o", "--output", help="NEW.texture, with --optimize")
+    lg.add_argument("--optimise", "--optimize", action="store_true",
+                    help="simplify and reorder the log (same result) and say what was done")
+    lg.add_argument("-o", "--output", help="NEW.texture, with --optimise")
     lg.set_defaults(func=cmd_log)
 
     from .bank.cli import add_parser as add_bank_parser
