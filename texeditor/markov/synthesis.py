@@ -674,19 +674,25 @@ def _run(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work):
 
 
 @njit(cache=True, nogil=True)
-def _redraw_segment(out, r, c0, c1, kmin, t, work, state):
-    """Redraw row r on columns [c0, c1) from its exact law given everything around it.
+def _redraw_segment(out, r, c0, c1, kmin, t, work, state, lenient=False):
+    """Redraw row r on columns [c0, c1) from its exact law given everything around it
+    (``lenient``: a position that meets a dead end backs off, as _draw_row's last resort).
 
     Returns ok; on a dead end the row is left untouched.
     """
     n_first = max(0, c0 - t.u + 1)
     work.pos[TOFF, n_first] = 0
-    status, n, _ = _run(out, r, n_first, n_first, c0, c1, np.int64(-1), kmin,
-                        np.int64(out.shape[1]), t, work)
-    if status == DEAD_END:
-        if n > n_first:
-            _clear(work.big_r, t.ient[TAIL], work.pos[LO, n - 1], work.pos[HI, n - 1])
-        return False
+    n, lenient_at = n_first, np.int64(-1)
+    while True:
+        status, n, _ = _run(out, r, n, n_first, c0, c1, lenient_at, kmin,
+                            np.int64(out.shape[1]), t, work)
+        if status != DEAD_END:
+            break
+        if not lenient or lenient_at == n:
+            if n > n_first:
+                _clear(work.big_r, t.ient[TAIL], work.pos[LO, n - 1], work.pos[HI, n - 1])
+            return False
+        lenient_at = n
     _backward(out, r, n, max(c0, n_first), t, work, state)
     return True
 
@@ -785,7 +791,7 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w):
                 c0 = _close_row(out, r, np.int64(max(0, t.v - 1 - r)), tile_w, c0, t, seg,
                                 state)
                 repairs += c0 < 0
-                c0 = tile_w if c0 < 0 else c0
+                c0 = -1 - c0 if c0 < 0 else c0
     for r in range(start, r1):
         kmin = np.int64(max(0, t.v - 1 - r))
         rep, red = _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws)
@@ -815,18 +821,21 @@ def _close_columns(across, t, state, tile_w, tile_h):
 def _close_row(out, r, kmin, tile_w, reach, t, seg, state):
     """Close row r across the side seam: copy its first u-1 points after its last column, then
     redraw its end, from column ``reach`` - (u-1) or before, from the exact law given both
-    sides, over a wider stretch while that meets a dead end. Returns the first column redrawn,
-    or -1 if no stretch could close the row (a window across the seam the DPJ lacks)."""
+    sides, over a wider stretch while that meets a dead end. Returns the first column redrawn
+    c0, or -1 - c0 when only a back-off closed the row (-1 - width: nothing did; a window
+    across the seam the DPJ lacks)."""
     u = t.u
     for j in range(u - 1):
         out[r, tile_w + j] = out[r, j]
     if u == 1:
         return tile_w
-    span = max(4 * u, tile_w - reach + u - 1)
-    while True:
-        c0 = max(u - 1, tile_w - span)
-        if _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state):
-            return c0
-        if c0 == u - 1:
-            return -1
-        span *= 2
+    for lenient in (False, True):      # a back-off at a dead end only when no stretch closes
+        span = max(4 * u, tile_w - reach + u - 1)
+        while True:
+            c0 = max(u - 1, tile_w - span)
+            if _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, lenient):
+                return c0 if not lenient else -1 - c0
+            if c0 == u - 1:
+                break
+            span *= 2
+    return -1 - tile_w
