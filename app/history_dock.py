@@ -1,8 +1,9 @@
 """The history dock: the action log as a list (the texture's recipe), and an editor for a past step.
 
 Clicking a step goes there (undo/redo many at once); "Apply & replay" replaces the selected step
-with edited parameters and replays the later ones — non-destructive history (DESIGN.md); the main
-window runs that replay in the worker.
+with edited parameters and replays the later ones — non-destructive history (DESIGN.md);
+"Optimise log…" shows what the log optimiser would drop, move and merge (thesis §5.4.2) and
+replaces the log by its shorter one. The main window runs those replays in the worker.
 """
 
 from __future__ import annotations
@@ -10,6 +11,7 @@ from __future__ import annotations
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.recipe.actions import replace_params
+from texeditor.recipe.logopt import optimize_with_notes
 from texeditor.errors import TexeditorError
 
 from .params_form import ParamsForm
@@ -62,12 +64,56 @@ class LogModel(QtCore.QAbstractListModel):
 MIN_ROWS = 8          # the list keeps this many steps in view however tall the step's form is
 
 
+class OptimiseDialog(QtWidgets.QDialog):
+    """What the log optimiser would do to the applied steps, note by note, before it is done:
+    Optimise accepts (``optimised`` is the shorter log), Cancel leaves the log as it is."""
+
+    def __init__(self, history, parent=None):
+        super().__init__(parent)
+        self.setWindowTitle("Optimise the log")
+        applied = history.applied
+        result = optimize_with_notes(applied, dict(history.document.dpjs))
+        self.optimised = result.actions
+        undone = len(history.actions) - history.index
+        if result.notes:
+            text = (f"The {len(applied)} steps become {len(result.actions)}, with the same "
+                    f"texture (thesis §5.4.2: the log simplified and reorganised):")
+            if undone:
+                text += f" the {undone} undone step(s) after the current one go."
+        else:
+            text = "Nothing to do: the optimiser cannot make this log shorter."
+        self.summary = QtWidgets.QLabel(text)
+        self.summary.setWordWrap(True)
+        self.notes = QtWidgets.QListWidget()
+        self.notes.setWordWrap(True)
+        self.notes.setSpacing(3)
+        self.notes.setAlternatingRowColors(True)
+        self.notes.setSelectionMode(QtWidgets.QAbstractItemView.SelectionMode.NoSelection)
+        self.notes.setFocusPolicy(QtCore.Qt.FocusPolicy.NoFocus)
+        self.notes.addItems([note[:1].upper() + note[1:] for note in result.notes])
+        self.notes.setVisible(bool(result.notes))
+        buttons = QtWidgets.QDialogButtonBox(QtWidgets.QDialogButtonBox.StandardButton.Cancel)
+        self.optimise_button = buttons.addButton(
+            "Optimise", QtWidgets.QDialogButtonBox.ButtonRole.AcceptRole)
+        self.optimise_button.setEnabled(bool(result.notes))
+        self.optimise_button.setToolTip("Replace the log by the shorter one (Ctrl+Z undoes it)")
+        buttons.accepted.connect(self.accept)
+        buttons.rejected.connect(self.reject)
+        layout = QtWidgets.QVBoxLayout(self)
+        layout.addWidget(self.summary)
+        layout.addWidget(self.notes, 1)
+        layout.addWidget(buttons)
+        self.resize(560, 360 if result.notes else 120)
+
+
 class HistoryDock(QtWidgets.QDockWidget):
     """Signals: ``stepClicked(steps)`` to go to the state after ``steps`` actions;
-    ``editRequested(i, action)`` to replace step i (0-based) and replay."""
+    ``editRequested(i, action)`` to replace step i (0-based) and replay;
+    ``optimiseRequested(actions)`` to replace the applied steps by the optimised log."""
 
     stepClicked = QtCore.Signal(int)
     editRequested = QtCore.Signal(int, object)
+    optimiseRequested = QtCore.Signal(object)
 
     def __init__(self, parent=None):
         super().__init__("History", parent)
@@ -105,9 +151,19 @@ class HistoryDock(QtWidgets.QDockWidget):
         box.addLayout(buttons)
         self.view.setToolTip("Click a step to go back to it; edit its parameters below")
 
+        self.optimise_button = QtWidgets.QPushButton("Optimise log…")
+        self.optimise_button.setToolTip("Drop, move and merge steps for a shorter log with the "
+                                        "same texture; shows what it would do first")
+        self.optimise_button.clicked.connect(self.optimise)
+        self.optimise_dialog: OptimiseDialog | None = None
+
         body = QtWidgets.QWidget()
         layout = QtWidgets.QVBoxLayout(body)
         layout.setContentsMargins(4, 4, 4, 4)
+        top = QtWidgets.QHBoxLayout()
+        top.addStretch(1)
+        top.addWidget(self.optimise_button)
+        layout.addLayout(top)
         rows = self.view.fontMetrics().lineSpacing() + 2
         self.view.setMinimumHeight(MIN_ROWS * rows + 2 * self.view.frameWidth())
         splitter = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)   # the user sets the share
@@ -130,6 +186,7 @@ class HistoryDock(QtWidgets.QDockWidget):
     def refresh(self) -> None:
         """Re-read the log (after any change); keep the selected step's form if it still exists."""
         self.model.refresh()
+        self.optimise_button.setEnabled(self.history is not None and self.history.index > 0)
         if self.history is None:
             return
         if self.selected_step is not None and self.selected_step >= len(self.history.actions):
@@ -146,6 +203,20 @@ class HistoryDock(QtWidgets.QDockWidget):
         neither clicked nor edited (the status bar shows the progress and Cancel)."""
         self.view.setEnabled(not replaying)
         self.group.setEnabled(not replaying)
+        self.optimise_button.setEnabled(not replaying and self.history is not None
+                                        and self.history.index > 0)
+
+    def optimise(self) -> OptimiseDialog | None:
+        """Show what the optimiser would do (window-modal, no nested event loop); Optimise asks
+        the main window to replace the log."""
+        if self.history is None:
+            return None
+        dialog = OptimiseDialog(self.history, self)
+        dialog.accepted.connect(lambda: self.optimiseRequested.emit(dialog.optimised))
+        dialog.finished.connect(dialog.deleteLater)
+        self.optimise_dialog = dialog
+        dialog.open()
+        return dialog
 
     def row_rect(self, step: int) -> QtCore.QRect:
         """Where step (0-based) is drawn in the list's viewport (for clicks in tests)."""

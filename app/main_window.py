@@ -372,6 +372,7 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         self.palette_dock.preview.connect(self.canvas.set_palette)
         self.history_dock.stepClicked.connect(self.goto_step)
         self.history_dock.editRequested.connect(self.edit_step)
+        self.history_dock.optimiseRequested.connect(self.optimise_log)
         self.runner.started.connect(self._task_started)
         self.runner.progress.connect(self._task_progress)
         self.runner.finished.connect(self._task_finished)
@@ -601,7 +602,7 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         if self.runner.busy:
             return
         try:
-            action = Synthesize(doc.dpj_ref, width, height, seed)
+            action = Synthesize(doc.dpj_ref, width, height, seed, self.synthesis_dock.tileable())
         except TexeditorError as exc:
             self.show_error("Cannot synthesise", exc)
             return
@@ -613,7 +614,8 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         if self.runner.busy:
             return
         try:
-            action = SynthesizeScales(tuple(refs), width, height, seed)
+            action = SynthesizeScales(tuple(refs), width, height, seed,
+                                      self.synthesis_dock.tileable())
         except TexeditorError as exc:
             self.show_error("Cannot synthesise", exc)
             return
@@ -649,37 +651,54 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         """Replace step i and replay every later step in the worker, on a scratch copy: the
         window stays live, the new document is swapped in only at the end, and Cancel (Esc,
         Ctrl+Z) leaves the document and its history exactly as they were."""
+        self._replay_edit(lambda history: history.pending_replace(i, action, to_end=True),
+                          f"Replaying from step {i + 1}…", "Cannot apply this edit",
+                          self._replayed)
+
+    def optimise_log(self, actions) -> None:
+        """Replace the applied steps by the log optimiser's shorter log (the History dock's
+        Optimise…), replayed in the worker as an edit is: one change, undone by Ctrl+Z."""
+        self._replay_edit(lambda history: history.pending_rewrite(actions),
+                          "Replaying the optimised log…", "Cannot optimise the log",
+                          self._optimised)
+
+    def _replay_edit(self, make, what: str, failure: str, done) -> None:
+        """Run ``make(history)``'s PendingEdit in the worker, then ``done(history, pending)``."""
         if self.runner.busy:
             self.statusBar().showMessage("Busy: wait for the current work or cancel it (Esc).",
                                          5000)
             return
         history = self.history
         try:
-            pending = history.pending_replace(i, action, to_end=True)
+            pending = make(history)
         except TexeditorError as exc:
-            self.show_error("Cannot apply this edit", exc)
+            self.show_error(failure, exc)
             return
         self._set_replaying(pending)
 
         def failed(exc):
             self._replay_ended()
-            self.show_error("Cannot apply this edit", exc)
+            self.show_error(failure, exc)
 
-        self.runner.run(f"Replaying from step {i + 1}…", pending.run,
-                        lambda _pending: self._replayed(history, pending),
+        self.runner.run(what, pending.run, lambda _pending: done(history, pending),
                         on_cancel=lambda: self._replay_ended("Edit cancelled: the history is "
                                                              "unchanged."),
                         on_error=failed)
 
-    def _replayed(self, history, pending) -> None:
+    def _commit_replay(self, history, pending, failure: str) -> bool:
         """Swap the replayed document in (unless another document was opened meanwhile)."""
         self._set_replaying(None)
         if history is not self.history:
-            return
+            return False
         try:
             history.commit(pending)
         except TexeditorError as exc:
-            self.show_error("Cannot apply this edit", exc)
+            self.show_error(failure, exc)
+            return False
+        return True
+
+    def _replayed(self, history, pending) -> None:
+        if not self._commit_replay(history, pending, "Cannot apply this edit"):
             return
         later = pending.new_index - pending.i - 1
         moved = len(history.retargeted)
@@ -687,6 +706,13 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
                 "History)." if moved else "")
         self.statusBar().showMessage(f"Step {pending.i + 1} edited and the {later} later "
                                      f"step(s) replayed.{note} Ctrl+Z undoes the edit.", 12000)
+
+    def _optimised(self, history, pending) -> None:
+        before = history.index
+        if self._commit_replay(history, pending, "Cannot optimise the log"):
+            self.statusBar().showMessage(f"Log optimised: {before} steps became "
+                                         f"{history.index}, the same texture. Ctrl+Z undoes it.",
+                                         12000)
 
     def _set_replaying(self, pending) -> None:
         """While a replay runs the history dock is locked and Ctrl+Z cancels it."""

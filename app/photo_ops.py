@@ -111,12 +111,13 @@ class PhotoOps:
         doc = self.history.document
         step = synthesis_step(self.history)
         seed = int(step.seed) if step is not None else 0
-        key = (id(self.photo_model), seed, doc.shape,
+        wrap = bool(getattr(step, "tileable", False))
+        key = (id(self.photo_model), seed, wrap, doc.shape,
                hashlib.blake2b(np.ascontiguousarray(doc.levels).data, digest_size=16).digest())
         if self._tone_cache is not None and self._tone_cache[0] == key:
             return self._tone_cache[1]
         start = time.perf_counter()
-        picture = self.photo_model.render(doc.levels, seed=seed)
+        picture = self.photo_model.render(doc.levels, seed=seed, wrap=wrap)
         self.tone_seconds = time.perf_counter() - start
         self._tone_cache = (key, picture)
         return picture

@@ -21,14 +21,27 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.errors import TexeditorError
 from texeditor.spots.library import SpotLibrary
-from texeditor.spots.envelope import KINDS, MIN_GAP, Envelope, Perturbation, real_spot
+from texeditor.spots.envelope import (APPROXIMATING, DEFAULT_KIND, KINDS, MIN_GAP, Envelope,
+                                     Perturbation, real_spot)
 
 from .params_form import SeedEdit, new_seed
 from .widgets import scrolled
 
 HANDLE = 6                      # handle radius, screen pixels
 GRID = 5                        # envelope points between grid lines
-KIND_NAMES = {"linear": "Straight lines", "bezier": "Bézier curves", "bspline": "B-spline"}
+KIND_NAMES = {"linear": "Straight lines", "bezier_curve": "Bézier curve",
+              "uniform_bspline": "B-spline", "catmull_rom": "Catmull–Rom",
+              "interpolating_spline": "Interpolating spline"}
+KIND_TIPS = {"linear": "Straight lines from point to point",
+             "bezier_curve": "One Bézier curve whose control polygon is the points: every point "
+                             "pulls the whole outline",
+             "uniform_bspline": "A uniform cubic B-spline on the points: moving a point changes "
+                                "only the outline near it",
+             "catmull_rom": "A smooth curve through every point (Catmull–Rom); files made before "
+                            "this name existed called it Bézier",
+             "interpolating_spline": "A periodic cubic spline through every point; files made "
+                                     "before this name existed called it B-spline"}
+CONTROL_COLOUR = QtGui.QColor(255, 255, 255, 90)
 INTERIOR_NAMES = {"none": "None", "holes": "Holes", "levels": "Level patches",
                   "relief": "Relief (lit top left)"}
 EQUATOR_COLOUR = QtGui.QColor(255, 150, 40)
@@ -163,8 +176,20 @@ class EnvelopeView(QtWidgets.QWidget):
         if math.dist(a, b) < 1.0:
             return
         half = _round(math.dist(a, b) / 4)
-        kind = self.envelope.kind if self.envelope is not None else "bspline"
+        kind = self.envelope.kind if self.envelope is not None else DEFAULT_KIND
         self.set_envelope(Envelope(a, b, kind=kind).with_meridian(0.5, half, half, main=True))
+
+    def try_envelope(self, make) -> bool:
+        """Show the envelope ``make()`` builds, or say why it cannot be (a Bézier curve on too
+        many points, say) and keep the one shown."""
+        try:
+            envelope = make()
+        except TexeditorError as exc:
+            self.problem = str(exc)
+            self.update()
+            return False
+        self.set_envelope(envelope)
+        return True
 
     def move_handle(self, key, p) -> None:
         env = self.envelope
@@ -227,7 +252,7 @@ class EnvelopeView(QtWidgets.QWidget):
             left = offset
         else:
             right = -offset
-        self.set_envelope(env.with_meridian(_round(t), _round(left), _round(right)))
+        self.try_envelope(lambda: env.with_meridian(_round(t), _round(left), _round(right)))
 
     def add_parallel_at(self, p) -> None:
         env = self.envelope
@@ -237,7 +262,7 @@ class EnvelopeView(QtWidgets.QWidget):
         if abs(offset) < 0.5:
             return
         t0, t1 = max(t - 0.15, 0.0), min(t + 0.15, 1.0)
-        self.set_envelope(env.with_parallel(_round(offset), _round(t0), _round(t1)))
+        self.try_envelope(lambda: env.with_parallel(_round(offset), _round(t0), _round(t1)))
 
     def remove(self, key) -> None:
         env = self.envelope
@@ -348,12 +373,8 @@ class EnvelopeView(QtWidgets.QWidget):
             return
         points = approximate_polygon(np.asarray(stroke), tolerance=0.35)[:-1] \
             if len(stroke) > 8 else np.asarray(stroke)
-        kind = self.envelope.kind if self.envelope is not None else "bspline"
-        try:
-            self.set_envelope(Envelope.from_contour(np.round(points, 2), kind))
-        except TexeditorError as exc:
-            self.problem = str(exc)
-            self.update()
+        kind = self.envelope.kind if self.envelope is not None else DEFAULT_KIND
+        self.try_envelope(lambda: Envelope.from_contour(np.round(points, 2), kind))
 
     # -- painting ---------------------------------------------------------------------------------
     def paintEvent(self, ev):
@@ -397,6 +418,10 @@ class EnvelopeView(QtWidgets.QWidget):
         pen = QtGui.QPen(OUTLINE_COLOUR, 1.2, QtCore.Qt.PenStyle.DashLine)
         p.setPen(pen)
         p.setBrush(QtCore.Qt.BrushStyle.NoBrush)
+        if env.kind in APPROXIMATING:        # the polygon the curve follows
+            p.setPen(QtGui.QPen(CONTROL_COLOUR, 1, QtCore.Qt.PenStyle.DotLine))
+            p.drawPolygon(QtGui.QPolygonF([self.to_screen(q) for q in env.control_points()]))
+            p.setPen(pen)
         outline = env.outline(step=max(0.5, 2.0 / self._k()))
         if len(outline) >= 2:
             p.drawPolygon(QtGui.QPolygonF([self.to_screen(q) for q in outline]))
@@ -579,6 +604,8 @@ class SpotEditor(QtWidgets.QWidget):
         self.kind = QtWidgets.QComboBox()
         for kind in KINDS:
             self.kind.addItem(KIND_NAMES[kind], kind)
+            self.kind.setItemData(self.kind.count() - 1, KIND_TIPS[kind],
+                                  QtCore.Qt.ItemDataRole.ToolTipRole)
         self.kind.setToolTip("How the outline joins the ends of the axes (thesis fig. 3.8, 3.9)")
         self.kind.currentIndexChanged.connect(self._kind_changed)
         self.fit_button = QtWidgets.QToolButton(text="Fit")
@@ -730,7 +757,11 @@ class SpotEditor(QtWidgets.QWidget):
     def _kind_changed(self) -> None:
         if self._loading or self.view.envelope is None:
             return
-        self.view.set_envelope(self.view.envelope.with_kind(self.kind.currentData()))
+        envelope = self.view.envelope
+        if not self.view.try_envelope(lambda: envelope.with_kind(self.kind.currentData())):
+            self._loading = True              # refused: the list shows the kind still drawn
+            self.kind.setCurrentIndex(self.kind.findData(envelope.kind))
+            self._loading = False
 
     def _settings_changed(self) -> None:
         if self._loading:

@@ -68,12 +68,18 @@ class SynthesisDock(QtWidgets.QDockWidget):
         scales_row = QtWidgets.QHBoxLayout()
         scales_row.addWidget(self.scales_box)
         scales_row.addWidget(self.tone_box, 1)
+        self.tileable_box = QtWidgets.QCheckBox("Tileable")
+        self.tileable_box.setToolTip("Draw the texture on the torus: it repeats without a seam "
+                                     "(its last columns and rows are drawn given its first ones)")
+        seed_row = QtWidgets.QHBoxLayout()
+        seed_row.addWidget(self.seed, 1)
+        seed_row.addWidget(self.tileable_box)
         self.button = QtWidgets.QPushButton("Synthesise")
         self.button.setToolTip("Draw a new texture from the current DPJ (Ctrl+R)")
         self.button.clicked.connect(self._request)
         form.addRow("DPJ", self.dpj_label)
         form.addRow("Size", size_row)
-        form.addRow("Seed", self.seed)
+        form.addRow("Seed", seed_row)
         form.addRow("Scales", scales_row)
         form.addRow(self.button)
         self.setWidget(scrolled(body))
@@ -139,6 +145,7 @@ class SynthesisDock(QtWidgets.QDockWidget):
         self.width_box.setValue(action.width)
         self.height_box.setValue(action.height)
         self.seed.set_value(action.seed)
+        self.tileable_box.setChecked(action.tileable)
         if action.TYPE == "synthesize_scales":
             self.scales_box.setValue(len(action.dpjs))
 
@@ -148,6 +155,9 @@ class SynthesisDock(QtWidgets.QDockWidget):
 
     def values(self) -> tuple[int, int, int]:
         return self.width_box.value(), self.height_box.value(), self.seed.value()
+
+    def tileable(self) -> bool:
+        return self.tileable_box.isChecked()
 
     def _request(self) -> None:
         self.requested.emit(*self.values())

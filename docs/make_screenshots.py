@@ -579,6 +579,32 @@ def shot_photo_model(app, window, out: Path) -> None:
 MORE_SHOTS.append(shot_photo_model)
 
 
+def shot_optimise(app, window, out: Path) -> None:
+    """The History dock's Optimise log… (issue 21): what the log optimiser would drop, move and
+    merge in a log of fills, palettes and crops, before it is done."""
+    from texeditor.recipe.actions import CropCanvas, NewCanvas, SetLevels, SetPalette
+    from texeditor.recipe.history import History
+
+    previous = window.history
+    grey = ((30, 30, 30), (110, 100, 90), (180, 170, 150), (240, 235, 225))
+    warm = ((30, 20, 10), (140, 90, 50), (200, 150, 90), (250, 230, 200))
+    history = History()
+    for action in (NewCanvas(128, 96, 4, grey), SetLevels(8, 8, 24, 40, 1), SetPalette(warm),
+                   SetLevels(60, 70, 20, 20, 2), SetLevels(8, 48, 24, 40, 1),
+                   CropCanvas(0, 0, 96, 112), SetLevels(70, 20, 12, 12, 3),
+                   CropCanvas(4, 4, 88, 100), SetPalette(grey)):
+        history.apply(action)
+    window.set_history(history)
+    dialog = window.history_dock.optimise()
+    settle(app)
+    save(dialog, out / "history-optimise.png")
+    dialog.reject()
+    window.set_history(previous)
+
+
+MORE_SHOTS.append(shot_optimise)
+
+
 def shot_relief(app, window, out: Path) -> None:
     """Relief (issue 20): a gravel texture in earth colours with the Relief dock open, the
     light dragged to the upper left, the previews on a plane and a sphere."""

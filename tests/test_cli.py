@@ -140,7 +140,32 @@ def test_texture_synth_render_log_and_optimize(tmp_path, capsys):
     assert run(capsys, "render", tex, "--scale", "3", "-o", tmp_path / "a.png")[0] == 0
     assert skio.imread(tmp_path / "a.png").shape[:2] == (90, 120)
     code, out, _ = run(capsys, "log", tex, "--optimize", "-o", tmp_path / "b.texture")
-    assert code == 0 and "same result" in out
+    assert code == 0 and "same result" in out and "(nothing to do)" in out
+
+
+def test_log_optimise_says_what_it_moves_and_merges(tmp_path, capsys):
+    from texeditor.recipe.actions import CropCanvas, NewCanvas, SetLevels
+    from texeditor.recipe.history import History
+    from texeditor.recipe.texturefile import read_texture, save_texture
+
+    history = History()
+    for action in (NewCanvas(8, 8, 3), CropCanvas(1, 1, 7, 7), SetLevels(1, 1, 1, 1, 2),
+                   CropCanvas(0, 0, 4, 4)):
+        history.apply(action)
+    tex, short = tmp_path / "crops.texture", tmp_path / "short.texture"
+    save_texture(tex, history)
+    notes = ["  moved step 4 (Crop to 4×4 at (0, 0)) before step 3 so it merges with step 2",
+             "  merged step 2 (Crop to 7×7 at (1, 1)) and step 4 (Crop to 4×4 at (0, 0)) into "
+             "one step: Crop to 4×4 at (1, 1)"]
+    code, out, _ = run(capsys, "log", tex, "--optimise")          # says what it would do
+    assert code == 0 and out.splitlines() == [
+        "4 actions would be optimised to 3 (-o NEW.texture writes them)", *notes]
+    assert not short.exists()
+    code, out, _ = run(capsys, "log", tex, "--optimise", "-o", short)
+    assert code == 0 and out.splitlines() == [
+        f"{short}: 4 actions optimised to 3, same result", *notes]
+    assert read_texture(short).actions == (NewCanvas(8, 8, 3), CropCanvas(1, 1, 4, 4),
+                                           SetLevels(1, 1, 1, 1, 2))
 
 
 def test_render_refuses_a_texture_whose_hash_does_not_match(tmp_path, capsys):

@@ -66,7 +66,9 @@ def test_a_relief_spot_too_big_to_shade_is_refused():
 
 
 ENVELOPES = [Envelope.ellipse(30, 18), Envelope.ellipse(9, 3, kind="linear"),
-             Envelope.ellipse(0.6, 0.2), Envelope.ellipse(40, 1.2, kind="bezier")]
+             Envelope.ellipse(0.6, 0.2), Envelope.ellipse(40, 1.2, kind="catmull_rom"),
+             Envelope.ellipse(40, 7, kind="bezier_curve"),
+             Envelope.ellipse(40, 7, kind="uniform_bspline")]
 PERTURBATIONS = [Perturbation(), Perturbation(contour=0.3, fractal=0.4),
                  Perturbation(interior="holes", density=0.4, scale=3),
                  Perturbation(interior="levels", density=0.3, fractal=0.2),

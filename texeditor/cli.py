@@ -66,16 +66,17 @@ def cmd_synth(args) -> int:
     out = output_path(args.output, SYNTH_OUTPUTS)
     dpj = load_model(args.dpj)
     if hasattr(dpj, "scales"):
-        return _synth_model(dpj, width, height, args.seed, out, tone=not args.no_tone)
+        return _synth_model(dpj, width, height, args.seed, out, tone=not args.no_tone,
+                            tileable=args.tileable)
     if out.suffix.lower() == ".texture":
-        return _synth_texture(dpj, width, height, args.seed, out)
-    result = synthesize(dpj, (height, width), seed=args.seed)
+        return _synth_texture(dpj, width, height, args.seed, out, args.tileable)
+    result = synthesize(dpj, (height, width), seed=args.seed, tileable=args.tileable)
     if out.suffix.lower() == ".png":
         write_png(out, result.levels, dpj.palette)
     else:
         write_npy(out, result.levels)
-    print(f"{out}: {width}x{height}, seed {args.seed}, dead-end repairs {result.repairs} "
-          f"(rows redrawn {result.redraws})")
+    print(f"{out}: {width}x{height}, seed {args.seed}{', tileable' if args.tileable else ''}, "
+          f"dead-end repairs {result.repairs} (rows redrawn {result.redraws})")
     return 0
 
 
@@ -101,7 +102,7 @@ def _count(text: str, what: str) -> int:
         raise InputError(f"{what} must be a number or 'auto', got {text!r}") from None
 
 
-def _synth_model(model, width, height, seed, out, tone=True) -> int:
+def _synth_model(model, width, height, seed, out, tone=True, tileable=False) -> int:
     """A photo model: its picture (PNG: tone or palette), its levels (.npy) or a .texture whose
     log draws the same levels from the scales' DPJs."""
     from .export import write_npy, write_picture
@@ -109,15 +110,17 @@ def _synth_model(model, width, height, seed, out, tone=True) -> int:
 
     suffix = out.suffix.lower()
     if suffix == ".texture":
-        save_texture(out, synthesize_scales_texture(model.scales.dpjs, width, height, seed=seed))
+        save_texture(out, synthesize_scales_texture(model.scales.dpjs, width, height, seed=seed,
+                                                    tileable=tileable))
         print(f"{out}: {width}x{height}, seed {seed}, one multi-scale synthesis in its log")
         return 0
-    result = model.synthesize((height, width), seed=seed, tone=tone)
+    result = model.synthesize((height, width), seed=seed, tone=tone, tileable=tileable)
     if suffix == ".png":
         write_picture(out, result.image)
     else:
         write_npy(out, result.levels)
-    print(f"{out}: {width}x{height}, seed {seed}, {model.scales.scales} scales, "
+    print(f"{out}: {width}x{height}, seed {seed}{', tileable' if tileable else ''}, "
+          f"{model.scales.scales} scales, "
           f"{'photographic tone' if tone and model.tone is not None else 'palette'}, "
           f"dead-end repairs {result.repairs}")
     return 0
@@ -132,15 +135,16 @@ def cmd_resynth(args) -> int:
     out = output_path(args.output, (".png", ".npy", ".texture"))
     start = time.perf_counter()
     model = _acquire_model(load_image(args.photo), args)
-    code = _synth_model(model, width, height, args.seed, out, tone=not args.no_tone)
+    code = _synth_model(model, width, height, args.seed, out, tone=not args.no_tone,
+                        tileable=args.tileable)
     print(f"({time.perf_counter() - start:.2f} s)")
     return code
 
 
-def _synth_texture(dpj, width, height, seed, out) -> int:
+def _synth_texture(dpj, width, height, seed, out, tileable=False) -> int:
     from .recipe.texturefile import save_texture, synthesize_texture
 
-    history = synthesize_texture(dpj, width, height, seed=seed)
+    history = synthesize_texture(dpj, width, height, seed=seed, tileable=tileable)
     save_texture(out, history)
     print(f"{out}: {width}x{height}, seed {seed}, one Synthesize action in its log")
     return 0
@@ -193,14 +197,15 @@ def cmd_export(args) -> int:
 def cmd_log(args) -> int:
     from .recipe.texturefile import describe_log, optimize_texture, read_texture
 
-    if args.optimize:
-        if not args.output:
-            raise InputError("--optimize needs -o NEW.texture")
-        before, after = optimize_texture(args.texture, output_path(args.output, (".texture",)))
-        print(f"{args.output}: {before} actions optimised to {after}, same result")
+    if args.optimise:
+        out = args.output and output_path(args.output, (".texture",))
+        before, after, notes = optimize_texture(args.texture, out)
+        print(f"{args.output}: {before} actions optimised to {after}, same result" if out else
+              f"{before} actions would be optimised to {after} (-o NEW.texture writes them)")
+        print("\n".join(f"  {note}" for note in notes) or "  (nothing to do)")
         return 0
     if args.output:
-        raise InputError("-o is only for --optimize")
+        raise InputError("-o is only for --optimise")
     tex = read_texture(args.texture)
     print("\n".join(describe_log(tex.actions)) or "(no actions)")
     return 0
@@ -256,6 +261,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--seed", type=int, default=0)
     s.add_argument("--no-tone", action="store_true",
                    help="a photo model's PNG in its palette's flat colours, not the photo's tone")
+    s.add_argument("--tileable", action="store_true", help="repeat without a seam (the Markov "
+                   "process drawn on the torus)")
     s.add_argument("-o", "--output", required=True, help="OUT.png, OUT.npy or OUT.texture")
 
     rs = sub.add_parser("resynth", help="photo → texture: a multi-scale DPJ drawn with the "
@@ -268,6 +275,7 @@ def build_parser() -> argparse.ArgumentParser:
     rs.add_argument("--window", help="UxV of the finer scales (default 3x2)")
     rs.add_argument("--levels", type=int, default=4, help="G of the finer scales (default 4)")
     rs.add_argument("--quantizer", choices=("band", "lloyd"), default="lloyd")
+    rs.add_argument("--tileable", action="store_true", help="repeat without a seam")
     _model_options(rs)
     rs.add_argument("-o", "--output", required=True, help="OUT.png, OUT.npy or OUT.texture")
     rs.set_defaults(func=cmd_resynth)
@@ -300,8 +308,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     lg = sub.add_parser("log", help="list the actions of a .texture (or write an optimised copy)")
     lg.add_argument("texture")
-    lg.add_argument("--optimize", action="store_true", help="simplify the log (same result)")
-    lg.add_argument("-o", "--output", help="NEW.texture, with --optimize")
+    lg.add_argument("--optimise", "--optimize", action="store_true",
+                    help="simplify and reorder the log (same result) and say what was done")
+    lg.add_argument("-o", "--output", help="NEW.texture, with --optimise")
     lg.set_defaults(func=cmd_log)
 
     from .bank.cli import add_parser as add_bank_parser

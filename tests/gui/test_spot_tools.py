@@ -93,8 +93,8 @@ def test_build_an_envelope_with_clicks_and_drags(window, qtbot):
     assert len(editor.envelope.parallels) == 1 and editor.envelope.parallels[0].offset > 5
 
     # the outline kind is an option
-    editor.kind.setCurrentIndex(editor.kind.findData("bezier"))
-    assert editor.envelope.kind == "bezier"
+    editor.kind.setCurrentIndex(editor.kind.findData("bezier_curve"))
+    assert editor.envelope.kind == "bezier_curve"
 
 
 def test_drag_the_equator_and_draw_a_contour_freehand(window, qtbot):
@@ -195,6 +195,37 @@ def test_scatter_in_a_rectangle_then_delete_a_spot_and_undo(window, qtbot):
     assert not np.array_equal(window.document.levels, scattered)
     QtTest.QTest.keyClick(window, QtCore.Qt.Key.Key_Z, QtCore.Qt.KeyboardModifier.ControlModifier)
     assert np.array_equal(window.document.levels, scattered)
+
+
+def test_outline_kinds_placed_in_turn_then_a_refused_bezier_and_undo(window, qtbot):
+    tool = spot_tool(window)
+    editor, canvas = tool.editor, window.canvas
+    editor.load(editor.library.get("Ellipse"))           # four points: a, b, two meridian ends
+    start, steps = window.document.levels.copy(), window.history.index
+    area = {}
+    tool.opts.scale_box.setValue(0.5)                      # 20 × 12 points
+    for kind, row in (("catmull_rom", 8), ("uniform_bspline", 24), ("bezier_curve", 40)):
+        editor.kind.setCurrentIndex(editor.kind.findData(kind))
+        click(canvas.viewport(), cell_pos(canvas, 30, row))     # apart: each spot is a step
+        action = window.history.actions[-1]
+        assert isinstance(action, PlaceSpot) and action.envelope_model().kind == kind
+        assert window.document.levels[row, 30] == window.current_level
+        area[kind] = tool_stamp(action, window).area
+    # through the points, then following them: a B-spline, then a Bézier curve, keep inside
+    assert area["bezier_curve"] < area["uniform_bspline"] < area["catmull_rom"]
+
+    ring = [(30 * math.sin(a), 30 * math.cos(a)) for a in np.linspace(0, 2 * math.pi, 200,
+                                                                        endpoint=False)]
+    editor.kind.setCurrentIndex(editor.kind.findData("uniform_bspline"))
+    editor.view.set_envelope(Envelope.from_contour(ring, "uniform_bspline"))   # 200 points
+    editor.kind.setCurrentIndex(editor.kind.findData("bezier_curve"))
+    assert editor.envelope.kind == "uniform_bspline"                 # refused, and said why
+    assert editor.kind.currentData() == "uniform_bspline" and "B-spline" in editor.view.problem
+
+    for _ in range(3):
+        QtTest.QTest.keyClick(window, QtCore.Qt.Key.Key_Z,
+                              QtCore.Qt.KeyboardModifier.ControlModifier)
+    assert window.history.index == steps and np.array_equal(window.document.levels, start)
 
 
 def test_scatter_over_the_whole_canvas_with_a_level_range(window, qtbot):

@@ -125,8 +125,9 @@ def test_describe_log_numbers_the_actions():
 
 def test_optimize_texture_writes_a_shorter_log_with_the_same_result(saved, tmp_path):
     out = tmp_path / "short.texture"
-    before, after = tf.optimize_texture(saved, out)
-    assert (before, after) == (5, 2)
+    before, after, notes = tf.optimize_texture(saved, out)
+    assert (before, after) == (5, 2) and len(notes) == 3
+    assert notes[0].startswith("dropped step 1 (Synthesise 24×16, seed 3): step 3")
     assert tf.render_texture(out).result_hash() == tf.render_texture(saved).result_hash()
     assert set(members(out)) == {"manifest.json", "actions.json", "dpj.npz"}
     assert tf.read_texture(out).manifest.tags == ("stone", "grey")

@@ -8,9 +8,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from texeditor.errors import InputError
-from texeditor.spots.envelope import (KINDS, Envelope, Meridian, Parallel, Perturbation, Placement, Stamp,
-                             blend, midpoint_displacement, pieces, place, polygon_area,
-                             polygon_mask, real_spot, spot_levels, tile)
+from texeditor.spots.envelope import (APPROXIMATING, KINDS, Envelope, Meridian, Parallel,
+                                     Perturbation, Placement, Stamp, blend,
+                                     midpoint_displacement, pieces, place, polygon_area,
+                                     polygon_mask, real_spot, spot_levels, tile)
 
 STONE = Envelope((2.0, -20.0), (-1.0, 19.0),
                  (Meridian(0.15, 8, 9), Meridian(0.45, 15, 13, main=True), Meridian(0.8, 11, 9)))
@@ -36,7 +37,7 @@ def inside_box(stamp, box):
 
 # -- the envelope and its outline ------------------------------------------------------------------
 
-@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("kind", sorted(set(KINDS) - set(APPROXIMATING)))
 def test_the_outline_passes_through_every_meridian_end_point(kind):
     env = STONE.with_kind(kind).with_parallel(5.0, 0.05, 0.2)
     outline = env.outline()
@@ -82,7 +83,7 @@ def test_adding_a_meridian_where_the_outline_already_is_keeps_the_linear_shape()
 
 
 def test_envelope_json_round_trip_and_validation():
-    env = STONE.with_parallel(-4.0, 0.3, 0.7).with_kind("bezier")
+    env = STONE.with_parallel(-4.0, 0.3, 0.7).with_kind("bezier_curve")
     assert Envelope.loads(env.dumps()) == env
     assert Envelope.from_json(env.to_json()) == env
     for bad, message in [("{", "not valid JSON"), ("[]", "JSON object"),
@@ -138,13 +139,14 @@ def test_widths_of_zero_have_no_area_and_say_so(kind):
 
 @pytest.mark.parametrize("kind", KINDS)
 def test_one_sided_and_pinched_envelopes_give_sane_spots(kind):
-    half = Envelope((0.0, 0.0), (0.0, 30.0), (Meridian(0.5, 8, 0),), kind=kind)
+    least = 10 if kind in APPROXIMATING else 50    # a curve that only follows its points is
+    half = Envelope((0.0, 0.0), (0.0, 30.0), (Meridian(0.5, 8, 0),), kind=kind)   # thinner
     stamp = real_spot(half, ROUGH, seed=2)
     rows = np.nonzero(stamp.mask)[0] + stamp.top
-    assert stamp.area > 50 and rows.max() <= 1         # all on the left (above) of the equator
+    assert stamp.area > least and rows.max() <= 1      # all on the left (above) of the equator
     pinched = Envelope((0.0, 0.0), (0.0, 30.0),
                        (Meridian(0.25, 6, 6), Meridian(0.5, 0, 0), Meridian(0.75, 6, 6)), kind=kind)
-    assert real_spot(pinched).area > 50
+    assert real_spot(pinched).area > least
 
 
 def test_a_spot_smaller_than_a_point_still_marks_one_point():

@@ -115,6 +115,15 @@ def upsample(parents: np.ndarray, shape) -> np.ndarray:
     return up if len(up) == h else np.vstack([up, up[-1:]])
 
 
+def upsample_torus(parents: np.ndarray, shape) -> np.ndarray:
+    """``upsample`` on the torus: the last row's parent is the first row's, and a side of odd
+    length is resampled to the nearest coarse point, so the parents tile as the points do."""
+    (h, w), (hc, wc) = shape, parents.shape
+    rows = (np.arange(1, h + 1) * hc // h) % hc
+    cols = np.arange(w) * wc // w
+    return parents[np.ix_(rows, cols)]
+
+
 def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
                     window=WINDOW, coarse_levels: int = COARSE_LEVELS,
                     coarse_window=COARSE_WINDOW, quantizer: str = "lloyd"):
@@ -157,10 +166,11 @@ def scale_shapes(shape, scales: int) -> list[tuple[int, int]]:
 def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       progress: Callable[[float], None] | None = None,
                       cancel: Callable[[], bool] | None = None,
-                      rows_final: Callable[[np.ndarray, int], None] | None = None
-                      ) -> SynthesisResult:
+                      rows_final: Callable[[np.ndarray, int], None] | None = None,
+                      tileable: bool = False) -> SynthesisResult:
     """Draw the coarsest scale, then each finer one given the one under it; the finest levels
     (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
+    ``tileable``: every scale is drawn on the torus.
 
     A coarse scale's field has long-range correlations: one draw of it can hold a level's share
     a tenth off the model's, and every finer scale inherits it. So a coarse scale is drawn again
@@ -180,7 +190,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                 lambda f, k=k, t=t: progress(done[k] + (t + f) / tries * (done[k + 1] - done[k])))
             final = rows_final if k == model.scales - 1 else None
             r = _draw_scale(model, k, shapes[k], levels, _try_seed(seed, k, t), report, cancel,
-                            final)
+                            final, bool(tileable))
             off = _frequency_error(r.levels, model.frequencies(k))
             if best is None or off < best[0]:
                 best = (off, r)
@@ -197,13 +207,15 @@ def _tries(k: int, scales: int) -> int:
     return 1 if k == scales - 1 else 2 if k == scales - 2 else COARSE_TRIES
 
 
-def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final=None):
+def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final, tileable):
     dpj = model.dpjs[k]
     if k == 0:
         return synthesize(dpj, shape, seed=seed, progress=progress, cancel=cancel,
-                          rows_final=rows_final)
-    return synthesize_given(dpj, upsample(parents, shape), parent_levels(model.dpjs, k),
-                            seed=seed, progress=progress, cancel=cancel, rows_final=rows_final)
+                          rows_final=rows_final, tileable=tileable)
+    up = upsample_torus(parents, shape) if tileable else upsample(parents, shape)
+    return synthesize_given(dpj, up, parent_levels(model.dpjs, k), seed=seed,
+                            progress=progress, cancel=cancel, rows_final=rows_final,
+                            tileable=tileable)
 
 
 def _frequency_error(levels: np.ndarray, expected: np.ndarray) -> float:

@@ -44,30 +44,36 @@ class SynthesisResult:
 def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
                progress: Callable[[float], None] | None = None,
                cancel: Callable[[], bool] | None = None, max_redraws: int = 16,
-               rows_final: Callable[[np.ndarray, int], None] | None = None) -> SynthesisResult:
+               rows_final: Callable[[np.ndarray, int], None] | None = None,
+               tileable: bool = False) -> SynthesisResult:
     """Draw an (H, W) level matrix from ``dpj``; same DPJ and seed → same matrix.
 
     ``progress(fraction)`` is called between bands of rows; ``cancel()`` returning True stops the
     work with :class:`Cancelled`. ``shape`` is (height, width). ``rows_final(levels, n)``, called
     between bands too, says that rows 0..n-1 of ``levels`` will not change any more (a dead end
     may redraw up to MAX_REDRAW_DEPTH rows above it), so later work can start on them.
+
+    ``tileable``: drawn on the torus, so the texture repeats without a seam: each row's last
+    points are redrawn from their law given its first ones, then each column's last points
+    given its first ones (the same with the DPJ transposed); nothing is blended.
     """
     h, w = _check_request(dpj, shape)
     out = np.zeros((h, w), dtype=np.uint8)
-    return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws, rows_final)
+    across = _tables(_transposed(dpj)) if tileable else None
+    return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws, rows_final, across)
 
 
 def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed: int = 0,
                      progress: Callable[[float], None] | None = None,
                      cancel: Callable[[], bool] | None = None,
                      max_redraws: int = 16,
-                     rows_final: Callable[[np.ndarray, int], None] | None = None
-                     ) -> SynthesisResult:
+                     rows_final: Callable[[np.ndarray, int], None] | None = None,
+                     tileable: bool = False) -> SynthesisResult:
     """Draw a level matrix given a parent level at every point (a finer scale given the coarser
     one under it, markov.multiscale): ``dpj``'s levels are composite, parent · G + level, with
     G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
     parents, as :func:`synthesize`; the result holds the G-levels alone (so do the rows
-    ``rows_final`` is told of)."""
+    ``rows_final`` is told of). ``tileable``: on the torus, the parents tiling too."""
     gp = int(parent_levels)
     if gp < 2 or dpj.levels % gp:
         raise InputError(f"a DPJ of {dpj.levels} composite levels cannot have {gp} parent levels")
@@ -79,40 +85,74 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     h, w = _check_request(dpj, parents.shape)
     gx = dpj.levels // gp
     out = (parents.astype(np.uint8) * np.uint8(gx))
+    across = _tables(_transposed(dpj), gp) if tileable else None
     result = _draw(out, _tables(dpj, gp), seed, progress, cancel, max_redraws,
-                   rows_final and _own_levels(out, gx, rows_final))
+                   rows_final and _own_levels(out, gx, rows_final), across)
     np.remainder(result.levels, gx, out=result.levels)
     return result
 
 
 def _own_levels(out, gx, rows_final):
     """A rows_final callback that passes on the G-levels of the composite rows."""
-    levels, done = np.empty_like(out), [0]
+    levels, done = np.empty_like(out), [0]     # out: the shape
 
-    def report(_, n):
-        np.remainder(out[done[0]:n], gx, out=levels[done[0]:n])
+    def report(composite, n):
+        np.remainder(composite[done[0]:n], gx, out=levels[done[0]:n])
         done[0] = max(done[0], n)
         rows_final(levels, n)
     return report
 
 
-def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None) -> SynthesisResult:
-    """Fill ``out`` band by band (progress, cancel and the rows now final between bands)."""
+def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
+          across=None) -> SynthesisResult:
+    """Fill ``out`` band by band (progress, cancel and the rows now final between bands).
+
+    Tileable (``across``: the tables of the DPJ transposed): drawn on the torus — in a copy of
+    ``out`` whose first v-1 rows and u-1 columns are repeated after its last, so every window
+    across a seam is an ordinary window; the rows are final only once the columns are closed."""
     h, w = out.shape
+    tileable = across is not None
     state = np.random.SeedSequence(_check_seed(seed)).generate_state(1, np.uint64)
+    work = np.pad(out, ((0, t.v - 1), (0, t.u - 1)), mode="wrap") if tileable else out
+    tile_h, tile_w = (np.int64(h), np.int64(w)) if tileable else (np.int64(0), np.int64(0))
     band = max(t.v, ROWS_PER_CALL_PIXELS // w)
     repairs = redraws = 0
     for r0 in range(0, h, band):
         if cancel is not None and cancel():
             raise Cancelled("synthesis cancelled")
-        rep, red = _sample_rows(out, r0, min(h, r0 + band), t, state, max_redraws)
+        rep, red = _sample_rows(work, r0, min(h, r0 + band), t, state, max_redraws, tile_h,
+                                tile_w)
         repairs += rep
         redraws += red
         if progress is not None:
             progress(min(h, r0 + band) / h)
-        if rows_final is not None:
+        if rows_final is not None and not tileable:
             rows_final(out, h if r0 + band >= h else max(0, r0 + band - MAX_REDRAW_DEPTH))
+    if tileable:
+        turned = np.ascontiguousarray(work.T)
+        repairs += _close_columns(turned, across, state, tile_w, tile_h)
+        out[:] = turned.T[:h, :w]
+        if rows_final is not None:
+            rows_final(out, h)
     return SynthesisResult(out, int(repairs), int(redraws), int(seed))
+
+
+_turned: dict[int, tuple[weakref.ref, DPJ]] = {}
+
+
+def _transposed(dpj: DPJ) -> DPJ:
+    """The DPJ of the texture turned a quarter (windows transposed), kept while ``dpj`` lives:
+    closing the bottom seam is closing the side seam of the turned texture."""
+    with _cache_lock:
+        hit = _turned.get(id(dpj))
+        if hit is not None and hit[0]() is dpj:
+            return hit[1]
+        for key in [k for k, (ref, _) in _turned.items() if ref() is None]:
+            del _turned[key]
+    turned = DPJ(np.ascontiguousarray(dpj.configs.transpose(0, 2, 1)), dpj.probs, dpj.levels)
+    with _cache_lock:
+        _turned[id(dpj)] = (weakref.ref(dpj), turned)
+    return turned
 
 
 def _check_seed(seed) -> int:
@@ -497,13 +537,14 @@ def _clear(big_r, tail, lo, hi):
 
 
 @njit(cache=True, nogil=True)
-def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, t, work):
+def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work):
     """The forward filter over row r from position n to the last window touching [c0, c1).
 
     Positions before n must already be in ``work`` (a resumed pass). Returns (status, n,
     repairs): OK, or DEAD_END / GROW at position n. Only at ``lenient_at`` may a position back
     off to the DPJ marginal with fewer rows above, and at worst restart the bottom-row chain.
     ``kmin`` rows of context are left out everywhere (a conditional scale's first rows).
+    Windows lie in columns 0..width-1.
     """
     g, u, v, direct, lvl = t.levels, t.u, t.v, t.direct, t.lvl
     gx, gp = t.gx, t.gp
@@ -511,7 +552,7 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, t, work):
     q, m = t.fent[Q], t.fent[M]
     code, start, end = t.ctx[CODE], t.ctx[START], t.ctx[END]
     big_r, pos, inv, tb = work.big_r, work.pos, work.inv, work.tb[0]
-    n_last = min(out.shape[1] - u, c1 - 1)
+    n_last = min(width - u, c1 - 1)
     repairs = 0
     while n <= n_last:
         toff = pos[TOFF, n]
@@ -621,10 +662,11 @@ def _new_work(g, u, w, depth):
 
 
 @njit(cache=True, nogil=True)
-def _run(out, r, n, n_first, c0, c1, lenient_at, kmin, t, work):
+def _run(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work):
     """_forward, growing the T buffer as often as it asks."""
     while True:
-        status, n, repairs = _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, t, work)
+        status, n, repairs = _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t,
+                                      work)
         if status != GROW:
             return status, n, repairs
         pos = work.pos
@@ -632,18 +674,25 @@ def _run(out, r, n, n_first, c0, c1, lenient_at, kmin, t, work):
 
 
 @njit(cache=True, nogil=True)
-def _redraw_segment(out, r, c0, c1, t, work, state):
-    """Redraw row r on columns [c0, c1) from its exact law given everything around it.
+def _redraw_segment(out, r, c0, c1, kmin, t, work, state, lenient=False):
+    """Redraw row r on columns [c0, c1) from its exact law given everything around it
+    (``lenient``: a position that meets a dead end backs off, as _draw_row's last resort).
 
     Returns ok; on a dead end the row is left untouched.
     """
     n_first = max(0, c0 - t.u + 1)
     work.pos[TOFF, n_first] = 0
-    status, n, _ = _run(out, r, n_first, n_first, c0, c1, np.int64(-1), np.int64(0), t, work)
-    if status == DEAD_END:
-        if n > n_first:
-            _clear(work.big_r, t.ient[TAIL], work.pos[LO, n - 1], work.pos[HI, n - 1])
-        return False
+    n, lenient_at = n_first, np.int64(-1)
+    while True:
+        status, n, _ = _run(out, r, n, n_first, c0, c1, lenient_at, kmin,
+                            np.int64(out.shape[1]), t, work)
+        if status != DEAD_END:
+            break
+        if not lenient or lenient_at == n:
+            if n > n_first:
+                _clear(work.big_r, t.ient[TAIL], work.pos[LO, n - 1], work.pos[HI, n - 1])
+            return False
+        lenient_at = n
     _backward(out, r, n, max(c0, n_first), t, work, state)
     return True
 
@@ -657,38 +706,43 @@ def _copy_rows(src, s0, dst, d0, rows, c0, c1):
 
 
 @njit(cache=True, nogil=True)
-def _redraw_above(out, r, n, tries, t, seg, state):
+def _redraw_above(out, r, n, tries, col0, col1, t, seg, state):
     """A dead end at position n of row r: redraw a segment of the rows above around n, wider
-    and deeper as tries fail. Returns the first column changed, or -1 if nothing changed."""
+    and deeper as tries fail, within columns [col0, col1). Returns the first column changed,
+    or -1 if nothing changed."""
     u = t.u
     depth = min(1 + tries // 4, MAX_REDRAW_DEPTH, r - t.v + 1)
     if depth <= 0:
         return -1
     half = u * (2 + 2 * (tries // 4))
-    c0, c1 = max(0, n - half), min(out.shape[1], n + u + half)
+    c0, c1 = max(col0, n - half), min(col1, n + u + half)
+    if c0 >= c1:
+        return -1
     _copy_rows(out, r - depth, seg.saved, 0, depth, c0, c1)
     for ra in range(r - depth, r):
-        if not _redraw_segment(out, ra, c0, c1, t, seg, state):
+        if not _redraw_segment(out, ra, c0, c1, np.int64(0), t, seg, state):
             _copy_rows(seg.saved, 0, out, r - depth, depth, c0, c1)
             return -1
     return c0
 
 
 @njit(cache=True, nogil=True)
-def _draw_row(out, r, kmin, t, work, seg, state, max_redraws):
+def _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws):
     """Draw row r given the v-1-kmin rows above it. Returns (repairs, redraws).
 
     A dead end at position n redraws the rows above around n and resumes the forward pass just
     before the redrawn columns (the filter there is unchanged); after ``max_redraws`` failed
     tries at the same place, or where no full context rows lie above, that position backs off.
+    The row is drawn on columns 0..col1-1 (a tileable row's copied columns come after), and
+    the rows above are redrawn within [col0, col1).
     """
-    u, w = t.u, out.shape[1]
+    u, w = t.u, col1
     tail, pos = t.ient[TAIL], work.pos
     repairs = redraws = tries = np.int64(0)
     n, lenient_at, frontier = np.int64(0), np.int64(-1), np.int64(-1)
     pos[TOFF, 0] = 0
     while True:
-        status, n, rep = _run(out, r, n, 0, 0, w, lenient_at, kmin, t, work)   # 0: folded
+        status, n, rep = _run(out, r, n, 0, 0, w, lenient_at, kmin, w, t, work)  # 0: folded
         repairs += rep
         if status == OK:
             break
@@ -697,7 +751,7 @@ def _draw_row(out, r, kmin, t, work, seg, state, max_redraws):
         if tries >= max_redraws or t.v == 1 or r < t.v:
             lenient_at = n  # resume at n (R still holds the filter of n - 1), backing off
             continue
-        c0 = _redraw_above(out, r, n, tries, t, seg, state)
+        c0 = _redraw_above(out, r, n, tries, col0, col1, t, seg, state)
         tries += 1
         redraws += 1
         resume = n if c0 < 0 else max(0, min(n, c0 - u + 1))
@@ -713,20 +767,75 @@ def _draw_row(out, r, kmin, t, work, seg, state, max_redraws):
 
 
 @njit(cache=True, nogil=True)
-def _sample_rows(out, r0, r1, t, state, max_redraws):
+def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w):
     """Rows r0..r1-1. Without parents the first call (r0 = 0) draws the first v rows as the
-    chain of column states; with parents each of them is drawn with the rows above it."""
+    chain of column states; with parents each of them is drawn with the rows above it.
+
+    Tileable (tile_h > 0): ``out`` is the (tile_h, tile_w) torus with its first v-1 rows and
+    u-1 columns copied after its last (see _draw); each row is drawn, then closed across the
+    side seam (_close_row)."""
     w = out.shape[1]
     work = _new_work(t.gx, t.u, w, np.int64(1))
     seg = _new_work(t.gx, t.u, w, np.int64(MAX_REDRAW_DEPTH))
     repairs = redraws = 0
     start = r0
+    col0, col1 = np.int64(0), np.int64(w)
+    if tile_h > 0:                     # dead ends never redraw a seam column above
+        col0, col1 = np.int64(t.u - 1), tile_w
     if r0 == 0 and t.gp == 1:
         repairs += _first_rows(out, t, state)
         start = t.v
+        if tile_h > 0:                 # close them top down, each end at least as wide
+            c0 = tile_w
+            for r in range(t.v):
+                c0 = _close_row(out, r, np.int64(max(0, t.v - 1 - r)), tile_w, c0, t, seg,
+                                state)
+                repairs += c0 < 0
+                c0 = -1 - c0 if c0 < 0 else c0
     for r in range(start, r1):
         kmin = np.int64(max(0, t.v - 1 - r))
-        rep, red = _draw_row(out, r, kmin, t, work, seg, state, max_redraws)
+        rep, red = _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws)
         repairs += rep
         redraws += red
+        if tile_h > 0:
+            repairs += _close_row(out, r, kmin, tile_w, tile_w, t, seg, state) < 0
     return repairs, redraws
+
+
+@njit(cache=True, nogil=True)
+def _close_columns(across, t, state, tile_w, tile_h):
+    """The bottom seam, closed as the side one: ``across`` is the torus transposed (a row of
+    it is a column of the texture) and ``t`` the transposed DPJ's tables, so each column's
+    last points are redrawn given its first ones and the columns before it."""
+    seg = _new_work(t.gx, t.u, across.shape[1], np.int64(MAX_REDRAW_DEPTH))
+    repairs = 0
+    for j in range(tile_w):
+        kmin = np.int64(max(0, t.v - 1 - j))
+        repairs += _close_row(across, j, kmin, tile_h, tile_h, t, seg, state) < 0
+        if j < t.v - 1:                # a first column, as it is now, after the last
+            _copy_rows(across, j, across, tile_w + j, 1, 0, across.shape[1])
+    return repairs
+
+
+@njit(cache=True, nogil=True)
+def _close_row(out, r, kmin, tile_w, reach, t, seg, state):
+    """Close row r across the side seam: copy its first u-1 points after its last column, then
+    redraw its end, from column ``reach`` - (u-1) or before, from the exact law given both
+    sides, over a wider stretch while that meets a dead end. Returns the first column redrawn
+    c0, or -1 - c0 when only a back-off closed the row (-1 - width: nothing did; a window
+    across the seam the DPJ lacks)."""
+    u = t.u
+    for j in range(u - 1):
+        out[r, tile_w + j] = out[r, j]
+    if u == 1:
+        return tile_w
+    for lenient in (False, True):      # a back-off at a dead end only when no stretch closes
+        span = max(4 * u, tile_w - reach + u - 1)
+        while True:
+            c0 = max(u - 1, tile_w - span)
+            if _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, lenient):
+                return c0 if not lenient else -1 - c0
+            if c0 == u - 1:
+                break
+            span *= 2
+    return -1 - tile_w

@@ -12,14 +12,16 @@ from .model import (PhotoModel, Resynthesis, Tone, acquire_model, load_model,
                     model_from_bytes, photo_tone)
 
 
-def resynthesize(photo, shape, *, seed: int = 0, tone: bool = True, progress=None, cancel=None,
-                 **acquire) -> Resynthesis:
-    """A (H, W) texture like ``photo``: ``.image`` (uint8 grey or RGB) and ``.levels``.
+def resynthesize(photo, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
+                 progress=None, cancel=None, **acquire) -> Resynthesis:
+    """A (H, W) texture like ``photo``: ``.image`` (uint8 grey or RGB) and ``.levels``;
+    ``tileable``: both repeat without a seam.
 
     ``acquire`` overrides the model's defaults (scales, levels, window, coarse_levels,
     coarse_window, quantizer), chosen for quality."""
     model = acquire_model(photo, tone=tone, **acquire)
-    return model.synthesize(shape, seed=seed, tone=tone, progress=progress, cancel=cancel)
+    return model.synthesize(shape, seed=seed, tone=tone, tileable=tileable, progress=progress,
+                            cancel=cancel)
 
 
 __all__ = ["tone", "PhotoModel", "Resynthesis", "Tone", "acquire_model", "load_model",

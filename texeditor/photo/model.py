@@ -71,21 +71,22 @@ class PhotoModel:
             return counts / counts.sum()
         return self.scales.frequencies(self.scales.scales - 1)
 
-    def synthesize(self, shape, *, seed: int = 0, tone: bool = True,
+    def synthesize(self, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
         drawn on a second thread as the finest rows come out (the same picture as
-        ``render(levels)`` afterwards, in about half the time on two cores)."""
+        ``render(levels)`` afterwards, in about half the time on two cores). ``tileable``: the
+        levels and the picture repeat without a seam."""
         if not tone or self.tone is None:
             result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
-                                       cancel=cancel)
+                                       cancel=cancel, tileable=tileable)
             image = self.render(result.levels, seed=seed, tone=False)
         else:
-            result, image = self._synthesize_with_tone(shape, seed, progress, cancel)
+            result, image = self._synthesize_with_tone(shape, seed, progress, cancel, tileable)
         return Resynthesis(image, result.levels, self.frequencies(), result.repairs, int(seed))
 
-    def _synthesize_with_tone(self, shape, seed, progress, cancel):
+    def _synthesize_with_tone(self, shape, seed, progress, cancel, tileable):
         renderer = []
         with ThreadPoolExecutor(1, thread_name_prefix="tone") as worker:
             jobs = []
@@ -94,13 +95,14 @@ class PhotoModel:
                 if not renderer:
                     renderer.append(Renderer(levels.shape, self.levels, self.tone.levels,
                                              self.tone.grey, self.tone.colour, seed=seed,
-                                             index=self._index()))
+                                             index=self._index(), wrap=tileable))
                 if jobs and jobs[-1].done():
                     jobs[-1].result()                   # a tone error stops the synthesis
                 jobs.append(worker.submit(renderer[0].advance, levels, n))
             try:
                 result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
-                                           cancel=cancel, rows_final=rows_final)
+                                           cancel=cancel, rows_final=rows_final,
+                                           tileable=tileable)
             except BaseException:
                 for job in jobs:
                     job.cancel()
@@ -110,14 +112,16 @@ class PhotoModel:
         grey, colour = renderer[0].result()
         return result, (grey if colour is None else colour)
 
-    def render(self, levels, *, seed: int = 0, tone: bool = True) -> np.ndarray:
-        """The picture of a level matrix: tone when the model has it, else the palette."""
+    def render(self, levels, *, seed: int = 0, tone: bool = True,
+               wrap: bool = False) -> np.ndarray:
+        """The picture of a level matrix: tone when the model has it, else the palette;
+        ``wrap``: tiling levels give a tiling picture."""
         levels = np.asarray(levels)
         if not tone or self.tone is None:
             image = self.palette[levels]
             return image[..., 0].copy() if self._grey_palette() else image
         grey, colour = render(levels, self.levels, self.tone.levels, self.tone.grey,
-                              self.tone.colour, seed=seed, index=self._index())
+                              self.tone.colour, seed=seed, index=self._index(), wrap=wrap)
         return grey if colour is None else colour
 
     def _grey_palette(self) -> bool:

@@ -34,29 +34,36 @@ class ToneIndex(NamedTuple):
     points: tuple        # per back-off: photo point indices sorted by context
 
 
-def context_codes(levels: np.ndarray, num_levels: int) -> tuple:
-    """The three context codes of every point (the border repeated outwards), row-major."""
+def context_codes(levels: np.ndarray, num_levels: int, wrap: bool = False) -> tuple:
+    """The three context codes of every point, row-major: beyond the border the border point
+    repeats, or (``wrap``) the opposite side continues."""
     lv = np.ascontiguousarray(levels, dtype=np.uint8)
     codes = np.empty((3, lv.size), np.int64)
-    _context_codes(lv, np.int64(num_levels), codes)
+    _context_codes(lv, np.int64(num_levels), codes, bool(wrap))
     return tuple(codes)
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _at(k, n, wrap):
+    """Index k of an axis of length n, off the axis: clamped, or wrapped."""
+    return k % n if wrap else min(max(k, 0), n - 1)
+
+
 @njit(cache=True, nogil=True)
-def _context_codes(lv, g, codes):
+def _context_codes(lv, g, codes, wrap):
     h, w = lv.shape
     for i in range(h):
         for j in range(w):
             nine = np.int64(0)
             for di in range(-1, 2):
-                y = min(max(i + di, 0), h - 1)
+                y = _at(i + di, h, wrap)
                 for dj in range(-1, 2):
-                    nine = nine * g + lv[y, min(max(j + dj, 0), w - 1)]
-            five = np.int64(lv[max(i - 1, 0), j])
-            five = five * g + lv[i, max(j - 1, 0)]
+                    nine = nine * g + lv[y, _at(j + dj, w, wrap)]
+            five = np.int64(lv[_at(i - 1, h, wrap), j])
+            five = five * g + lv[i, _at(j - 1, w, wrap)]
             five = five * g + lv[i, j]
-            five = five * g + lv[i, min(j + 1, w - 1)]
-            five = five * g + lv[min(i + 1, h - 1), j]
+            five = five * g + lv[i, _at(j + 1, w, wrap)]
+            five = five * g + lv[_at(i + 1, h, wrap), j]
             n = i * w + j
             codes[0, n], codes[1, n], codes[2, n] = nine, five, lv[i, j]
 
@@ -75,15 +82,16 @@ def tone_index(levels: np.ndarray, num_levels: int) -> ToneIndex:
 
 
 def render(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=None, *,
-           seed: int = 0, index: ToneIndex | None = None):
+           seed: int = 0, index: ToneIndex | None = None, wrap: bool = False):
     """Render ``levels`` (H, W) with the photo: returns (grey (H, W) uint8, pixels or None).
 
     ``photo_levels`` (h, w) are the photo's levels at the same G, ``photo_grey`` its greys (uint8)
-    and ``photo_pixels`` its colours (h, w, 3) uint8, or None for a grey photo.
+    and ``photo_pixels`` its colours (h, w, 3) uint8, or None for a grey photo. ``wrap``: the
+    levels tile, and so does the picture (contexts and matches read across the seams).
     """
     levels = np.ascontiguousarray(levels, dtype=np.uint8)
     renderer = Renderer(levels.shape, num_levels, photo_levels, photo_grey, photo_pixels,
-                        seed=seed, index=index)
+                        seed=seed, index=index, wrap=wrap)
     renderer.advance(levels, len(levels))
     return renderer.result()
 
@@ -93,7 +101,7 @@ class Renderer:
     as one :func:`render` of the finished levels, and the work can run beside the synthesis."""
 
     def __init__(self, shape, num_levels: int, photo_levels, photo_grey, photo_pixels=None, *,
-                 seed: int = 0, index: ToneIndex | None = None):
+                 seed: int = 0, index: ToneIndex | None = None, wrap: bool = False):
         shape = tuple(shape)
         if len(shape) != 2 or 0 in shape:
             raise InputError(f"tone needs a non-empty matrix of levels 0..{num_levels - 1}")
@@ -105,24 +113,26 @@ class Renderer:
         self.source = np.empty(shape, np.int64)
         self.grey = np.empty(shape, np.uint8)
         self.done = 0
+        self.wrap = bool(wrap)
 
     def advance(self, levels, final: int) -> None:
         """Render the rows whose 3×3 context lies in ``levels``' rows 0..final-1 (all of them
-        once ``final`` is the height)."""
+        once ``final`` is the height; a tiling picture waits for that: its first row's context
+        holds the last row)."""
         h = len(self.grey)
-        stop = h if final >= h else max(self.done, final - 1)
+        stop = h if final >= h else self.done if self.wrap else max(self.done, final - 1)
         if stop <= self.done:
             return
-        a, b = max(0, self.done - 1), min(h, stop + 1)
+        a, b = (0, h) if self.wrap else (max(0, self.done - 1), min(h, stop + 1))
         band = np.ascontiguousarray(levels[a:b], dtype=np.uint8)
         if band.max() >= self.num_levels:
             raise InputError(f"tone needs a matrix of levels 0..{self.num_levels - 1}")
         w = band.shape[1]
         first, last = (self.done - a) * w, (stop - a) * w
-        codes = tuple(c[first:last] for c in context_codes(band, self.num_levels))
+        codes = tuple(c[first:last] for c in context_codes(band, self.num_levels, self.wrap))
         ix = self.index
         _render(codes, ix.codes, ix.keys, ix.starts, ix.points, self.photo_grey, self.source,
-                self.grey, self.state, self.done, stop)
+                self.grey, self.state, self.done, stop, self.wrap)
         self.done = stop
 
     def result(self):
@@ -165,10 +175,36 @@ def _distance(grey, i, j, photo, pi, pj, best):
 
 
 @njit(cache=True, nogil=True)
-def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, state, i0, i1):
+def _distance_wrap(grey, i, j, photo, pi, pj, best):
+    """_distance on a tiling picture: every rendered point of the (2·HALF+1)² square around
+    (i, j), read across the seams (the last rows and columns meet the first ones)."""
+    h, w = grey.shape
+    ph, pw = photo.shape
+    here = i * w + j
+    total = np.int64(0)
+    for di in range(-HALF, HALF + 1):
+        py = pi + di
+        if py < 0 or py >= ph:
+            continue
+        y = (i + di) % h
+        for dj in range(-HALF, HALF + 1):
+            px = pj + dj
+            x = (j + dj) % w
+            if 0 <= px < pw and y * w + x < here:
+                d = np.int64(grey[y, x]) - np.int64(photo[py, px])
+                total += d * d
+        if total > best:
+            return total
+    return total
+
+
+@njit(cache=True, nogil=True)
+def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, state, i0, i1,
+            wrap):
     """Rows i0..i1-1 in scan order (``out_codes`` hold theirs): coherent and fresh candidates
-    of the right context, the best match wins."""
-    w = grey.shape[1]
+    of the right context, the best match wins. ``wrap``: neighbours across the seams count
+    once rendered."""
+    h, w = grey.shape
     ph, pw = photo.shape
     cand = np.empty(4 + RANDOM_CANDIDATES, np.int64)
     for i in range(i0, i1):
@@ -184,7 +220,9 @@ def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, s
             if uniform(state) >= FRESH_START:       # continue the neighbours' photo pixels
                 for di, dj in ((0, -1), (-1, 0), (-1, -1), (-1, 1)):
                     y, x = i + di, j + dj
-                    if 0 <= y and 0 <= x < w:
+                    if wrap:
+                        y, x = y % h, x % w
+                    if 0 <= y and 0 <= x < w and y * w + x < i * w + j:
                         py, px = source[y, x] // pw - di, source[y, x] % pw - dj
                         if 0 <= py < ph and 0 <= px < pw:
                             s = py * pw + px
@@ -201,8 +239,12 @@ def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, s
             best, chosen = np.inf, cand[0]
             for k in range(count):
                 weight = COHERENCE if k < coherent else 1.0
-                d = weight * _distance(grey, i, j, photo, cand[k] // pw, cand[k] % pw,
-                                       best / weight)
+                if wrap:
+                    d = weight * _distance_wrap(grey, i, j, photo, cand[k] // pw, cand[k] % pw,
+                                                best / weight)
+                else:
+                    d = weight * _distance(grey, i, j, photo, cand[k] // pw, cand[k] % pw,
+                                           best / weight)
                 if d < best:
                     best, chosen = d, cand[k]
             source[i, j] = chosen

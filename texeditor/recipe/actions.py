@@ -159,6 +159,36 @@ def _to_plain(value):
     return value
 
 
+# -- what a step reads and writes ------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Access:
+    """What one step reads and writes, for the log optimiser's commutation test (`logopt`).
+
+    ``reads`` and ``writes`` are rectangles (top, left, height, width) of points in canvas
+    coordinates; writing a point may change its level or whether it exists (a canvas change).
+    A step's Access holds for the canvas shape it was asked about. The palette is read or
+    written as a whole.
+    """
+
+    reads: tuple = ()
+    writes: tuple = ()
+    reads_palette: bool = False
+    writes_palette: bool = False
+
+
+EVERYWHERE = (-2**20, -2**20, 2**21, 2**21)    # a rectangle holding every point a canvas can have
+
+
+def extent_change(before: tuple[int, int], after: tuple[int, int]) -> tuple:
+    """The points a canvas change from shape ``before`` to ``after`` (both anchored top-left)
+    creates or removes, as at most two rectangles: the box of both minus what both keep."""
+    (h1, w1), (h2, w2) = before, after
+    low, high = (min(h1, h2), min(w1, w2)), (max(h1, h2), max(w1, w2))
+    rects = ((0, low[1], high[0], high[1] - low[1]), (low[0], 0, high[0] - low[0], low[1]))
+    return tuple(r for r in rects if r[2] and r[3])
+
+
 # -- the base class and the registry --------------------------------------------------------------
 
 @dataclass(frozen=True)
@@ -207,6 +237,17 @@ class Action:
     def covers(self, shape: tuple[int, int]) -> bool:
         """True when this action overwrites every level of a canvas of this shape."""
         return False
+
+    def access(self, shape: tuple[int, int] | None) -> Access | None:
+        """What this step reads and writes on a canvas of ``shape`` (``shape`` None: not known).
+        Returning None says the step cannot tell: the log optimiser moves nothing across it."""
+        return None
+
+    def refers_to(self, log, at: int) -> tuple[int, ...]:
+        """The indices (< ``at``) in ``log``, where this step is ``log[at]``, of the steps it
+        finds by their place in the log, as a deletion finds its placement: the log optimiser
+        keeps them."""
+        return ()
 
     def to_json(self) -> dict:
         params = {f.name: _to_plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
@@ -331,6 +372,11 @@ class NewCanvas(Action):
         return f"New canvas {self.width}×{self.height}, G = {self.levels}"
 
 
+def _tileable():
+    return param("bool", default=False, doc="drawn on the torus: the texture repeats without a "
+                                            "seam (windows across the seams are DPJ windows)")
+
+
 @register
 @dataclass(frozen=True)
 class Synthesize(Action):
@@ -342,6 +388,7 @@ class Synthesize(Action):
     width: int = _side("points across")
     height: int = _side("points down")
     seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
+    tileable: bool = _tileable()
 
     def _validate(self):
         _check_canvas(self.width, self.height)
@@ -353,7 +400,7 @@ class Synthesize(Action):
         if not dpj.has_ref(self.dpj):
             raise InputError(f"this DPJ is not {self.dpj}, the one the action refers to")
         return synthesize(dpj, (self.height, self.width), seed=self.seed, progress=progress,
-                          cancel=cancel)
+                          cancel=cancel, tileable=self.tileable)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpj_of(doc), progress, cancel).levels
@@ -382,7 +429,8 @@ class Synthesize(Action):
         return True
 
     def label(self) -> str:
-        return f"Synthesise {self.width}×{self.height}, seed {self.seed}"
+        tiles = ", tileable" if self.tileable else ""
+        return f"Synthesise {self.width}×{self.height}, seed {self.seed}{tiles}"
 
 
 @register
@@ -397,6 +445,7 @@ class SynthesizeScales(Action):
     width: int = _side("points across")
     height: int = _side("points down")
     seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
+    tileable: bool = _tileable()
 
     def _validate(self):
         _check_canvas(self.width, self.height)
@@ -407,7 +456,8 @@ class SynthesizeScales(Action):
         """Synthesise (slow; safe in a worker thread): the finest scale's SynthesisResult."""
         from ..markov.multiscale import synthesize_scales
         return synthesize_scales(_scales(dpjs), (self.height, self.width),
-                                 seed=self.seed, progress=progress, cancel=cancel)
+                                 seed=self.seed, progress=progress, cancel=cancel,
+                                 tileable=self.tileable)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
@@ -431,7 +481,9 @@ class SynthesizeScales(Action):
         return True
 
     def label(self) -> str:
-        return f"Synthesise {self.width}×{self.height} on {len(self.dpjs)} scales, seed {self.seed}"
+        tiles = ", tileable" if self.tileable else ""
+        return (f"Synthesise {self.width}×{self.height} on {len(self.dpjs)} scales, "
+                f"seed {self.seed}{tiles}")
 
 
 def _scales(dpjs):
@@ -453,6 +505,9 @@ class SetPalette(Action):
             raise InputError(f"the palette has {len(self.palette)} colours but the document "
                              f"has G = {doc.num_levels} levels")
         doc.set_palette(self.palette)
+
+    def access(self, shape):
+        return Access(writes_palette=True)
 
     def label(self) -> str:
         return f"Set palette ({len(self.palette)} colours)"
@@ -480,6 +535,11 @@ class SetLevels(Action):
 
     def covers(self, shape):
         return clip_rect(self.top, self.left, self.height, self.width, shape)[2:] == shape
+
+    def access(self, shape):
+        """Its rectangle, whatever the shape: only whether its own points exist matters."""
+        rect = (self.top, self.left, self.height, self.width)
+        return Access(reads=(rect,), writes=(rect,))
 
     def label(self) -> str:
         if self.height == self.width == 1:
@@ -510,6 +570,18 @@ class CropCanvas(Action):
     def canvas_shape(self, shape):
         return clip_rect(self.top, self.left, self.height, self.width, shape)[2:]
 
+    def access(self, shape):
+        """A crop at the corner only removes points; elsewhere it moves every point."""
+        if shape is None:
+            return Access(reads=(EVERYWHERE,), writes=(EVERYWHERE,))
+        t, l, h, w = clip_rect(self.top, self.left, self.height, self.width, shape)
+        if not (h and w):
+            return None                          # it fails: nothing is known
+        if t == l == 0:
+            return Access(writes=extent_change(shape, (h, w)))
+        whole = ((0, 0) + tuple(shape),)
+        return Access(reads=whole, writes=whole)
+
     def label(self) -> str:
         return f"Crop to {self.width}×{self.height} at ({self.top}, {self.left})"
 
@@ -537,6 +609,12 @@ class ResizeCanvas(Action):
 
     def canvas_shape(self, shape):
         return (self.height, self.width)
+
+    def access(self, shape):
+        """It keeps the points both shapes share and writes the others (``fill`` or gone)."""
+        if shape is None:
+            return Access(reads=(EVERYWHERE,), writes=(EVERYWHERE,))
+        return Access(writes=extent_change(shape, self.canvas_shape(shape)))
 
     def label(self) -> str:
         return f"Resize canvas to {self.width}×{self.height}"

@@ -226,6 +226,18 @@ class History:
         end = len(self._actions) if to_end else self._index
         return self._pending(i, [action] + self._actions[i + 1:], end)
 
+    def pending_rewrite(self, actions: Iterable[Action]) -> "PendingEdit":
+        """The applied steps replaced by ``actions``, a log that gives the same document (the
+        log optimiser's, say), as one undoable edit whose replay starts at the first step that
+        differs; the redo tail goes, as after any new step. Run it, then commit() it."""
+        actions = list(actions)
+        if not actions:
+            raise InputError("an empty log cannot replace this one: start a new document")
+        same = next((k for k, (a, b) in enumerate(zip(self._actions[:self._index], actions))
+                     if a != b), min(self._index, len(actions)))
+        i = min(same, len(actions) - 1)
+        return self._pending(i, actions[i:], len(actions))
+
     def commit(self, edit: "PendingEdit") -> None:
         """Make a replayed PendingEdit the current state, in one short step; refused when the
         history changed since the edit was made (its replay would then undo that change)."""

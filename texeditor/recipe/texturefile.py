@@ -26,7 +26,7 @@ from ..errors import FormatError, InputError, check_unicode
 from ..fileio import load_json, read_limited, write_file
 from .history import History
 from .stored import Recipe, open_recipe
-from .logopt import optimize
+from .logopt import optimize_with_notes
 
 FORMAT_NAME = "texeditor-texture"
 FORMAT_VERSION = 1
@@ -390,33 +390,35 @@ def describe_log(actions) -> list[str]:
 
 
 def synthesize_texture(dpj: DPJ, width: int, height: int, *, seed: int = 0, progress=None,
-                       cancel=None) -> History:
+                       cancel=None, tileable: bool = False) -> History:
     """A History whose log is one synthesis (`texeditor synth ... -o OUT.texture`)."""
     history = History()
     ref = history.add_dpj(dpj)
-    action = Synthesize(ref, width, height, seed)
+    action = Synthesize(ref, width, height, seed, tileable)
     history.apply(action, prepared=action.render_result(dpj, progress, cancel).levels)
     return history
 
 
 def synthesize_scales_texture(dpjs, width: int, height: int, *, seed: int = 0, progress=None,
-                              cancel=None) -> History:
+                              cancel=None, tileable: bool = False) -> History:
     """A History whose log is one multi-scale synthesis (`texeditor synth MODEL.dpj -o
     OUT.texture`): the scales' DPJs travel in the file, the log replays the same levels."""
     history = History()
     refs = tuple(history.add_dpj(dpj) for dpj in dpjs)
-    action = SynthesizeScales(refs, width, height, seed)
+    action = SynthesizeScales(refs, width, height, seed, tileable)
     history.apply(action, prepared=action.render_result(dpjs, progress, cancel).levels)
     return history
 
 
-def optimize_texture(src, dst, *, progress=None, cancel=None) -> tuple[int, int]:
-    """Write ``src``'s log optimised to ``dst`` (`texeditor log --optimize -o`), checking that it
-    replays to the same result; returns the action counts (before, after)."""
+def optimize_texture(src, dst=None, *, progress=None, cancel=None) -> tuple[int, int, tuple]:
+    """Write ``src``'s log optimised to ``dst`` (`texeditor log --optimise -o`), checking that it
+    replays to the same result; returns the action counts (before, after) and the optimiser's
+    notes. Without ``dst`` nothing is replayed or written: it says what it would do."""
     tex = read_texture(src)
-    shorter = optimize(tex.actions, tex.dpjs)
-    doc = open_recipe(dataclasses.replace(tex.recipe, actions=tuple(shorter),
-                                          name=f"{src} (optimised)"),
-                      progress=progress, cancel=cancel)
-    save_texture(dst, doc, tags=tex.manifest.tags, description=tex.manifest.description)
-    return len(tex.actions), len(shorter)
+    shorter = optimize_with_notes(tex.actions, tex.dpjs)
+    if dst is not None:
+        doc = open_recipe(dataclasses.replace(tex.recipe, actions=shorter.actions,
+                                              name=f"{src} (optimised)"),
+                          progress=progress, cancel=cancel)
+        save_texture(dst, doc, tags=tex.manifest.tags, description=tex.manifest.description)
+    return len(tex.actions), len(shorter.actions), shorter.notes

@@ -493,6 +493,13 @@ class DeleteSpot(Action):
         raise InputError(f"the spot placement this deletion names (step {self.step + 1}) is "
                          f"not in the log before it")
 
+    def refers_to(self, log, at: int) -> tuple[int, ...]:
+        """The placement it deletes: a log without it would make this step fail."""
+        try:
+            return (self.placement_step(log[:at]),)
+        except InputError:
+            return ()
+
     def apply(self, doc, prepared=None) -> None:
         actions = doc.actions
         k = self.placement_step(actions)

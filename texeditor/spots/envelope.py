@@ -12,6 +12,15 @@ meridian. **Parallels** run along the equator at a signed distance, from ``t0`` 
 shape the long profile (a flat flank). The outline passes through every end point, by straight
 lines, closed cubic Bézier curves or a periodic cubic B-spline. A **freehand contour** may replace
 the globe construction. Coordinates are (row, col) in points, row 0 on top.
+
+Outline kinds (digest §3.2: "linear interpolation, Bézier curves or B-splines"). The envelope's
+points — a, the meridians' and parallels' ends, b — are joined by straight lines (``linear``),
+or are the control polygon of one closed Bézier curve (``bezier_curve``, Bernstein form) or of a
+closed uniform cubic B-spline (``uniform_bspline``: moving a point changes exactly the four
+pieces around it, the locality the thesis praises). Two smooth curves *through* the points are
+kept under their own names: ``catmull_rom`` and ``interpolating_spline``. Files written before
+those names existed called them "bezier" and "bspline": `Envelope.from_json` reads those stored
+names with the meaning they had (LEGACY_KINDS), so old placements draw the same points.
 """
 
 from __future__ import annotations
@@ -26,7 +35,11 @@ import numpy as np
 from ..errors import InputError
 from ..regions.transforms import rotation_matrix
 
-KINDS = ("linear", "bezier", "bspline")
+KINDS = ("linear", "bezier_curve", "uniform_bspline", "catmull_rom", "interpolating_spline")
+DEFAULT_KIND = "interpolating_spline"
+APPROXIMATING = ("bezier_curve", "uniform_bspline")    # follow their points, not through them
+LEGACY_KINDS = {"bezier": "catmull_rom", "bspline": "interpolating_spline"}   # stored names
+MAX_BEZIER_POINTS = 128         # one Bézier curve of degree n: beyond that, use a B-spline
 INTERIORS = ("none", "holes", "levels", "relief")
 LIGHT = (-0.7071067811865476, -0.7071067811865476)     # relief: light from the top left (row, col)
 BLENDS = ("over", "under", "max", "min")
@@ -75,7 +88,7 @@ class Envelope:
     b: tuple[float, float]
     meridians: tuple[Meridian, ...] = ()
     parallels: tuple[Parallel, ...] = ()
-    kind: str = "bspline"
+    kind: str = DEFAULT_KIND
     contour: tuple[tuple[float, float], ...] | None = None
 
     def __post_init__(self):
@@ -83,9 +96,7 @@ class Envelope:
         if math.dist(a, b) < 1e-6:
             raise InputError("the equator has zero length: its two end points must be different "
                              "points")
-        if self.kind not in KINDS:
-            raise InputError(f"the outline kind must be one of {', '.join(KINDS)}, "
-                             f"got {self.kind!r}")
+        _check_kind(self.kind)
         meridians = tuple(sorted((_meridian(m) for m in self.meridians), key=lambda m: m.t))
         if len(meridians) > MAX_MERIDIANS:
             raise InputError(f"an envelope has at most {MAX_MERIDIANS} meridians")
@@ -102,17 +113,20 @@ class Envelope:
         for name, value in (("a", a), ("b", b), ("meridians", meridians),
                             ("parallels", parallels), ("contour", contour)):
             object.__setattr__(self, name, value)
+        if self.kind == "bezier_curve" and len(self.control_points()) > MAX_BEZIER_POINTS:
+            raise InputError(f"a Bézier curve takes at most {MAX_BEZIER_POINTS} points (this "
+                             f"envelope has {len(self.control_points())}): choose the B-spline")
 
     # -- constructors ------------------------------------------------------------------------------
     @classmethod
-    def ellipse(cls, length: float = 40.0, width: float = 24.0, kind: str = "bspline"):
+    def ellipse(cls, length: float = 40.0, width: float = 24.0, kind: str = DEFAULT_KIND):
         """An equator of ``length`` across the screen with one main meridian of ``width``."""
         half = width / 2
         return cls((0.0, -length / 2), (0.0, length / 2),
                    (Meridian(0.5, half, half, main=True),), kind=kind)
 
     @classmethod
-    def from_contour(cls, points, kind: str = "bspline") -> "Envelope":
+    def from_contour(cls, points, kind: str = DEFAULT_KIND) -> "Envelope":
         """A freehand contour (thesis: "entrer directement son contour"). Its equator is, by the
         definition, the longest straight line between two of its points (the diameter)."""
         pts = np.asarray(_contour(points), dtype=float)
@@ -208,8 +222,9 @@ class Envelope:
         return _dedupe(np.array([self.at(t, o) for t, o in frame]))
 
     def outline(self, step: float = 0.5) -> np.ndarray:
-        """The closed outline (N, 2), points at most about ``step`` apart; it contains every
-        control point (the first is not repeated at the end). Read-only: it is cached, with
+        """The closed outline (N, 2), points at most about ``step`` apart (the first is not
+        repeated at the end); it passes through every control point except for the Bézier
+        curve and the B-spline, which only follow them. Read-only: it is cached, with
         ``step`` rounded down to a power of two, since a scatter draws one envelope many times."""
         return _outline(self, 2.0 ** math.floor(math.log2(min(max(float(step), 1e-3), 64.0))))
 
@@ -264,6 +279,7 @@ class Envelope:
         kind = obj.get("kind", "bspline")
         if not isinstance(kind, str):
             raise InputError("the outline kind must be a text")
+        kind = LEGACY_KINDS.get(kind, kind)          # a stored name keeps its meaning
         return cls(obj["a"], obj["b"], tuple(ms), tuple(ps), kind, contour)
 
     @classmethod
@@ -272,6 +288,15 @@ class Envelope:
         obj = load_json(text, "the envelope", limit=2**20, error=InputError,
                         constants=True)
         return cls.from_json(obj)
+
+
+def _check_kind(kind) -> None:
+    if kind in LEGACY_KINDS:
+        raise InputError(f"{kind!r} is the stored name of the {LEGACY_KINDS[kind]} outline "
+                         f"(files read it so); say {LEGACY_KINDS[kind]!r}, or one of "
+                         f"{', '.join(KINDS)}")
+    if kind not in KINDS:
+        raise InputError(f"the outline kind must be one of {', '.join(KINDS)}, got {kind!r}")
 
 
 def _number(name: str, value, lo=-MAX_COORD, hi=MAX_COORD) -> float:
@@ -367,9 +392,10 @@ def linear_outline(pts: np.ndarray, step: float) -> np.ndarray:
     return np.concatenate(out)
 
 
-def bezier_outline(pts: np.ndarray, step: float) -> np.ndarray:
-    """Closed cubic Bézier curves through the points: between P_i and P_i+1 the inner control
-    points follow the neighbours (Catmull–Rom tangents), so the curve is smooth at every point."""
+def catmull_rom_outline(pts: np.ndarray, step: float) -> np.ndarray:
+    """Closed Catmull–Rom curve through the points: between P_i and P_i+1 a cubic whose inner
+    control points follow the neighbours (tangent (P_i+1 − P_i−1)/2), smooth at every point.
+    Stored as "bezier" before it had its true name."""
     prev, nxt, nxt2 = (np.roll(pts, k, axis=0) for k in (1, -1, -2))
     c1 = pts + (nxt - prev) / 6
     c2 = nxt - (nxt2 - pts) / 6
@@ -383,10 +409,10 @@ def bezier_outline(pts: np.ndarray, step: float) -> np.ndarray:
     return np.concatenate(out)
 
 
-def bspline_outline(pts: np.ndarray, step: float) -> np.ndarray:
-    """A periodic cubic B-spline interpolating the points (SciPy's splprep, per=True). A point
-    added or moved changes the curve only near it (local support), as the thesis notes; a refit
-    of the whole curve costs well under a millisecond, so the engine simply refits."""
+def interpolating_spline_outline(pts: np.ndarray, step: float) -> np.ndarray:
+    """A periodic cubic spline through the points (SciPy's splprep, per=True, s=0). It is
+    fitted to the whole contour: a point moved changes every piece a little. Stored as
+    "bspline" before it had its true name."""
     from scipy.interpolate import splev, splprep
     closed = np.vstack([pts, pts[:1]])
     tck, u = splprep([closed[:, 0], closed[:, 1]], s=0, per=True, k=3, quiet=2)
@@ -401,7 +427,57 @@ def bspline_outline(pts: np.ndarray, step: float) -> np.ndarray:
     return out
 
 
-_OUTLINES = {"linear": linear_outline, "bezier": bezier_outline, "bspline": bspline_outline}
+def closed_bezier_polygon(pts: np.ndarray) -> np.ndarray:
+    """The control polygon of the closed Bézier curve on the points: the points, with the middle
+    M of the closing side first and last, so the curve closes smoothly at M (equal tangents)."""
+    middle = (pts[-1] + pts[0]) / 2
+    return np.vstack([middle, pts, middle])
+
+
+def bezier_curve(control: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """The Bézier curve of a control polygon at parameters ``s`` in [0, 1]: Σ B_i,n(s) P_i in
+    Bernstein form (SciPy's BPoly). Every point pulls the whole curve (global control)."""
+    from scipy.interpolate import BPoly
+    return BPoly(np.asarray(control, float)[:, None, :], [0.0, 1.0])(s)
+
+
+def bezier_curve_outline(pts: np.ndarray, step: float) -> np.ndarray:
+    """One closed Bézier curve whose control polygon is the points (`closed_bezier_polygon`).
+    Sampled so that points lie at most ``step`` apart: |B'(s)| ≤ n · the longest side."""
+    control = closed_bezier_polygon(pts)
+    sides = np.linalg.norm(np.diff(control, axis=0), axis=1)
+    n = _pieces((len(control) - 1) * float(sides.max()), step)
+    return bezier_curve(control, np.arange(n) / n)
+
+
+def uniform_bspline(pts: np.ndarray):
+    """The closed uniform cubic B-spline whose control points are ``pts`` (n ≥ 3), on [0, n):
+    piece i (s in [i, i + 1)) depends on P_i .. P_i+3 (indices mod n) and on nothing else."""
+    from scipy.interpolate import BSpline
+    n = len(pts)
+    coefficients = np.asarray(pts, float)[np.arange(n + 3) % n]
+    return BSpline(np.arange(-3.0, n + 4), coefficients, 3, extrapolate=False)
+
+
+def uniform_bspline_outline(pts: np.ndarray, step: float) -> np.ndarray:
+    """The closed uniform cubic B-spline on the points, piece by piece, sampled at most ``step``
+    apart: a piece's speed is at most 3 × the longest side of its Bézier polygon, whose sides
+    are |P2 − P0|/6, |P2 − P1|/3 and |P3 − P1|/6."""
+    curve, n = uniform_bspline(pts), len(pts)
+    p1, p2 = np.roll(pts, -1, axis=0), np.roll(pts, -2, axis=0)
+    sides = np.column_stack([np.linalg.norm(p2 - pts, axis=1) / 6,
+                             np.linalg.norm(p2 - p1, axis=1) / 3,
+                             np.linalg.norm(np.roll(pts, -3, axis=0) - p1, axis=1) / 6])
+    params = []
+    for i in range(n):
+        k = _pieces(3 * float(sides[i].max()), step)
+        params.append(i + np.arange(k) / k)
+    return curve(np.concatenate(params))
+
+
+_OUTLINES = {"linear": linear_outline, "bezier_curve": bezier_curve_outline,
+             "uniform_bspline": uniform_bspline_outline, "catmull_rom": catmull_rom_outline,
+             "interpolating_spline": interpolating_spline_outline}
 
 
 @lru_cache(maxsize=512)

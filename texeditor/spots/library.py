@@ -67,7 +67,7 @@ def check_name(name) -> str:
 
 def standard_spots() -> list[LibrarySpot]:
     """The built-in spots: shapes that make good stones, pebbles, leaves and bark knots."""
-    def env(a, b, meridians, kind="bspline", parallels=()):
+    def env(a, b, meridians, kind="interpolating_spline", parallels=()):
         return Envelope(a, b, tuple(Meridian(*m) for m in meridians),
                         tuple(Parallel(*p) for p in parallels), kind)
 
@@ -77,14 +77,14 @@ def standard_spots() -> list[LibrarySpot]:
          Perturbation(contour=0.12, frequency=5, fractal=0.08, h=0.6, interior="levels",
                       density=0.3, scale=4)),
         ("Stone", env((2, -20), (-1, 19), [(0.15, 8, 9), (0.45, 15, 13, True), (0.8, 11, 9)],
-                      "bezier"),
+                      "catmull_rom"),
          Perturbation(contour=0.18, frequency=7, fractal=0.12, h=0.45, interior="levels",
                       density=0.35, scale=3)),
         ("Leaf", env((0, -24), (0, 24), [(0.2, 6, 6), (0.45, 10, 10, True), (0.75, 7, 7)],
                      "linear"),
          Perturbation(contour=0.05, frequency=12)),
         ("Bark knot", env((-22, 0), (22, 0), [(0.3, 6, 7), (0.5, 8, 8, True), (0.7, 6, 6)],
-                          "bezier"),
+                          "catmull_rom"),
          Perturbation(contour=0.08, frequency=9, fractal=0.1, h=0.5, interior="levels",
                       density=0.45, scale=5)),
         ("Brick", env((0, -22), (0, 22), [(0.5, 9, 9, True)], "linear",

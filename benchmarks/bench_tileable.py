@@ -1,0 +1,126 @@
+"""Tileable synthesis against the issue's targets, on the torus (windows across both seams and the
+corner included).
+
+Run: python benchmarks/bench_tileable.py [--photos brick grass gravel] [--size 256] [--seeds 6]
+
+For each photo (scikit-image data name or picture file), 4 Lloyd levels, DPJs estimated on the
+torus:
+- share of torus windows outside the DPJ, plain and tileable, for a 2×2 and a 3×3 window;
+- the seam band (windows starting within BAND points of a seam) against the interior: total
+  variation distance of their 3×3 window histograms, beside the seed-to-seed spread (the interior
+  of one seed, subsampled to the band's count, against the interior of the next seed);
+- time of a tileable draw over a plain one (best of the seeds, warm);
+- a photo model (multi-scale + tone): mean grey jump across each seam over the mean jump between
+  neighbours inside (1: no seam to see), plain and tileable.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
+from skimage import data
+
+import texeditor
+from texeditor.markov.dpj import encode
+
+BAND = 4
+
+
+def load(name):
+    return getattr(data, name)() if callable(getattr(data, name, None)) else \
+        texeditor.load_image(name)
+
+
+def torus_codes(levels, window, g):
+    u, v = window
+    a = np.pad(levels, ((0, v - 1), (0, u - 1)), mode="wrap")
+    win = sliding_window_view(a, (v, u))
+    return encode(np.ascontiguousarray(win.reshape(-1, v, u)), g).reshape(levels.shape)
+
+
+def off_share(levels, dpj):
+    return float(np.mean(~np.isin(torus_codes(levels, dpj.window, dpj.levels), dpj.codes)))
+
+
+def tv(a, b):
+    keys = np.unique(np.concatenate([a, b]))
+    pa = np.bincount(np.searchsorted(keys, a), minlength=len(keys)) / len(a)
+    pb = np.bincount(np.searchsorted(keys, b), minlength=len(keys)) / len(b)
+    return 0.5 * float(np.abs(pa - pb).sum())
+
+
+def band_mask(shape):
+    h, w = shape
+    mask = np.zeros(shape, bool)
+    mask[np.r_[h - BAND:h, 0:BAND], :] = True
+    mask[:, np.r_[w - BAND:w, 0:BAND]] = True
+    return mask
+
+
+def best_time(f, seeds):
+    times = []
+    for s in range(seeds):
+        t = time.perf_counter()
+        f(s)
+        times.append(time.perf_counter() - t)
+    return min(times)
+
+
+def seam_jump(picture, axis):
+    g = picture.astype(float) if picture.ndim == 2 else picture.mean(axis=2)
+    inside = np.abs(np.diff(g, axis=axis)).mean()
+    return float(np.abs(np.take(g, 0, axis=axis) - np.take(g, -1, axis=axis)).mean() / inside)
+
+
+def bench(name, size, seeds):
+    photo = load(name)
+    q = texeditor.quantize(photo, 4, "lloyd")
+    shape = (size, size)
+    print(f"\n{name}: {size}x{size}, {seeds} seeds")
+    for window in ((2, 2), (3, 3)):
+        dpj = texeditor.estimate_dpj(q.levels, window, 4, wrap=True)
+        texeditor.synthesize(dpj, (32, 32), seed=0, tileable=True)
+        plain = [texeditor.synthesize(dpj, shape, seed=s).levels for s in range(seeds)]
+        tiled = [texeditor.synthesize(dpj, shape, seed=s, tileable=True).levels
+                 for s in range(seeds)]
+        t_plain = best_time(lambda s: texeditor.synthesize(dpj, shape, seed=s), seeds)
+        t_tiled = best_time(lambda s: texeditor.synthesize(dpj, shape, seed=s, tileable=True),
+                            seeds)
+        print(f"  {window[0]}x{window[1]}: torus windows outside the DPJ: plain "
+              f"{100 * np.mean([off_share(x, dpj) for x in plain]):.3f} %, tileable "
+              f"{100 * np.mean([off_share(x, dpj) for x in tiled]):.4f} % (worst "
+              f"{100 * max(off_share(x, dpj) for x in tiled):.4f} %); time tileable/plain "
+              f"{t_tiled / t_plain:.2f} ({t_tiled * 1000:.0f} / {t_plain * 1000:.0f} ms)")
+        if window == (3, 3):
+            mask = band_mask(shape)
+            codes = [torus_codes(x, window, 4) for x in tiled]
+            seam = [tv(c[mask], c[~mask]) for c in codes]
+            rng = np.random.default_rng(0)
+            spread = [tv(rng.choice(codes[s][~mask], mask.sum(), replace=False),
+                         codes[(s + 1) % seeds][~mask]) for s in range(seeds)]
+            print(f"  3x3 seam band vs interior TV {np.mean(seam):.3f} (worst {max(seam):.3f}); "
+                  f"interior seed-to-seed spread {np.mean(spread):.3f} (worst {max(spread):.3f})")
+    model = texeditor.acquire_model(photo)
+    for tileable in (False, True):
+        jumps = [[seam_jump(model.synthesize((size, size), seed=s, tileable=tileable).image, a)
+                  for a in (0, 1)] for s in range(min(seeds, 3))]
+        across_rows, across_cols = np.mean(jumps, axis=0)
+        print(f"  photo model {'tileable' if tileable else 'plain   '}: grey jump across the seam "
+              f"/ inside: bottom-top {across_rows:.2f}, right-left {across_cols:.2f}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--photos", nargs="+", default=["brick", "grass", "gravel"])
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--seeds", type=int, default=6)
+    args = ap.parse_args()
+    for name in args.photos:
+        bench(name, args.size, args.seeds)
+
+
+if __name__ == "__main__":
+    main()
