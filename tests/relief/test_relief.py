@@ -163,6 +163,21 @@ def test_the_normal_map_of_a_tiling_texture_tiles(tmp_path):
     assert not np.array_equal(iio.imread(tmp_path / "b.png"), one)     # its border is one-sided
 
 
+def test_a_tileable_synthesis_gives_a_normal_map_that_tiles(tmp_path):
+    """Issue 20's target on a real texture: drawn on the torus, its normal map is the middle
+    tile of the normal map of its 3×3 tiling (ordinary differences everywhere there)."""
+    from texeditor import DPJ, synthesize
+    from texeditor.resources import bundled_dpj
+
+    dpj = DPJ.load(bundled_dpj("gravel-3x3-g4"))
+    levels = synthesize(dpj, (40, 48), seed=5, tileable=True).levels
+    write_normal_map(tmp_path / "n.png", levels, dpj.palette, strength=5.0)
+    write_normal_map(tmp_path / "t.png", np.tile(levels, (3, 3)), dpj.palette, strength=5.0,
+                     wrap=False)
+    assert np.array_equal(iio.imread(tmp_path / "t.png")[40:80, 48:96],
+                          iio.imread(tmp_path / "n.png"))
+
+
 # -- previews ---------------------------------------------------------------------------------------
 
 def supersampled(values, size):
