@@ -602,6 +602,9 @@ class SpotEditor(QtWidgets.QWidget):
         self.axes_button.toggled.connect(
             lambda on: self.view.set_mode("axes" if on else "contour"))
         self.kind = QtWidgets.QComboBox()
+        self.kind.setSizeAdjustPolicy(
+            QtWidgets.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.kind.setMinimumContentsLength(7)            # long names elide: the dock stays narrow
         for kind in KINDS:
             self.kind.addItem(KIND_NAMES[kind], kind)
             self.kind.setItemData(self.kind.count() - 1, KIND_TIPS[kind],
