@@ -147,3 +147,33 @@ def edit_and_apply(qtbot, window, step: int, name: str, text: str) -> tuple:
     assert window.runner.wait(60_000)
     qtbot.waitUntil(lambda: window.history_dock.view.isEnabled())
     return clicked
+
+
+def synthesise(qtbot, window, width, height, seed, scales=None):
+    dock = window.synthesis_dock
+    type_into(qtbot, dock.width_box, str(width))
+    type_into(qtbot, dock.height_box, str(height))
+    type_into(qtbot, dock.seed.edit, str(seed))
+    if scales is not None:
+        type_into(qtbot, dock.scales_box, str(scales))
+    qtbot.mouseClick(dock.button, LEFT)
+    assert window.runner.wait(120_000)
+    assert not window.errors
+
+
+def undo_to_start(qtbot, window):
+    while window.can_undo():
+        qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert window.history.index == 1
+
+
+def fill_a_cell(qtbot, window):
+    """Fill tool: a click on a cell whose level is not the current one (a step that changes
+    something)."""
+    press_key(window, Key.Key_F)
+    doc, level = window.document, window.current_level
+    ys, xs = np.nonzero(doc.levels != level)
+    steps = len(window.history.actions)
+    click(window.canvas.viewport(), cell_pos(window.canvas, int(xs[0]), int(ys[0])))
+    assert len(window.history.actions) == steps + 1
+    assert window.history.actions[-1].TYPE == "fill"

@@ -14,7 +14,8 @@ from texeditor.recipe.actions import SynthesizeScales
 
 from tests.support import ROOT
 
-from .support import cell_pos, click, edit_and_apply, press_key, recipe, type_into
+from .support import (edit_and_apply, fill_a_cell, press_key, recipe,
+                      synthesise, type_into, undo_to_start)
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier
@@ -41,39 +42,9 @@ def palette_shown(window):
         assert window.canvas.displayed_colour(x, y) == tuple(int(c) for c in doc.palette[level])
 
 
-def synthesise(qtbot, window, width, height, seed, scales=None):
-    dock = window.synthesis_dock
-    type_into(qtbot, dock.width_box, str(width))
-    type_into(qtbot, dock.height_box, str(height))
-    type_into(qtbot, dock.seed.edit, str(seed))
-    if scales is not None:
-        type_into(qtbot, dock.scales_box, str(scales))
-    qtbot.mouseClick(dock.button, LEFT)
-    assert window.runner.wait(120_000)
-    assert not window.errors
-
-
-def undo_to_start(qtbot, window):
-    while window.can_undo():
-        qtbot.keyClick(window, Key.Key_Z, CTRL)
-    assert window.history.index == 1
-
-
 def redo_to_end(qtbot, window):
     while window.history.can_redo:
         qtbot.keyClick(window, Key.Key_Z, CTRL | SHIFT)
-
-
-def fill_a_cell(qtbot, window):
-    """Fill tool: a click on a cell whose level is not the current one (a step that changes
-    something)."""
-    press_key(window, Key.Key_F)
-    doc, level = window.document, window.current_level
-    ys, xs = np.nonzero(doc.levels != level)
-    steps = len(window.history.actions)
-    click(window.canvas.viewport(), cell_pos(window.canvas, int(xs[0]), int(ys[0])))
-    assert len(window.history.actions) == steps + 1
-    assert window.history.actions[-1].TYPE == "fill"
 
 
 def test_acquire_scales_synthesise_tone_undo_edit_save_reopen(qtbot, window, tmp_path):

@@ -8,7 +8,7 @@ from PySide6 import QtCore, QtWidgets
 from texeditor.markov.levels import load_image
 from texeditor.photo import acquire_model
 
-from .test_photo_models import fill_a_cell, synthesise, undo_to_start
+from .support import fill_a_cell, synthesise, undo_to_start
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 SHIFT = QtCore.Qt.KeyboardModifier.ShiftModifier
