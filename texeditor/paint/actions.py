@@ -515,8 +515,8 @@ class DominanceTree(Action):
         return rows, cols, values
 
     def label(self) -> str:
-        expr = self.expression if len(self.expression) <= 40 else self.expression[:37] + "…"
-        return f"Dominance tree of {len(self.points)} vertices: {expr}"
+        expr = self.expression if len(self.expression) <= 24 else self.expression[:21] + "…"
+        return f"Tree of {len(self.points)} grains: {expr}"
 
 
 # -- fill orders (§3.3.1, Fig. 3.4) ----------------------------------------------------------------

@@ -121,7 +121,7 @@ class RenderGrains(Action):
     def label(self) -> str:
         what = f"{self.shape} {self.size} px" + (f", {self.angle:g}°" if self.angle else "")
         if self.level_grains:
-            what += ", own grains for level " + ", ".join(map(str, self.level_masks()))
+            what += ", own grains for levels " + ", ".join(map(str, self.level_masks()))
         density = []
         if self.explosion_x != 1 or self.explosion_y != 1:
             density.append(f"explosion {self.explosion_x:g}×{self.explosion_y:g}")
