@@ -553,6 +553,8 @@ def shot_trees_and_orders(app, window, out: Path) -> None:
     place("Diamond 7", [(64, 26)])
     place("Pentagon 9", [(74, 16), (80, 34)])
     place("Square 5", [(88, 20)], parent=(74, 16))
+    target = canvas.mapFromScene(canvas.view.mapViewToScene(QtCore.QPointF(86.5, 8.5)))
+    QtWidgets.QApplication.sendEvent(canvas.viewport(), _move_event(canvas.viewport(), target))
     window.statusBar().clearMessage()
     settle(app, 300)
     save(window, out / "tree-tool.png")

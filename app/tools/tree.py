@@ -122,6 +122,7 @@ class TreeTool(Tool):
         self.parent = -1                  # the current parent: where the next vertex hangs
         self.edges: QtWidgets.QGraphicsPathItem | None = None
         self.ring: QtWidgets.QGraphicsPathItem | None = None
+        self.rubber: QtWidgets.QGraphicsPathItem | None = None     # where a click would go
         self._unsubscribe = None
         self.keys = KeyFilter(self.key)
         self.model.changed.connect(lambda _name: self.show_tree())
@@ -140,9 +141,13 @@ class TreeTool(Tool):
         self.options()
         self.show_own_dock("grain_dock")
         canvas = self.main_window.canvas
-        self.edges, self.ring = QtWidgets.QGraphicsPathItem(), QtWidgets.QGraphicsPathItem()
-        for item, colour, width in ((self.edges, EDGE, 1.5), (self.ring, PARENT, 2.5)):
+        self.edges, self.ring, self.rubber = (QtWidgets.QGraphicsPathItem() for _ in range(3))
+        solid, dashed = QtCore.Qt.PenStyle.SolidLine, QtCore.Qt.PenStyle.DashLine
+        for item, colour, width, style in ((self.edges, EDGE, 1.5, solid),
+                                           (self.ring, PARENT, 2.5, solid),
+                                           (self.rubber, EDGE, 1.0, dashed)):
             pen = QtGui.QPen(colour, width)
+            pen.setStyle(style)
             pen.setCosmetic(True)
             item.setPen(pen)
             item.setZValue(20)
@@ -159,9 +164,9 @@ class TreeTool(Tool):
             self._unsubscribe = None
         canvas = self.main_window.canvas
         canvas.removeEventFilter(self.keys)
-        for item in (self.edges, self.ring):
+        for item in (self.edges, self.ring, self.rubber):
             canvas.view.removeItem(item)
-        self.edges = self.ring = None
+        self.edges = self.ring = self.rubber = None
         super().deactivate()
 
     def resize(self, bigger: bool) -> None:
@@ -185,6 +190,24 @@ class TreeTool(Tool):
         else:
             self.add(cell)
         self.show_tree()
+        self.hover(cell)
+
+    def hover(self, cell):
+        """A dashed edge from the current parent to the pointer — or, near a vertex, a ring
+        round it: what a click there would do."""
+        if self.rubber is None:
+            return
+        path = QtGui.QPainterPath()
+        near = None if cell is None else self.vertex_near(cell)
+        radius = 6 / max(self.main_window.canvas.zoom(), 1e-6)
+        if near is not None:
+            r, c = self.points[near]
+            path.addEllipse(QtCore.QPointF(c + 0.5, r + 0.5), radius, radius)
+        elif cell is not None and 0 <= self.parent < len(self.points):
+            r, c = self.points[self.parent]
+            path.moveTo(c + 0.5, r + 0.5)
+            path.lineTo(cell[0] + 0.5, cell[1] + 0.5)
+        self.rubber.setPath(path)
 
     def add(self, cell) -> None:
         """A new vertex at ``cell`` (x, y), under the current parent, with the current grain."""
@@ -290,6 +313,8 @@ class TreeTool(Tool):
             ring.addEllipse(centre[self.parent], 2 * radius, 2 * radius)
         self.edges.setPath(edges)
         self.ring.setPath(ring)
+        if not self.points:
+            self.rubber.setPath(QtGui.QPainterPath())
         self.opts.status.setText(self._status(problem))
         self.opts.finish_button.setEnabled(bool(self.points))
         self.opts.drop_button.setEnabled(bool(self.points))
