@@ -28,7 +28,7 @@ BAND_TINT = (255, 90, 40)
 GHOST_ALPHA = 200
 ORDER_NAMES = [("Spiral", "spiral"), ("Polar (by angle, then distance)", "polar"),
                ("Peano (Hilbert)", "peano"), ("Television (rows)", "tv")]
-MAX_RAMP = 2**18            # the order is previewed as a ramp over zones up to this many points
+MAX_RAMP = 2**16            # the order is previewed as a ramp over zones up to this many points
 
 
 class Zone:
@@ -291,6 +291,10 @@ class OrderTool(ZoneTool):
     ORDER = True
     SETTINGS = OrderSettings
 
+    def __init__(self, window):
+        super().__init__(window)
+        self._ramp = (None, None)      # (key, RGBA ramp) of the last order that has no centre
+
     def build_options(self):
         options = super().build_options()
         self.model.changed.connect(lambda name: name == "order" and self.show_zone())
@@ -321,18 +325,22 @@ class OrderTool(ZoneTool):
         if mask is None or not mask.any() or mask.sum() > MAX_RAMP:
             self.show_zone()
             return
-        try:
-            order = orders.fill_order(mask, self.settings.order, (cell[1], cell[0]))
-        except TexeditorError:
-            self.show_zone()
-            return
+        order = self.settings.order
         t, l, b, r = _box(mask)
-        rgba = np.zeros((b - t, r - l, 4), np.uint8)
-        ramp = np.linspace(40, 255, len(order)).astype(np.uint8)
-        rgba[order[:, 0] - t, order[:, 1] - l, 0] = ramp
-        rgba[order[:, 0] - t, order[:, 1] - l, 1] = ramp
-        rgba[order[:, 0] - t, order[:, 1] - l, 2] = 255 - ramp // 2
-        rgba[order[:, 0] - t, order[:, 1] - l, 3] = 150
+        key = (order, self.zone and self.zone.points, mask.shape)
+        if order in ("tv", "peano") and self._ramp[0] == key:     # the same wherever the pointer
+            rgba = self._ramp[1]
+        else:
+            try:
+                cells = orders.fill_order(mask, order, (cell[1], cell[0])) - (t, l)
+            except TexeditorError:
+                self.show_zone()
+                return
+            rgba = np.zeros((b - t, r - l, 4), np.uint8)
+            ramp = np.linspace(40, 255, len(cells)).astype(np.uint8)
+            rgba[cells[:, 0], cells[:, 1]] = np.stack(
+                [ramp, ramp, 255 - ramp // 2, np.full_like(ramp, 150)], axis=1)
+            self._ramp = (key, rgba)
         self.main_window.canvas.set_overlay(rgba, (l, t))
 
     def click(self, cell, modifiers):

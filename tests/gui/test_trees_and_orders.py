@@ -12,7 +12,7 @@ from app.tools.zone import OrderTool
 from texeditor.paint.actions import DominanceTree, LayAlongOrder, PeanoLevels
 from texeditor.texture.actions import RenderGrains
 
-from .support import cell_pos, click, mouse, press_key
+from .support import cell_pos, click, mouse, move, press_key
 
 Key = QtCore.Qt.Key
 LEFT = QtCore.Qt.MouseButton.LeftButton
@@ -196,6 +196,12 @@ def test_the_scan_order_tool_lays_the_canvas_then_a_zone_along_a_spiral(window, 
     tool = window.tool
     assert isinstance(tool, OrderTool) and tool.settings.order == "spiral"
     before = window.document.levels.copy()
+    move(window.canvas.viewport(), cell_pos(window.canvas, 30, 20))
+    overlay = window.canvas.overlay                             # the order as a ramp
+    rect = overlay.mapRectToView(overlay.boundingRect())
+    assert overlay.isVisible() and (rect.width(), rect.height()) == (64, 48)
+    ramp = overlay.image
+    assert ramp[20, 30, 0] == ramp[:, :, 0].min() and ramp[20, 35, 0] < ramp[20, 50, 0]
     at(window, 30, 20)                                          # no zone: the whole canvas
     action = window.history.actions[-1]
     assert action == LayAlongOrder("spiral", centre_row=20, centre_col=30)
