@@ -3,8 +3,9 @@ duplicated zones, scrambled frontiers, Peano sub-region levels, dominance trees 
 along a fill order, each a small replayable record.
 
 The tools of `app.tools.brush`, `grain`, `zone` and `tree` and the Peano dialog build these;
-`brushes`, `grains`, `zones`, `peano`, `trees` and `orders` do the work. Each keeps its randomness in a seed and writes only the
-points it changes, so undo costs the size of the edit and replay gives the same levels bit for bit.
+`brushes`, `grains`, `zones`, `peano`, `trees` and `orders` do the work. Each keeps its randomness
+in a seed and writes only the points it changes, so undo costs the size of the edit and replay
+gives the same levels bit for bit.
 """
 
 from __future__ import annotations
@@ -361,9 +362,10 @@ class PeanoLevels(Action):
     """Give the sub-regions named by a dominance expression levels that satisfy it.
 
     The canvas (from ``top``, ``left``) is cut into cells of ``cell`` points, numbered from 1
-    along a Hilbert scan (or another fill ``order``, `orders.grid_order`); each named cell is filled with its level (or, with ``grain`` set to a
-    grain shape, receives a grain of that level at its centre). The ranks of the expression are
-    spread from ``low`` to ``high`` (default: the top level G-1).
+    along a Hilbert scan (or another fill ``order``, `orders.grid_order`); each named cell is
+    filled with its level (or, with ``grain`` set to a grain shape, receives a grain of that
+    level at its centre). The ranks of the expression are spread from ``low`` to ``high``
+    (default: the top level G-1).
     """
 
     TYPE: ClassVar[str] = "peano_levels"

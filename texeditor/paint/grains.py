@@ -372,7 +372,7 @@ class GrainType:
         return cls(**obj)
 
 
-# -- a grain's shape as a short text (the per-vertex and per-level grains of a log) ------------------
+# -- a grain's shape as a short text (the per-vertex and per-level grains of a log) -----------------
 
 _SPEC_KEYS = {"aspect": float, "sides": int, "angle": float, "bitmap": str}
 
