@@ -1,5 +1,6 @@
 """The Grain rendering dock (thesis §5.3, §5.4.1): the texture's grain shape, size and orientation,
-its explosion and compression, with a live preview; each committed setting is one Action.
+a grain of its own for any level, its explosion and compression, with a live preview; each
+committed setting is one Action.
 
 A texture is "its DPJ, its grain and density parameters and its actions" (§5.4.2): the dock edits
 *the* RenderGrains step of the log — the last one since the texture was synthesised. With none,
@@ -17,8 +18,9 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor import warmup
 from texeditor.errors import TexeditorError
-from texeditor.texture.grain_render import (LATTICES, MAX_COMPRESSION, MAX_EXPLOSION, OVERLAP_RULES,
-                                    check_size)
+from texeditor.paint.grains import GrainType, grain_spec
+from texeditor.texture.grain_render import (LATTICES, MAX_COMPRESSION, MAX_EXPLOSION, MAX_GRAIN,
+                                            OVERLAP_RULES, check_size, parse_level_grains)
 from texeditor.texture.actions import RenderGrains
 
 from .images import qimage_from_rgb
@@ -47,6 +49,8 @@ def output_text(action: RenderGrains, texture_shape: tuple[int, int]) -> str:
     h, w = texture_shape
     oh, ow = lat.shape(texture_shape)
     why = [f"{action.shape} grain {action.size} px"]
+    if action.level_grains:
+        why.append("own grains for levels " + ", ".join(map(str, action.level_masks())))
     if action.explosion_x != 1 or action.explosion_y != 1:
         why.append(f"explosion {action.explosion_x:g}×{action.explosion_y:g}")
     if action.compression:
@@ -132,6 +136,9 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         self._bitmap: str | None = None
         self._shown_step = object()     # nothing shown yet
         self._rendering: RenderGrains | None = None   # a render running in the worker
+        self._level_grains: dict[int, GrainType] = {}   # the levels with a grain of their own
+        self._level_widgets: list[tuple[QtWidgets.QLabel, QtWidgets.QComboBox,
+                                        QtWidgets.QSpinBox]] = []
         self._build()
         self.show_action(None)
         self._preview_timer = self._timer(PREVIEW_DELAY_MS, self.update_preview)
@@ -172,6 +179,11 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         form.addRow("Aspect", self.aspect)
         form.addRow("Sides", self.sides)
         form.addRow(self.from_tool)
+        self.per_level = QtWidgets.QGroupBox("Grain per level (§5.3)")
+        self.per_level.setToolTip("A level may be drawn with its own grain (a point's state "
+                                  "selects its primitive); the others use the grain above")
+        self.level_rows = QtWidgets.QGridLayout(self.per_level)
+        self.level_rows.setColumnStretch(1, 1)
         density = QtWidgets.QGroupBox("Density (§5.3.2)")
         form = QtWidgets.QFormLayout(density)
         self.explode_x = ValueSlider(1, MAX_EXPLOSION / 2, 10, "{:.1f}", "×")
@@ -209,6 +221,7 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         layout.addWidget(self.preview, 0, QtCore.Qt.AlignmentFlag.AlignHCenter)
         layout.addWidget(self.info)
         layout.addWidget(grain)
+        layout.addWidget(self.per_level)
         layout.addWidget(density)
         layout.addStretch(1)
         self.setWidget(scrolled(body))
@@ -239,7 +252,9 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
                 "explosion_x": self.explode_x.value(), "explosion_y": self.explode_y.value(),
                 "compression": self.compression.value(), "overlap": self.overlap.currentData(),
                 "lattice": self.lattice.currentData(),
-                "bitmap": self._bitmap if shape == "bitmap" else None}
+                "bitmap": self._bitmap if shape == "bitmap" else None,
+                "level_grains": ", ".join(f"{level}: {grain_spec(grain)}" for level, grain in
+                                          sorted(self._level_grains.items())) or None}
 
     def action(self) -> RenderGrains | None:
         """The RenderGrains of the current settings (None, explained below the preview, if the
@@ -266,6 +281,8 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
             self.overlap.setCurrentIndex(self.overlap.findData(action.overlap))
             self.lattice.setCurrentIndex(self.lattice.findData(action.lattice))
             self._bitmap = action.bitmap or self._bitmap
+            self._level_grains = parse_level_grains(action.level_grains)
+            self._show_level_grains()
         finally:
             self._loading = False
         self._enable_fields()
@@ -293,6 +310,83 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         self._enable_fields()
         self.update_preview()
         self.commit()
+
+    # -- a grain per level (§5.3) -----------------------------------------------------------------
+    def set_levels(self, palette) -> None:
+        """One row per level 1..G-1 (level 0 is the background: it draws no grain), each with
+        the level's colour."""
+        palette = np.asarray(palette, np.uint8)
+        if len(self._level_widgets) != len(palette) - 1:
+            for widgets in self._level_widgets:
+                for w in widgets:
+                    self.level_rows.removeWidget(w)
+                    w.setParent(None)
+                    w.deleteLater()
+            self._level_widgets = [self._level_row(k) for k in range(1, len(palette))]
+            self._show_level_grains()
+        for k, (swatch, _, _) in enumerate(self._level_widgets, start=1):
+            r, g, b = (int(v) for v in palette[k])
+            ink = "black" if r * 0.3 + g * 0.59 + b * 0.11 > 128 else "white"
+            swatch.setStyleSheet(f"background: rgb({r},{g},{b}); color: {ink};")
+
+    def _level_row(self, level: int):
+        swatch = QtWidgets.QLabel(str(level))
+        swatch.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        swatch.setMinimumWidth(28)
+        shape = QtWidgets.QComboBox()
+        shape.setSizeAdjustPolicy(
+            QtWidgets.QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        shape.setMinimumContentsLength(10)
+        shape.addItem("The grain above", None)
+        for text, value in SHAPES[:-1]:
+            shape.addItem(text, value)
+        shape.setToolTip(f"The grain of the points of level {level}")
+        size = QtWidgets.QSpinBox()
+        size.setRange(1, MAX_GRAIN)
+        size.setSuffix(" px")
+        size.setToolTip(f"Diameter of level {level}'s grain")
+        size.setEnabled(False)
+        for column, w in enumerate((swatch, shape, size)):
+            self.level_rows.addWidget(w, level - 1, column)
+        shape.currentIndexChanged.connect(lambda _=0, k=level: self._level_shape(k))
+        size.valueChanged.connect(lambda _=0, k=level: self._level_size(k))
+        return swatch, shape, size
+
+    def _show_level_grains(self) -> None:
+        """Rows from the table (a drawn grain, set in the History, shows as such)."""
+        loading, self._loading = self._loading, True
+        try:
+            for k, (_, shape, size) in enumerate(self._level_widgets, start=1):
+                grain = self._level_grains.get(k)
+                if grain is not None and shape.findData(grain.shape) < 0:
+                    shape.addItem("Drawn grain", grain.shape)
+                shape.setCurrentIndex(0 if grain is None else shape.findData(grain.shape))
+                size.setValue(self.size_slider.value() if grain is None else grain.size)
+                size.setEnabled(grain is not None)
+        finally:
+            self._loading = loading
+
+    def _level_shape(self, level: int) -> None:
+        if self._loading:
+            return
+        _, shape_box, size = self._level_widgets[level - 1]
+        shape = shape_box.currentData()
+        size.setEnabled(shape is not None)
+        if shape is None:
+            self._level_grains.pop(level, None)
+        elif getattr(self._level_grains.get(level), "shape", None) != shape:
+            old = self._level_grains.get(level) or GrainType(
+                shape=shape, size=size.value(), aspect=self.aspect.value(),
+                sides=self.sides.value(), angle=float(self.angle.value()))
+            self._level_grains[level] = old.replace(shape=shape, bitmap=None)
+        self._edited_now()
+
+    def _level_size(self, level: int) -> None:
+        if self._loading or level not in self._level_grains:
+            return
+        size = self._level_widgets[level - 1][2].value()
+        self._level_grains[level] = self._level_grains[level].replace(size=size)
+        self._edited()
 
     def use_tool_grain(self) -> None:
         from .tools.grain import GrainTool
@@ -343,6 +437,7 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
             return
         i = grain_step(history)
         step = history.actions[i] if i is not None else None
+        self.set_levels(history.document.palette)
         if not self.editing():
             self._shown_step = step
             self.show_action(step)

@@ -307,7 +307,7 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
             tip = f"{tool.TIP} ({tool.SHORTCUT})" if tool.SHORTCUT else tool.TIP
             tool.qaction = self._action(tool.NAME, lambda _=False, t=tool: self.set_tool(t),
                                         tool.SHORTCUT or None, tip, checkable=True)
-            tool.qaction.setIconText(tool.NAME.split()[0])      # the button's short label
+            tool.qaction.setIconText(tool.LABEL or tool.NAME.split()[0])   # the button's label
             group.addAction(tool.qaction)
             menu.addAction(tool.qaction)
         self.tool_dock.set_tools(self.tools)

@@ -1,5 +1,6 @@
 """Image ▸ Peano sub-regions… (thesis §3.3.3a, Fig. 3.5–3.6): cut the canvas into cells, list
-them along a Hilbert scan, and give them levels with a dominance expression.
+them along a Hilbert scan (or another fill order, §3.3.1), and give them levels with a dominance
+expression.
 
 The dialog shows the scan over the texture (the path and the cell numbers), the expression's tree
 with each sub-region's level, and points at the offending character of a malformed expression.
@@ -12,6 +13,7 @@ import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.paint import grains
+from texeditor.paint import orders
 from texeditor.paint import peano
 from texeditor.errors import TexeditorError
 from texeditor.paint.actions import PeanoLevels
@@ -20,6 +22,10 @@ from .canvas import colourize
 from .widgets import spin_box
 
 EXAMPLE = "6:7(2(1,2(2,3)),6:7(4,5,6:7(6,7),8))"
+ORDER_NAMES = [("Peano (Hilbert)", "peano", "along the Hilbert scan"),
+               ("Television (rows)", "tv", "row after row"),
+               ("Spiral from the middle", "spiral", "in a spiral from the middle"),
+               ("Polar about the middle", "polar", "by angle about the middle")]
 MAX_DRAWN_CELLS = 16384
 PATH_COLOUR = QtGui.QColor(255, 70, 70, 200)
 NAMED_COLOUR = QtGui.QColor(255, 220, 60)
@@ -27,8 +33,8 @@ GRID_COLOUR = QtGui.QColor(255, 255, 255, 90)
 
 
 class ScanView(QtWidgets.QWidget):
-    """The texture with the cut, the Hilbert path through the cells and their numbers; the cells
-    the expression names are painted with the levels they will get."""
+    """The texture with the cut, the path of the scan through the cells and their numbers; the
+    cells the expression names are painted with the levels they will get."""
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -183,6 +189,13 @@ class PeanoDialog(QtWidgets.QDialog):
         count.addWidget(QtWidgets.QLabel("×"))
         count.addWidget(self.down)
         form.addRow("Cells", count)
+        self.order = QtWidgets.QComboBox()
+        for text, value, _ in ORDER_NAMES:
+            self.order.addItem(text, value)
+        self.order.setToolTip("The order the cells are numbered in (thesis §3.3.1): the Peano "
+                              "scan, or another fill order")
+        assert sorted(v for _, v, _ in ORDER_NAMES) == sorted(orders.ORDERS)
+        form.addRow("Numbered", self.order)
         levels = QtWidgets.QHBoxLayout()
         self.low = spin_box(0, 15, 1, tip="Level of the dimmest named cells")
         self.high = spin_box(0, 15, 3, tip="Level of the brightest")
@@ -224,7 +237,8 @@ class PeanoDialog(QtWidgets.QDialog):
                   self.grain_size):
             w.valueChanged.connect(self.update_scan)
         self.grain.currentIndexChanged.connect(self.update_scan)
-        self.resize(940, 560)
+        self.order.currentIndexChanged.connect(self.update_scan)
+        self.resize(940, 580)
 
     def refresh(self) -> None:
         """Follow the document: its texture, palette and top level."""
@@ -245,7 +259,8 @@ class PeanoDialog(QtWidgets.QDialog):
                            left=self.left.value(), cells_down=self.down.value() or None,
                            cells_across=self.across.value() or None,
                            grain=self.grain.currentData(),
-                           grain_size=self.grain_size.value() or None)
+                           grain_size=self.grain_size.value() or None,
+                           order=self.order.currentData())
 
     def update_scan(self) -> None:
         """Parse, assign, and show the scan and the tree (errors point at the character)."""
@@ -271,8 +286,9 @@ class PeanoDialog(QtWidgets.QDialog):
             self.problem.setText(str(exc))
             down = across = 0
         total = down * across
-        drawn = peano.scan_order(down, across) if 0 < total <= MAX_DRAWN_CELLS else \
-            peano.scan_order(down, across, limit=min(total, max(assigned, default=0)))
+        order = self.order.currentData()
+        drawn = orders.grid_order(down, across, order) if 0 < total <= MAX_DRAWN_CELLS else \
+            orders.grid_order(down, across, order, limit=min(total, max(assigned, default=0)))
         missing = [i for i in assigned if i > total]
         if missing and not self.problem.text():
             self.problem.setText(f"Sub-region {max(missing)} does not exist: the cut has "
@@ -284,7 +300,8 @@ class PeanoDialog(QtWidgets.QDialog):
         self.apply_button.setEnabled(bool(assigned) and not self.problem.text())
         note = "" if total <= MAX_DRAWN_CELLS else " (too many to draw the path: larger cells " \
                                                    "show it)"
-        self.summary.setText(f"{across}×{down} = {total} cells along the Hilbert scan{note}; "
+        scan = ORDER_NAMES[self.order.currentIndex()][2]
+        self.summary.setText(f"{across}×{down} = {total} cells {scan}{note}; "
                              f"{len(assigned)} named, {len(set(assigned.values()))} levels.")
 
     def _fill_tree(self, tree: peano.Node, assigned: dict[int, int]) -> None:

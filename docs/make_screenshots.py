@@ -506,6 +506,127 @@ def shot_grains(app, window, out: Path) -> None:
 MORE_SHOTS.append(shot_grains)
 
 
+def shot_trees_and_orders(app, window, out: Path) -> None:
+    """Issue 21: the Dominance tree tool with one tree finished and a second being built; a
+    synthesis laid along the fill orders (§3.3.1); the Grain rendering dock with a grain per
+    level (§5.3)."""
+    import numpy as np
+    from PySide6 import QtGui
+
+    from app.images import qimage_from_rgb
+    from app.tools.grain import GrainTool
+    from app.tools.tree import TreeTool
+    from texeditor import DPJ
+    from texeditor.paint.actions import LayAlongOrder
+    from texeditor.recipe.actions import NewCanvas, SetPalette
+    from texeditor.recipe.history import History
+    from texeditor.resources import bundled_dpj
+    from texeditor.texture.actions import RenderGrains
+
+    previous = window.history
+    canvas = window.canvas
+    earth = [(24, 22, 20), (70, 60, 50), (120, 100, 78), (170, 146, 110), (214, 192, 150),
+             (246, 234, 206)]
+
+    # 1. the Dominance tree tool: a finished tree, and a second one under construction
+    history = History()
+    history.apply(NewCanvas(96, 64, len(earth), earth))
+    window.set_history(history)
+    tree = next(t for t in window.tools if isinstance(t, TreeTool))
+    grains = next(t for t in window.tools if isinstance(t, GrainTool))
+    window.set_tool(tree)
+    canvas.fit()
+    settle(app, 200)
+
+    def place(grain, cells, parent=None):
+        grains.pick(grain)
+        if parent is not None:
+            tree.click(parent, QtCore.Qt.KeyboardModifier.NoModifier)
+        for cell in cells:
+            tree.click(cell, QtCore.Qt.KeyboardModifier.NoModifier)
+
+    place("Circle 9", [(20, 20)])
+    place("Hexagon 8", [(12, 34), (30, 36)])
+    place("Square 3", [(6, 44), (16, 46)], parent=(12, 34))
+    place("Point", [(40, 44), (32, 50)], parent=(30, 36))
+    tree.finish()
+    place("Diamond 7", [(64, 26)])
+    place("Pentagon 9", [(74, 16), (80, 34)])
+    place("Square 5", [(88, 20)], parent=(74, 16))
+    target = canvas.mapFromScene(canvas.view.mapViewToScene(QtCore.QPointF(86.5, 8.5)))
+    QtWidgets.QApplication.sendEvent(canvas.viewport(), _move_event(canvas.viewport(), target))
+    window.statusBar().clearMessage()
+    settle(app, 300)
+    save(window, out / "tree-tool.png")
+    tree.drop()
+    window.set_tool(window.tools[0])
+
+    # 2. one synthesis laid along each fill order (a knot of wood from a spiral)
+    history = History()
+    history.add_dpj(DPJ.load(bundled_dpj("grass-2x2-g8")))
+    window.set_history(history)
+    synth = window.synthesis_dock
+    synth.width_box.setValue(160)
+    synth.height_box.setValue(160)
+    synth.seed.set_value(5)
+    window.synthesise_from_dock()
+    window.runner.wait()
+    panels = [("TV scan (synthesised)", None), ("Spiral", "spiral"), ("Polar", "polar"),
+              ("Peano (Hilbert)", "peano")]
+    side, caption, gap = 160, 26, 12
+    figure = QtGui.QImage(4 * side + 5 * gap, side + caption + 2 * gap,
+                          QtGui.QImage.Format.Format_RGB888)
+    figure.fill(QtGui.QColor(250, 250, 250))
+    painter = QtGui.QPainter(figure)
+    font = painter.font()
+    font.setPointSize(10)
+    painter.setFont(font)
+    for k, (text, order) in enumerate(panels):
+        if order is not None:
+            window.submit(LayAlongOrder(order))
+        doc = window.document
+        x = gap + k * (side + gap)
+        painter.drawImage(x, gap, qimage_from_rgb(np.asarray(doc.palette)[doc.levels]))
+        painter.setPen(QtGui.QColor(40, 40, 40))
+        painter.drawText(QtCore.QRect(x, gap + side, side, caption),
+                         QtCore.Qt.AlignmentFlag.AlignCenter, text)
+        if order is not None:
+            window.act_undo.trigger()
+    painter.end()
+    path = out / "fill-orders.png"
+    figure.save(str(path))
+    print(path.relative_to(ROOT) if path.is_relative_to(ROOT) else path)
+
+    # 3. the Grain rendering dock: squares for most levels, circles and needles for two
+    history = History()
+    history.add_dpj(DPJ.load(bundled_dpj("gravel-3x3-g4")))
+    window.set_history(history)
+    synth.width_box.setValue(48)
+    synth.height_box.setValue(48)
+    synth.seed.set_value(3)
+    window.synthesise_from_dock()
+    window.runner.wait()
+    window.submit(SetPalette(((236, 230, 218), (176, 132, 86), (112, 74, 44), (42, 30, 22))))
+    dock = window.density_dock
+    dock.show()
+    dock.raise_()
+    dock.show_action(RenderGrains("square", 6, level_grains="1: line 9 angle=45, "
+                                                            "3: circle 10"))
+    dock.commit()
+    window.runner.wait()
+    window.canvas.actual_pixels()
+    settle(app, 300)
+    dock.widget().ensureWidgetVisible(dock.per_level)
+    window.statusBar().clearMessage()
+    settle(app)
+    save(window, out / "grain-per-level.png")
+    window.mark_clean()
+    window.set_history(previous)
+
+
+MORE_SHOTS.append(shot_trees_and_orders)
+
+
 def shot_dpj_editor(app, window, out: Path) -> None:
     """The DPJ editor (issue 8): a 2×2, G = 3 DPJ drawn from a seed, its empty configuration
     set to 0.3 and made stationary, one entry loaded into the painter; then the two

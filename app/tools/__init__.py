@@ -28,6 +28,7 @@ class Tool:
     """The base tool: does nothing on click or drag. Subclasses set NAME, SHORTCUT and TIP."""
 
     NAME = ""
+    LABEL = ""          # the button's short text (default: the first word of NAME)
     SHORTCUT = ""
     TIP = ""
     PANS = False        # a left drag pans the view (the hand tool)
@@ -125,6 +126,7 @@ def tool_classes() -> list[type[Tool]]:
     TOOLS.append(SpotTool)
     from .brush import BrushTool, SprayTool
     from .grain import GrainTool
-    from .zone import ScrambleTool, ZoneTool
-    TOOLS += [BrushTool, SprayTool, GrainTool, ZoneTool, ScrambleTool]
+    from .tree import TreeTool
+    from .zone import OrderTool, ScrambleTool, ZoneTool
+    TOOLS += [BrushTool, SprayTool, GrainTool, TreeTool, ZoneTool, ScrambleTool, OrderTool]
     return TOOLS

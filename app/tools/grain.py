@@ -139,7 +139,8 @@ class GrainTool(Tool):
         self.use(next(g for g in self.grains if g.name == name))
 
     def use(self, grain: GrainType) -> None:
-        """Make ``grain`` the current one and this tool the current tool."""
+        """Make ``grain`` the current one and this tool the current tool (unless the current
+        tool places this grain too: the Dominance tree keeps building)."""
         self.grain = grain
         names = [g.name for g in self.grains]
         if grain.name in names:
@@ -147,7 +148,8 @@ class GrainTool(Tool):
         else:
             self.grains.append(grain)
         self._show()
-        if self.main_window.tool is not self:
+        current = self.main_window.tool
+        if current is not self and not getattr(current, "PLACES_GRAINS", False):
             self.main_window.set_tool(self)
         self.main_window.statusBar().showMessage(describe(grain), 4000)
 

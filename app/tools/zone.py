@@ -1,8 +1,11 @@
-"""The zone tools (thesis §3.3.3a): Duplicate zone (D) and Scramble frontier (Shift+D).
+"""The zone tools (thesis §3.3.3a, §3.3.1): Duplicate zone (D), Scramble frontier (Shift+D) and
+Scan order (O).
 
 The eye sees symmetries but not repetitions: draw a rectangle or a lasso, drag it elsewhere and a
 copy lands there (one DuplicateZone action); the copy then becomes the zone, and where its frontier
 shows, the Scramble tool adds grains at random in a band along it (one ScrambleFrontier action).
+The Scan order tool lays the zone's levels — or the whole canvas's — along a polar, spiral or
+Peano order about the clicked point (one LayAlongOrder action).
 """
 
 from __future__ import annotations
@@ -12,9 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 from PySide6 import QtWidgets
 
-from texeditor.paint import zones
+from texeditor.paint import orders, zones
 from texeditor.errors import TexeditorError
-from texeditor.paint.actions import DuplicateZone, ScrambleFrontier
+from texeditor.paint.actions import DuplicateZone, LayAlongOrder, ScrambleFrontier
 
 from ..params_form import new_seed
 from . import Tool
@@ -23,6 +26,9 @@ from .regions import mask_overlay
 ZONE_TINT = (255, 200, 40)
 BAND_TINT = (255, 90, 40)
 GHOST_ALPHA = 200
+ORDER_NAMES = [("Spiral", "spiral"), ("Polar (by angle, then distance)", "polar"),
+               ("Peano (Hilbert)", "peano"), ("Television (rows)", "tv")]
+MAX_RAMP = 2**16            # the order is previewed as a ramp over zones up to this many points
 
 
 class Zone:
@@ -51,10 +57,15 @@ class ScrambleSettings(ZoneSettings):
     grain: int = 2                   # side of the square grains added
 
 
-class ZoneOptions(QtWidgets.QWidget):
-    """Zone kind and wrap (both tools), and the scramble settings."""
+@dataclass(frozen=True)
+class OrderSettings(ZoneSettings):
+    order: str = "spiral"            # the fill order the zone is laid along
 
-    def __init__(self, model, scramble: bool):
+
+class ZoneOptions(QtWidgets.QWidget):
+    """Zone kind and wrap (the zone tools), the scramble settings, the fill order."""
+
+    def __init__(self, model, scramble: bool, order: bool = False):
         super().__init__()
         form = QtWidgets.QFormLayout(self)
         form.setContentsMargins(0, 0, 0, 0)
@@ -82,16 +93,24 @@ class ZoneOptions(QtWidgets.QWidget):
             form.addRow("Band", self.band)
             form.addRow("Density", self.density)
             form.addRow("Grain", self.grain)
+        self.order = QtWidgets.QComboBox()
+        for text, value in ORDER_NAMES:
+            self.order.addItem(text, value)
+        self.order.setToolTip("The order the levels, read row after row, are laid along "
+                              "(thesis §3.3.1): a spiral makes rings, a polar order rays")
         self.wrap = QtWidgets.QCheckBox("Wrap around the edges")
         self.wrap.setToolTip("A copy leaving one edge comes back on the other (seamless tiles)")
-        form.addRow(self.wrap)
+        if order:
+            form.addRow("Order", self.order)
+        else:
+            form.addRow(self.wrap)
         self.status = QtWidgets.QLabel()
         self.status.setWordWrap(True)
         self.status.setMinimumHeight(2 * self.status.fontMetrics().lineSpacing() + 4)
         form.addRow(self.status)
         for name, widget, scale in (("kind", self.kind, 1), ("wrap", self.wrap, 1),
                                     ("band", self.band, 1), ("density", self.density, 100),
-                                    ("grain", self.grain, 1)):
+                                    ("grain", self.grain, 1), ("order", self.order, 1)):
             model.bind(name, widget, scale=scale)
 
 
@@ -102,6 +121,7 @@ class ZoneTool(Tool):
     SHORTCUT = "D"
     TIP = "Drag to draw a zone; drag from inside it to put a copy elsewhere"
     SCRAMBLE = False
+    ORDER = False
     SETTINGS = ZoneSettings
 
     def __init__(self, window):
@@ -118,7 +138,7 @@ class ZoneTool(Tool):
         self.main_window.paint_zone = zone
 
     def build_options(self):
-        self.opts = ZoneOptions(self.model, self.SCRAMBLE)
+        self.opts = ZoneOptions(self.model, self.SCRAMBLE, self.ORDER)
         self.model.changed.connect(lambda name: name in ("", "wrap", "band") and self.show_zone())
         return self.opts
 
@@ -259,3 +279,79 @@ class ScrambleTool(ZoneTool):
         self.main_window.submit(ScrambleFrontier(
             points=self.zone.points, zone=self.zone.kind, band=s.band, density=s.density,
             grain_size=s.grain, wrap=s.wrap, seed=new_seed()))
+
+
+class OrderTool(ZoneTool):
+    """Lay the zone — or, with no zone, the whole canvas — along a fill order (§3.3.1)."""
+
+    NAME = "Scan order"
+    SHORTCUT = "O"
+    TIP = ("Click to lay the zone (or, with none, the canvas) along a spiral, polar or Peano "
+           "order about that point; drag to draw a zone")
+    ORDER = True
+    SETTINGS = OrderSettings
+
+    def __init__(self, window):
+        super().__init__(window)
+        self._ramp = (None, None)      # (key, RGBA ramp) of the last order that has no centre
+
+    def build_options(self):
+        options = super().build_options()
+        self.model.changed.connect(lambda name: name == "order" and self.show_zone())
+        return options
+
+    def next_step(self) -> str:
+        return "Click inside it at the centre of the order (the ramp: first points dark)."
+
+    def show_zone(self) -> None:
+        super().show_zone()
+        if self.main_window.tool is self and self.zone is None:
+            self.opts.status.setText("No zone: a click lays the whole canvas along the order "
+                                     "about that point. Drag to draw a zone.")
+
+    def target(self, cell) -> np.ndarray | None:
+        """The points a click at ``cell`` lays out: the zone it falls in, or the canvas when
+        there is no zone (None: outside the zone, or off the canvas)."""
+        if not self.inside(cell):
+            return None
+        mask = self.zone_mask()
+        if self.zone is None:
+            return np.ones(self.document.shape, bool)
+        return mask if mask is not None and mask[cell[1], cell[0]] else None
+
+    def hover(self, cell):
+        """The order about the pointer as a ramp over the target, first points darkest."""
+        mask = None if cell is None else self.target(cell)
+        if mask is None or not mask.any() or mask.sum() > MAX_RAMP:
+            self.show_zone()
+            return
+        order = self.settings.order
+        t, l, b, r = _box(mask)
+        key = (order, self.zone and self.zone.points, mask.shape)
+        if order in ("tv", "peano") and self._ramp[0] == key:     # the same wherever the pointer
+            rgba = self._ramp[1]
+        else:
+            try:
+                cells = orders.fill_order(mask, order, (cell[1], cell[0])) - (t, l)
+            except TexeditorError:
+                self.show_zone()
+                return
+            rgba = np.zeros((b - t, r - l, 4), np.uint8)
+            ramp = np.linspace(40, 255, len(cells)).astype(np.uint8)
+            rgba[cells[:, 0], cells[:, 1]] = np.stack(
+                [ramp, ramp, 255 - ramp // 2, np.full_like(ramp, 150)], axis=1)
+            self._ramp = (key, rgba)
+        self.main_window.canvas.set_overlay(rgba, (l, t))
+
+    def click(self, cell, modifiers):
+        if self.target(cell) is None:
+            super().click(cell, modifiers)
+            return
+        zone = {} if self.zone is None else {"zone": self.zone.kind, "points": self.zone.points}
+        self.main_window.submit(LayAlongOrder(self.settings.order, centre_row=cell[1],
+                                              centre_col=cell[0], **zone))
+        self.hover(cell)
+
+    def drag(self, cell, modifiers):
+        self.options()
+        yield from self._draw(cell)

@@ -3,8 +3,8 @@ every paint Action."""
 
 import numpy as np
 
-from texeditor.paint.actions import (DuplicateZone, PeanoLevels, PlaceGrains, ScrambleFrontier,
-                                     Stroke)
+from texeditor.paint.actions import (DominanceTree, DuplicateZone, LayAlongOrder, PeanoLevels,
+                                     PlaceGrains, ScrambleFrontier, Stroke)
 from texeditor.recipe.document import Document
 
 
@@ -39,5 +39,14 @@ EXAMPLES = [
     PeanoLevels(cell=4, expression="6:7(2(1,2(2,3)),6:7(4,5,6:7(6,7),8))"),
     PeanoLevels(cell=3, expression="3(1,2)", low=0, high=2, top=5, left=7, grain="circle",
                 grain_size=3),
+    PeanoLevels(cell=5, expression="4(1,2(3))", order="spiral"),
+    DominanceTree(points=((10, 10), (14, 18), (6, 20), (16, 26)), expression="1(2(4),3)",
+                  grains="circle 7, hexagon 6, square 3, polygon 5 sides=5 angle=30"),
+    DominanceTree(points=((30, 40), (38, 2)), expression="1:2", grains="diamond 9, line 7",
+                  low=2, high=3, mix="brighter", wrap=True),
+    LayAlongOrder("spiral", zone="rectangle", points=((20, 20), (30, 44))),
+    LayAlongOrder("polar", zone="lasso", points=((2, 2), (2, 30), (25, 15)), centre_row=9,
+                  centre_col=15),
+    LayAlongOrder("peano", zone="rectangle", points=((4, 4), (20, 33))),
 ]
 

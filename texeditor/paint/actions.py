@@ -1,9 +1,11 @@
-"""Manual acquisition as Actions (thesis §3.2.2, §3.3.3a): brush strokes, placed grains, duplicated
-zones, scrambled frontiers and Peano sub-region levels, each a small replayable record.
+"""Manual acquisition as Actions (thesis §3.2.2, §3.3.1, §3.3.3a): brush strokes, placed grains,
+duplicated zones, scrambled frontiers, Peano sub-region levels, dominance trees and zones laid
+along a fill order, each a small replayable record.
 
-The tools of `app.tools.brush`, `grain` and `zone` and the Peano dialog build these; `brushes`,
-`grains`, `zones` and `peano` do the work. Each keeps its randomness in a seed and writes only the
-points it changes, so undo costs the size of the edit and replay gives the same levels bit for bit.
+The tools of `app.tools.brush`, `grain`, `zone` and `tree` and the Peano dialog build these;
+`brushes`, `grains`, `zones`, `peano`, `trees` and `orders` do the work. Each keeps its randomness
+in a seed and writes only the points it changes, so undo costs the size of the edit and replay
+gives the same levels bit for bit.
 """
 
 from __future__ import annotations
@@ -16,7 +18,9 @@ import numpy as np
 
 from . import brushes
 from . import grains
+from . import orders
 from . import peano
+from . import trees
 from . import zones
 from ..recipe.actions import MAX_CANVAS_SIDE, Action, param, register
 from ..markov.dpj import MAX_LEVELS
@@ -358,9 +362,10 @@ class PeanoLevels(Action):
     """Give the sub-regions named by a dominance expression levels that satisfy it.
 
     The canvas (from ``top``, ``left``) is cut into cells of ``cell`` points, numbered from 1
-    along a Hilbert scan; each named cell is filled with its level (or, with ``grain`` set to a
-    grain shape, receives a grain of that level at its centre). The ranks of the expression are
-    spread from ``low`` to ``high`` (default: the top level G-1).
+    along a Hilbert scan (or another fill ``order``, `orders.grid_order`); each named cell is
+    filled with its level (or, with ``grain`` set to a grain shape, receives a grain of that
+    level at its centre). The ranks of the expression are spread from ``low`` to ``high``
+    (default: the top level G-1).
     """
 
     TYPE: ClassVar[str] = "peano_levels"
@@ -381,12 +386,15 @@ class PeanoLevels(Action):
                        doc="cell (fill the whole cell) or a grain shape placed at its centre")
     grain_size: int | None = param("int", 1, grains.MAX_GRAIN_SIZE, default=None, optional=True,
                                    doc="grain diameter (default: the cell side)")
+    order: str = param("str", hi=8, default="peano",
+                       doc="how the cells are numbered: peano (Hilbert), tv, polar or spiral")
 
     def _validate(self) -> None:
         peano.parse_dominance(self.expression)
         if self.grain != "cell" and self.grain not in grains.SHAPES[:-1]:
             raise InputError(f"grain must be 'cell' or one of "
                              f"{', '.join(grains.SHAPES[:-1])}, got {self.grain!r}")
+        _check_order(self.order)
 
     def cells(self, canvas_shape) -> tuple[int, int]:
         return peano.cell_grid(canvas_shape, self.cell, self.top, self.left, self.cells_down,
@@ -405,7 +413,7 @@ class PeanoLevels(Action):
         if last > down * across:
             raise InputError(f"the expression names sub-region {last} but the cut has only "
                              f"{down * across} cells ({across}×{down} of {self.cell} points)")
-        order = peano.scan_order(down, across, limit=last)
+        order = orders.grid_order(down, across, self.order, limit=last)
         if self.grain == "cell":
             boxes = peano.cell_boxes(order, self.cell, self.top, self.left, doc.shape)
             for index, level in assigned.items():
@@ -427,7 +435,144 @@ class PeanoLevels(Action):
 
     def label(self) -> str:
         expr = self.expression if len(self.expression) <= 40 else self.expression[:37] + "…"
-        return f"Peano levels, cells of {self.cell}: {expr}"
+        scan = "" if self.order == "peano" else f" ({self.order} order)"
+        return f"Peano levels, cells of {self.cell}{scan}: {expr}"
 
 
-PAINT_ACTIONS = (Stroke, PlaceGrains, DuplicateZone, ScrambleFrontier, PeanoLevels)
+def _check_order(order: str) -> None:
+    if order not in orders.ORDERS:
+        raise InputError(f"the fill order must be one of {', '.join(orders.ORDERS)}, "
+                         f"got {order!r}")
+
+
+# -- dominance trees placed on screen (§3.3.3a, Fig. 3.6) -----------------------------------------
+
+MIXES = ("over", "brighter")
+
+
+@register
+@dataclass(frozen=True)
+class DominanceTree(Action):
+    """One dominance tree placed on screen: a grain at each vertex, and levels that make every
+    vertex brighter than the vertices under it, spread from ``low`` to ``high`` (default: the
+    top level). Dominant grains are drawn over the dominated ones they overlap; ``mix`` says
+    how the tree meets what is already there (another tree, a texture).
+    """
+
+    TYPE: ClassVar[str] = "dominance_tree"
+    EFFECT: ClassVar[str] = "levels"
+    points: tuple = _points("the vertices (row, col), numbered from 1 in the order placed")
+    expression: str = param("str", hi=peano.MAX_EXPRESSION,
+                            doc="the tree over the vertex numbers, e.g. 1(2(4),3): a vertex is "
+                                "brighter than those in its brackets")
+    grains: str = param("str", hi=2**20, doc="each vertex's grain in order, separated by commas: "
+                                             "shape size [aspect= sides= angle= bitmap=]")
+    low: int = _level("level of the dimmest vertices", default=1)
+    high: int | None = param("int", 0, MAX_LEVELS - 1, default=None, optional=True,
+                             doc="level of the brightest (default: the top level)")
+    mix: str = param("str", hi=16, default="over",
+                     doc="over (the tree covers what is under it) or brighter (each point keeps "
+                         "the brighter level)")
+    wrap: bool = _wrap()
+
+    def _validate(self) -> None:
+        if not 1 <= len(self.points) <= trees.MAX_VERTICES:
+            raise InputError(f"a tree has 1..{trees.MAX_VERTICES} vertices, "
+                             f"got {len(self.points)}")
+        if len(self.grain_types()) != len(self.points):
+            raise InputError(f"the tree has {len(self.points)} vertices but "
+                             f"{len(self.grain_types())} grains: give one grain per vertex")
+        if self.mix not in MIXES:
+            raise InputError(f"mix must be one of {', '.join(MIXES)}, got {self.mix!r}")
+        trees.vertex_tree(self.expression, len(self.points))
+
+    @classmethod
+    def from_vertices(cls, points, parents, grain_list, **options) -> "DominanceTree":
+        """The action for vertices placed one by one, each with its parent's index (-1 for the
+        root) and its grain."""
+        return cls(points=tuple(map(tuple, points)), expression=trees.tree_expression(parents),
+                   grains=", ".join(grains.grain_spec(g) for g in grain_list), **options)
+
+    def grain_types(self) -> list[grains.GrainType]:
+        return [grains.parse_grain_spec(text) for text in self.grains.split(",")]
+
+    def levels(self, num_levels: int):
+        """Each vertex's level and rank in a document of ``num_levels`` levels."""
+        high = num_levels - 1 if self.high is None else self.high
+        if high >= num_levels:
+            raise InputError(f"level {high} does not exist: G = {num_levels}")
+        return trees.vertex_levels(self.expression, len(self.points), self.low, high)
+
+    def apply(self, doc, prepared=None) -> None:
+        commit_points(doc, *self.points_on(doc.levels, doc.num_levels))
+
+    def points_on(self, before: np.ndarray, num_levels: int):
+        """(rows, cols, values) the tree writes over the levels ``before`` (also the tool's
+        preview): its grains, mixed with what is there."""
+        levels, ranks = self.levels(num_levels)
+        rows, cols, values = trees.draw_tree(before.shape, self.points, self.grain_types(),
+                                             levels, ranks, wrap=self.wrap)
+        if self.mix == "brighter":
+            values = np.maximum(values, before[rows, cols])
+        return rows, cols, values
+
+    def label(self) -> str:
+        expr = self.expression if len(self.expression) <= 24 else self.expression[:21] + "…"
+        return f"Tree of {len(self.points)} grains: {expr}"
+
+
+# -- fill orders (§3.3.1, Fig. 3.4) ----------------------------------------------------------------
+
+@register
+@dataclass(frozen=True)
+class LayAlongOrder(Action):
+    """Lay a zone's levels along a fill order: read in television order (as the texture was
+    produced), they are written back along the polar, spiral or Peano order — a texture filled
+    in another frame, such as rings about a knot of wood.
+    """
+
+    TYPE: ClassVar[str] = "lay_along_order"
+    EFFECT: ClassVar[str] = "levels"
+    order: str = param("str", hi=8, doc="tv, polar (by angle, then distance), spiral or peano")
+    zone: str = param("str", hi=16, default="canvas",
+                      doc="canvas (the whole canvas), rectangle (two opposite corners) or lasso")
+    points: tuple = param("points", -MAX_CANVAS_SIDE, 2 * MAX_CANVAS_SIDE, default=(),
+                          doc="the zone's points (row, col); none for the canvas")
+    centre_row: int | None = param("int", -MAX_CANVAS_SIDE, 2 * MAX_CANVAS_SIDE, default=None,
+                                   optional=True, doc="centre of the polar and spiral orders "
+                                                      "(default: the middle of the zone)")
+    centre_col: int | None = param("int", -MAX_CANVAS_SIDE, 2 * MAX_CANVAS_SIDE, default=None,
+                                   optional=True, doc="its column")
+
+    def _validate(self) -> None:
+        _check_order(self.order)
+        if self.zone == "canvas":
+            if self.points:
+                raise InputError("the whole canvas needs no zone points")
+        else:
+            zones.zone_mask((1, 1), self.zone, self.points)
+        if (self.centre_row is None) != (self.centre_col is None):
+            raise InputError("give both the centre's row and column, or neither")
+
+    def mask(self, canvas_shape) -> np.ndarray:
+        if self.zone == "canvas":
+            return np.ones(canvas_shape, bool)
+        return zones.zone_mask(canvas_shape, self.zone, self.points)
+
+    def centre(self):
+        return None if self.centre_row is None else (self.centre_row, self.centre_col)
+
+    def apply(self, doc, prepared=None) -> None:
+        new = orders.lay_along(doc.levels, self.mask(doc.shape), self.order, self.centre())
+        for t, l, b, r in changed_boxes(new != doc.levels):
+            doc.write(t, l, new[t:b, l:r])
+
+    def label(self) -> str:
+        where = "the canvas" if self.zone == "canvas" else f"a {self.zone} zone"
+        about = "" if self.centre_row is None or self.order in ("tv", "peano") else \
+            f" about ({self.centre_row}, {self.centre_col})"
+        return f"Lay {where} along the {self.order} order{about}"
+
+
+PAINT_ACTIONS = (Stroke, PlaceGrains, DuplicateZone, ScrambleFrontier, PeanoLevels, DominanceTree,
+                 LayAlongOrder)

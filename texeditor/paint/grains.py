@@ -38,8 +38,8 @@ _EPS = 1e-9
 _BITMAP = re.compile(r"^[0-9a-fA-F]+(/[0-9a-fA-F]+)*$")
 
 __all__ = ["SHAPES", "grain_mask", "bitmap_levels", "parse_bitmap", "format_bitmap",
-           "centre_of_gravity", "anchor", "stamp_points", "GrainType", "standard_grains",
-           "GrainLibrary"]
+           "centre_of_gravity", "anchor", "stamp_points", "GrainType", "grain_spec",
+           "parse_grain_spec", "standard_grains", "GrainLibrary"]
 
 
 # -- shapes ---------------------------------------------------------------------------------------
@@ -370,6 +370,59 @@ class GrainType:
                                or not isinstance(obj[key], (int, float))):
                 raise InputError(f"a grain's {key} must be a number")
         return cls(**obj)
+
+
+# -- a grain's shape as a short text (the per-vertex and per-level grains of a log) -----------------
+
+_SPEC_KEYS = {"aspect": float, "sides": int, "angle": float, "bitmap": str}
+
+
+def grain_spec(grain: GrainType) -> str:
+    """A grain's shape in a few words, its defaults left out: what a log keeps for each grain of
+    a dominance tree or of a per-level table (the inverse of :func:`parse_grain_spec`).
+
+    >>> grain_spec(GrainType(shape="polygon", size=9, sides=5, angle=30.0))
+    'polygon 9 sides=5 angle=30'
+    """
+    words = [grain.shape, str(grain.size)]
+    default = GrainType()
+    for key in _SPEC_KEYS:
+        value = getattr(grain, key)
+        if value != getattr(default, key):
+            words.append(f"{key}={_number(value) if isinstance(value, float) else value}")
+    return " ".join(words)
+
+
+def _number(value: float) -> str:
+    short = f"{value:g}"
+    return short if float(short) == value else repr(value)
+
+
+def parse_grain_spec(text: str) -> GrainType:
+    """The grain of a text such as ``circle 5`` or ``rectangle 6 aspect=0.5 angle=30``: the
+    shape, the size in points, then any of aspect, sides, angle and bitmap as key=value.
+
+    >>> parse_grain_spec("circle 9 aspect=0.5").mask().shape
+    (5, 9)
+    """
+    if not isinstance(text, str):
+        raise InputError("a grain is written as its shape and size, e.g. 'circle 5'")
+    words = text.split()
+    if len(words) < 2 or not words[1].isdecimal():
+        raise InputError(f"a grain is written as its shape and size, e.g. 'circle 5', "
+                         f"got {text.strip()[:40]!r}")
+    fields = {}
+    for word in words[2:]:
+        key, sep, value = word.partition("=")
+        if not sep or key not in _SPEC_KEYS or key in fields:
+            raise InputError(f"{word[:40]!r} in grain {text.strip()[:40]!r}: after the size come "
+                             f"{', '.join(_SPEC_KEYS)} as key=value, each once")
+        try:
+            fields[key] = _SPEC_KEYS[key](value)
+        except ValueError:
+            raise InputError(f"{key} of grain {text.strip()[:40]!r} must be a number, "
+                             f"got {value[:20]!r}") from None
+    return GrainType("Grain", words[0], int(words[1]), **fields)
 
 
 def standard_grains() -> list[GrainType]:

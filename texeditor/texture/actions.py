@@ -32,7 +32,8 @@ class RenderGrains(Action):
     """Draw each point of the normalised texture as a grain: a new, larger canvas (§5.3).
 
     The canvas becomes (H·pitch_y) × (W·pitch_x) pixels, see `grain_render`; the levels and
-    palette keep their meaning, level 0 stays background.
+    palette keep their meaning, level 0 stays background. ``level_grains`` gives some levels
+    their own grain (a primitive per level, §5.3); the others use this one.
     """
 
     TYPE: ClassVar[str] = "render_grains"
@@ -57,6 +58,9 @@ class RenderGrains(Action):
                          doc="auto (honeycomb for hexagons), grid or honeycomb")
     bitmap: str | None = param("str", hi=64 * 65, default=None, optional=True,
                                doc="a drawn grain: rows of hex digits separated by /")
+    level_grains: str | None = param("str", hi=16 * 4500, default=None, optional=True,
+                                     doc="a grain per level, e.g. 1: circle 5, 2: square 3 "
+                                         "(the levels not listed use the grain above)")
 
     def _validate(self) -> None:
         if self.overlap not in gr.OVERLAP_RULES:
@@ -69,18 +73,27 @@ class RenderGrains(Action):
         return gr.grain_of(self.shape, self.size, aspect=self.aspect, sides=self.sides,
                            angle=self.angle, bitmap=self.bitmap)
 
+    def level_masks(self) -> dict[int, np.ndarray]:
+        """The grains of the levels that have their own (§5.3), by level."""
+        return {v: g.mask() for v, g in gr.parse_level_grains(self.level_grains).items()}
+
+    def union(self) -> np.ndarray:
+        """Every grain of the render stacked on its centre: what the lattice is made for."""
+        return gr.grain_union([self.mask(), *self.level_masks().values()])
+
     def grain_lattice(self) -> gr.Lattice:
-        return gr.grain_lattice(self.mask(), shape=self.shape, lattice=self.lattice,
+        return gr.grain_lattice(self.union(), shape=self.shape, lattice=self.lattice,
                                 explosion_x=self.explosion_x, explosion_y=self.explosion_y,
                                 compression=self.compression)
 
     def render(self, levels, progress=None, cancel=None) -> np.ndarray:
         return gr.render_grains(levels, self.mask(), self.grain_lattice(), self.overlap,
-                                progress=progress, cancel=cancel)
+                                level_masks=self.level_masks(), progress=progress,
+                                cancel=cancel)
 
     def render_cost(self, texture_shape) -> float:
         """`grain_render.render_cost` of this render on a texture of ``texture_shape``."""
-        return gr.render_cost(texture_shape, self.mask(), self.grain_lattice())
+        return gr.render_cost(texture_shape, self.union(), self.grain_lattice())
 
     def prepare(self, doc, progress=None, cancel=None) -> None:
         """In a replay with progress or cancel (the GUI's worker), render here, in bands that
@@ -107,6 +120,8 @@ class RenderGrains(Action):
 
     def label(self) -> str:
         what = f"{self.shape} {self.size} px" + (f", {self.angle:g}°" if self.angle else "")
+        if self.level_grains:
+            what += ", own grains for levels " + ", ".join(map(str, self.level_masks()))
         density = []
         if self.explosion_x != 1 or self.explosion_y != 1:
             density.append(f"explosion {self.explosion_x:g}×{self.explosion_y:g}")

@@ -21,6 +21,10 @@ shrinks it in both directions until grains overlap: pitch = round(natural · exp
 (1 − compression)), at least 1. Where grains overlap, the *overlap rule* decides: ``last`` (the
 grain drawn later, in scan order, wins), ``max`` or ``min`` level. Level 0 is the background: its
 points draw no grain, so they never hide a neighbour's.
+
+A primitive per level (§5.3: a point's state selects its grain). Each level may have its own
+grain; the others use the texture's grain. The lattice is then the one of all those grains
+stacked on their centres (their union), so at the natural pitch the largest ones touch.
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ import numba
 import numpy as np
 
 from ..errors import Cancelled, InputError
-from ..paint.grains import grain_mask
+from ..paint.grains import GrainType, grain_mask, parse_grain_spec
 
 OVERLAP_RULES = ("last", "max", "min")
 LATTICES = ("auto", "grid", "honeycomb")
@@ -41,6 +45,8 @@ MAX_EXPLOSION = 8.0
 MAX_COMPRESSION = 0.9
 MAX_PIXELS = 2**26                 # the largest picture a render may make (the canvas limit)
 MAX_SIDE = 16384
+MAX_GRAIN = 64                     # the largest grain, pixels (RenderGrains' size)
+MAX_LEVEL = 15
 
 
 @dataclass(frozen=True)
@@ -121,11 +127,58 @@ def grain_lattice(mask, *, shape: str = "square", lattice: str = "auto", explosi
                            explosion_y=explosion_y, compression=compression)
 
 
+def grain_union(masks) -> np.ndarray:
+    """The grains stacked as they are drawn, each box's cell (h // 2, w // 2) on one point:
+    the mask the lattice of a per-level rendering is made for (one grain: that grain)."""
+    masks = [np.asarray(m, dtype=bool) for m in masks]
+    if len(masks) == 1:
+        return masks[0]
+    top = max(m.shape[0] // 2 for m in masks)
+    left = max(m.shape[1] // 2 for m in masks)
+    height = top + max(m.shape[0] - m.shape[0] // 2 for m in masks)
+    width = left + max(m.shape[1] - m.shape[1] // 2 for m in masks)
+    union = np.zeros((height, width), bool)
+    for m in masks:
+        t, l_ = top - m.shape[0] // 2, left - m.shape[1] // 2
+        union[t:t + m.shape[0], l_:l_ + m.shape[1]] |= m
+    return union
+
+
+def parse_level_grains(text: str | None) -> dict[int, GrainType]:
+    """The per-level grains of a text such as ``1: circle 5, 3: hexagon 8 angle=30``: level,
+    colon, grain (`grains.parse_grain_spec`), entries separated by commas. Level 0 is the
+    background, which draws no grain.
+
+    >>> {k: g.shape for k, g in parse_level_grains("2: circle 5, 1: square 3").items()}
+    {1: 'square', 2: 'circle'}
+    """
+    table: dict[int, GrainType] = {}
+    for entry in (text or "").split(","):
+        if not entry.strip():
+            continue
+        level, colon, spec = entry.partition(":")
+        level = level.strip()
+        if not colon or not level.isdecimal():
+            raise InputError(f"a per-level grain is 'level: shape size', e.g. '2: circle 5', "
+                             f"got {entry.strip()[:40]!r}")
+        level = int(level)
+        if not 1 <= level <= MAX_LEVEL or level in table:
+            raise InputError(f"per-level grains are for levels 1..{MAX_LEVEL}, each once "
+                             f"(level 0 is the background: it draws no grain), got {level}")
+        grain = parse_grain_spec(spec)
+        if grain.size > MAX_GRAIN:
+            raise InputError(f"the grain of level {level} is {grain.size} px: at most "
+                             f"{MAX_GRAIN}")
+        table[level] = grain
+    return dict(sorted(table.items()))
+
+
 # -- drawing ---------------------------------------------------------------------------------------
 
-def render_grains(levels, mask, lattice: Lattice, overlap: str = "last", *, progress=None,
-                  cancel=None) -> np.ndarray:
-    """Draw every non-background point of ``levels`` as the grain ``mask`` on ``lattice``.
+def render_grains(levels, mask, lattice: Lattice, overlap: str = "last", *, level_masks=None,
+                  progress=None, cancel=None) -> np.ndarray:
+    """Draw every non-background point of ``levels`` as the grain ``mask`` on ``lattice`` (or,
+    for a level of ``level_masks``, as that level's grain).
 
     With ``progress`` (called with 0..1) or ``cancel`` (Cancelled when it returns True), the
     rows are drawn in bands, in the same order, so the picture is the same either way.
@@ -146,24 +199,38 @@ def render_grains(levels, mask, lattice: Lattice, overlap: str = "last", *, prog
         raise InputError(f"overlap rule must be one of {', '.join(OVERLAP_RULES)}, "
                          f"got {overlap!r}")
     out_shape = check_size(levels.shape, lattice)
-    ay, ax = mask.shape[0] // 2, mask.shape[1] // 2
-    ys, xs = np.nonzero(mask)
-    dy = (ys - ay + lattice.pitch_y // 2).astype(np.int64)
-    dx = (xs - ax + lattice.pitch_x // 2).astype(np.int64)
     out = np.zeros(out_shape, dtype=np.uint8)
     if not levels.size:
         return out
     src = np.ascontiguousarray(levels, dtype=np.uint8)
+    dy, dx, starts = _offsets(mask, level_masks or {}, int(src.max()), lattice)
     h = src.shape[0]
     band = h if progress is None and cancel is None else max(1, -(-h // 100))   # ≤ 100 bands
     for r0 in range(0, h, band):
         if cancel is not None and cancel():
             raise Cancelled("grain rendering cancelled")
-        _draw(src, dy, dx, lattice.pitch_y, lattice.pitch_x, lattice.row_offset,
+        _draw(src, dy, dx, starts, lattice.pitch_y, lattice.pitch_x, lattice.row_offset,
               OVERLAP_RULES.index(overlap), out, r0, min(h, r0 + band))
         if progress is not None:
             progress(min(h, r0 + band) / h)
     return out
+
+
+def _offsets(mask, level_masks: dict, top_level: int, lattice: Lattice):
+    """Each level's grain points relative to its cell, one after another: level v's are
+    ``dy[starts[v]:starts[v + 1]]`` (and dx); a grain's box cell (h // 2, w // 2) lands on the
+    cell's (pitch_y // 2, pitch_x // 2)."""
+    dys, dxs, starts = [], [], [0]
+    for v in range(max(top_level, max(level_masks, default=0)) + 1):
+        m = np.asarray(level_masks.get(v, mask), dtype=bool)
+        if m.ndim != 2 or not m.any():
+            raise InputError("a grain needs at least one point")
+        ys, xs = np.nonzero(m)
+        dys.append(ys - m.shape[0] // 2 + lattice.pitch_y // 2)
+        dxs.append(xs - m.shape[1] // 2 + lattice.pitch_x // 2)
+        starts.append(starts[-1] + len(ys))
+    return (np.concatenate(dys).astype(np.int64), np.concatenate(dxs).astype(np.int64),
+            np.array(starts, np.int64))
 
 
 def render_cost(texture_shape: tuple[int, int], mask, lattice: Lattice) -> float:
@@ -186,10 +253,9 @@ def check_size(shape: tuple[int, int], lattice: Lattice) -> tuple[int, int]:
 
 
 @numba.njit(cache=True, nogil=True)
-def _draw(levels, dy, dx, py, px, row_offset, rule, out, r0, r1):   # pragma: no cover
+def _draw(levels, dy, dx, starts, py, px, row_offset, rule, out, r0, r1):   # pragma: no cover
     h, w = levels.shape
     oh, ow = out.shape
-    n = dy.shape[0]
     for r in range(r0, r1):
         shift = row_offset if r % 2 == 1 else 0
         top = r * py
@@ -198,7 +264,7 @@ def _draw(levels, dy, dx, py, px, row_offset, rule, out, r0, r1):   # pragma: no
             if v == 0:
                 continue
             left = c * px + shift
-            for k in range(n):
+            for k in range(starts[v], starts[v + 1]):
                 y = (top + dy[k]) % oh
                 x = (left + dx[k]) % ow
                 if rule == 0:
@@ -224,9 +290,12 @@ def grain_of(shape: str = "square", size: int = 8, *, aspect: float = 1.0, sides
 def render(levels, shape: str = "square", size: int = 8, *, aspect: float = 1.0, sides: int = 6,
            angle: float = 0.0, bitmap: str | None = None, explosion_x: float = 1.0,
            explosion_y: float = 1.0, compression: float = 0.0, overlap: str = "last",
-           lattice: str = "auto") -> np.ndarray:
-    """A texture drawn with grains of one shape, size and orientation at one density."""
+           lattice: str = "auto", level_grains: str | None = None) -> np.ndarray:
+    """A texture drawn with grains of one shape, size and orientation at one density — or, for
+    the levels ``level_grains`` lists (see :func:`parse_level_grains`), their own grains."""
     mask = grain_of(shape, size, aspect=aspect, sides=sides, angle=angle, bitmap=bitmap)
-    lat = grain_lattice(mask, shape=shape, lattice=lattice, explosion_x=explosion_x,
-                        explosion_y=explosion_y, compression=compression)
-    return render_grains(levels, mask, lat, overlap)
+    level_masks = {v: g.mask() for v, g in parse_level_grains(level_grains).items()}
+    lat = grain_lattice(grain_union([mask, *level_masks.values()]), shape=shape,
+                        lattice=lattice, explosion_x=explosion_x, explosion_y=explosion_y,
+                        compression=compression)
+    return render_grains(levels, mask, lat, overlap, level_masks=level_masks)
