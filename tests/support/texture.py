@@ -19,6 +19,7 @@ EXAMPLES = [
     RenderGrains(), RenderGrains("hexagon", 6, explosion_x=2, compression=0.2, overlap="max"),
     RenderGrains("bitmap", 5, bitmap="010/111/010", angle=90, lattice="honeycomb"),
     RenderGrains("polygon", 9, sides=5, aspect=0.5, explosion_y=3),
+    RenderGrains("circle", 6, explosion_x=1.5, compression=0.4, compression_x=0.1),
     Mix(SYNTH, (REFS[0],)), Mix(SYNTH3, (REFS[1],), a=0.5, op1="and", op2="xor", b=0.25, op3="add",
                              negate=True, op4="min", c=1.0),
     Incrust(SYNTH, (REFS[0],), mask="levels", levels="0"),

@@ -41,6 +41,7 @@ def test_json_round_trip(action):
 @pytest.mark.parametrize("obj, what", [
     ({"shape": "blob"}, "shape"), ({"size": 0}, "size"), ({"overlap": "sum"}, "overlap"),
     ({"explosion_x": 0.5}, "explosion_x"), ({"compression": 0.95}, "compression"),
+    ({"compression_x": 1.0}, "compression_x"),
     ({"lattice": "hex"}, "lattice"), ({"shape": "bitmap", "bitmap": "xyz"}, "drawn grain")])
 def test_bad_grain_parameters_are_refused_on_load(obj, what):
     with pytest.raises(FormatError, match=what):
@@ -90,6 +91,21 @@ def test_the_log_optimiser_knows_the_new_canvas_size():
     assert len(shorter) < len(actions)
     a, b = replay(actions, {}), replay(shorter, {})
     assert a.result_hash() == b.result_hash()
+
+
+def test_compression_across_only_renders_and_old_steps_keep_both_axes():
+    """A step of release 0.1 has no compression_x: its compression still squeezes both axes."""
+    old = action_from_json({"type": "render_grains", "version": 1, "shape": "square", "size": 4,
+                            "compression": 0.5})
+    assert old.compression_x is None and old.grain_lattice() == gr.Lattice(2, 2)
+    across = RenderGrains("square", 4, compression=0.0, compression_x=0.5)
+    assert across.grain_lattice() == gr.Lattice(4, 2)
+    assert across.label() == "Grains: square 4 px, compression 0.5 across, 0 down (last)"
+    history = history_of(T, extra=[across])
+    assert history.document.shape == (8, 6)
+    assert np.array_equal(history.document.levels, gr.render(T, "square", 4, compression=0,
+                                                              compression_x=0.5))
+    assert replay(history.applied, TINY).result_hash() == history.document.result_hash()
 
 
 def test_render_grains_too_large_is_refused_and_the_document_kept():

@@ -50,13 +50,16 @@ class RenderGrains(Action):
     explosion_y: float = param("float", 1.0, gr.MAX_EXPLOSION, default=1.0,
                                doc="blank space between grains down (1 = touching)")
     compression: float = param("float", 0.0, gr.MAX_COMPRESSION, default=0.0,
-                               doc="brings grains together until they overlap (0 = touching)")
+                               doc="brings grains together until they overlap (0 = touching): "
+                                   "down, and across unless compression_x is set")
     overlap: str = param("str", hi=8, default="last",
                          doc="where grains overlap: last (drawn later wins), max or min level")
     lattice: str = param("str", hi=16, default="auto",
                          doc="auto (honeycomb for hexagons), grid or honeycomb")
     bitmap: str | None = param("str", hi=64 * 65, default=None, optional=True,
                                doc="a drawn grain: rows of hex digits separated by /")
+    compression_x: float | None = param("float", 0.0, gr.MAX_COMPRESSION, default=None,
+                                        optional=True, doc="compression across, when it differs")
 
     def _validate(self) -> None:
         if self.overlap not in gr.OVERLAP_RULES:
@@ -72,7 +75,8 @@ class RenderGrains(Action):
     def grain_lattice(self) -> gr.Lattice:
         return gr.grain_lattice(self.mask(), shape=self.shape, lattice=self.lattice,
                                 explosion_x=self.explosion_x, explosion_y=self.explosion_y,
-                                compression=self.compression)
+                                compression=self.compression,
+                                compression_x=self.compression_x)
 
     def render(self, levels, progress=None, cancel=None) -> np.ndarray:
         return gr.render_grains(levels, self.mask(), self.grain_lattice(), self.overlap,
@@ -110,9 +114,15 @@ class RenderGrains(Action):
         density = []
         if self.explosion_x != 1 or self.explosion_y != 1:
             density.append(f"explosion {self.explosion_x:g}×{self.explosion_y:g}")
-        if self.compression:
-            density.append(f"compression {self.compression:g} ({self.overlap})")
+        if self.compression or self.compression_x:
+            density.append(f"compression {self.compression_text()} ({self.overlap})")
         return "Grains: " + ", ".join([what] + density)
+
+    def compression_text(self) -> str:
+        """"0.3", or "0.5 across, 0 down" when the axes differ."""
+        if self.compression_x is None or self.compression_x == self.compression:
+            return f"{self.compression:g}"
+        return f"{self.compression_x:g} across, {self.compression:g} down"
 
 
 # -- composition (§5.4.1) --------------------------------------------------------------------------
