@@ -103,6 +103,61 @@ def test_extract_neighbours_selects_every_region_touching_the_clicked_one(board,
     assert not mask[4:8, 5:11].any()                      # not the clicked block itself
 
 
+def test_extract_steps_through_the_neighbours_one_at_a_time_and_acts_on_one(board, qtbot):
+    """LIMITROPHES/ISOLER: the block of 2 touches the background (found first), a strip of 1
+    on its right (second) and a strip of 3 under it (third); each is selected alone in turn,
+    the second is recoloured, undone, and the stepper comes back round to all of them."""
+    from texeditor.recipe.replay import replay
+    from texeditor.regions.actions import ChangeLevel, DeleteSelection
+
+    board.submit(SetLevels(4, 11, 4, 2, 1))       # the strip of 1, x 11..12, y 4..7
+    board.submit(SetLevels(8, 5, 1, 6, 3))        # the strip of 3, x 5..10, y 8
+    start = board.document.levels.copy()
+    press_key(board, QtCore.Qt.Key.Key_E)
+    tool = board.tool
+    tool.opts.kind.setCurrentIndex(tool.opts.kind.findData("neighbours"))
+    click(board.canvas.viewport(), cell_pos(board.canvas, 7, 5))
+    stepper = tool.neighbours
+    assert stepper.isVisible() and stepper.label.text() == "All 3 neighbours"
+    background = start == 0
+    strip1, strip3 = np.zeros_like(background), np.zeros_like(background)
+    strip1[4:8, 11:13] = True
+    strip3[8, 5:11] = True
+    assert np.array_equal(tool.mask(), background | strip1 | strip3)
+    for k, expected in ((1, background), (2, strip1)):
+        qtbot.mouseClick(stepper.next, LEFT)
+        assert stepper.label.text() == f"Neighbour {k} of 3"
+        assert np.array_equal(tool.mask(), expected)
+        assert f"{int(expected.sum())} points selected (neighbour {k}" in tool.status.text()
+    board.palette_dock.swatches.current = 2
+    qtbot.mouseClick(tool.panel.recolour, LEFT)                    # the second one only
+    assert board.history.actions[-1] == ChangeLevel(5, 7, 2, kind="neighbours", neighbour=2)
+    expected = start.copy()
+    expected[strip1] = 2
+    assert np.array_equal(board.document.levels, expected)         # it joins the block of 2
+    again = replay(board.history.applied, board.document.dpjs)
+    assert again.result_hash() == board.document.result_hash()
+    board.undo()
+    assert np.array_equal(board.document.levels, start)
+    assert stepper.label.text() == "Neighbour 2 of 3" and np.array_equal(tool.mask(), strip1)
+    qtbot.mouseClick(stepper.next, LEFT)
+    assert np.array_equal(tool.mask(), strip3)
+    qtbot.mouseClick(tool.panel.delete, LEFT)                      # the same panel, again
+    assert board.history.actions[-1] == DeleteSelection(5, 7, kind="neighbours", neighbour=3)
+    assert not board.document.levels[strip3].any()
+    board.undo()
+    click(board.canvas.viewport(), cell_pos(board.canvas, 7, 5))   # a new click: all of them
+    assert stepper.label.text() == "All 3 neighbours"
+    qtbot.mouseClick(stepper.previous, LEFT)                       # back from all: the last
+    assert np.array_equal(tool.mask(), strip3)
+    qtbot.mouseClick(stepper.next, LEFT)
+    assert stepper.label.text() == "All 3 neighbours"
+    tool.opts.kind.setCurrentIndex(tool.opts.kind.findData("region"))
+    click(board.canvas.viewport(), cell_pos(board.canvas, 7, 5))
+    assert not stepper.isVisible()
+    assert np.array_equal(board.document.levels, start)
+
+
 def test_global_operators_dialog_rotates_the_whole_texture_or_the_selection(board, qtbot):
     from texeditor.regions import transforms
 

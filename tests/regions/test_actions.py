@@ -108,7 +108,8 @@ def test_selections_follow_their_recipe():
         if getattr(action, "row", None) is not None:
             mask = regions.select(T, (action.row, action.col), kind=getattr(action, "kind",
                                                                             "region"),
-                                  scope=action.scope, connectivity=action.connectivity)
+                                  scope=action.scope, connectivity=action.connectivity,
+                                  neighbour=getattr(action, "neighbour", None))
             assert np.array_equal(action.selection(T), mask)
 
 
@@ -266,7 +267,8 @@ def draw_region_action(data, doc):
     g = doc.num_levels
     r, c = data.draw(st.integers(0, h - 1)), data.draw(st.integers(0, w - 1))
     kind, scope, conn = data.draw(KIND_SCOPE)
-    sel = dict(kind=kind, scope=scope, connectivity=conn)
+    neighbour = data.draw(st.none() | st.integers(1, 3)) if kind == "neighbours" else None
+    sel = dict(kind=kind, scope=scope, connectivity=conn, neighbour=neighbour)
     level = st.integers(0, g - 1)
     to = (data.draw(st.integers(-3, h + 2)), data.draw(st.integers(-3, w + 2)))
     which = data.draw(st.integers(0, 11))

@@ -2,8 +2,9 @@
 manipulations of a selection and the four global operators, each a small replayable record.
 
 Tools (GUI, CLI) build these from clicks and fields; `regions` and `transforms` do the work. A
-selection is stored as the recipe that extracted it — a point, the extraction kind, the scope and
-the connectivity — so replaying the log finds the same points again, bit for bit.
+selection is stored as the recipe that extracted it — a point, the extraction kind, the scope,
+the connectivity and, for one neighbour isolated among several, its number — so replaying the
+log finds the same points again, bit for bit.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ import numpy as np
 
 from . import extractext as regions
 from . import transforms
-from ..recipe.actions import MAX_CANVAS_SIDE, Action, param, register
+from ..recipe.actions import MAX_CANVAS_PIXELS, MAX_CANVAS_SIDE, Action, param, register
 from ..markov.dpj import MAX_LEVELS
 from ..errors import InputError
 
@@ -51,6 +52,12 @@ def _kind():
 def _scope():
     return param("str", hi=16, default="region",
                  doc="region: the connected region at the point; global: every point of its level")
+
+
+def _neighbour():
+    return param("int", 1, MAX_CANVAS_PIXELS, default=None, optional=True,
+                 doc="with kind neighbours: only the k-th (1 = the first ISOLER finds); none: "
+                     "all of them")
 
 
 def _connectivity():
@@ -109,8 +116,8 @@ class RegionAction(Action):
     """A level edit that reads the levels it changes: EFFECT "levels", never covers the canvas.
 
     Subclasses name the selection with ``row``, ``col`` and, where they have them, ``kind``,
-    ``scope`` and ``connectivity``; ``apply`` computes the new matrix with a pure function and
-    writes only the points that change (the undo record is their bounding box).
+    ``scope``, ``connectivity`` and ``neighbour``; ``apply`` computes the new matrix with a pure
+    function and writes only the points that change (the undo record is their bounding box).
     """
 
     EFFECT: ClassVar[str] = "levels"
@@ -126,6 +133,9 @@ class RegionAction(Action):
             raise InputError(f"connectivity must be 4 or 8, got {self.connectivity}")
         if (getattr(self, "row", 0) is None) != (getattr(self, "col", 0) is None):
             raise InputError("give both row and col of the selection's point, or neither")
+        if getattr(self, "neighbour", None) is not None and kind != "neighbours":
+            raise InputError(f"neighbour picks one of the neighbours: it goes with kind "
+                             f"'neighbours', not {kind!r}")
 
     @property
     def point(self) -> tuple[int, int] | None:
@@ -137,7 +147,8 @@ class RegionAction(Action):
             return None
         return regions.select(levels, self.point, kind=getattr(self, "kind", "region"),
                               scope=getattr(self, "scope", "region"),
-                              connectivity=getattr(self, "connectivity", 4))
+                              connectivity=getattr(self, "connectivity", 4),
+                              neighbour=getattr(self, "neighbour", None))
 
     def picked_region(self, levels) -> str | None:
         """The selection's points, as a digest (the whole texture: "texture")."""
@@ -167,8 +178,11 @@ class RegionAction(Action):
             return "texture"
         kind = getattr(self, "kind", "region")
         glob = getattr(self, "scope", "region") == "global"
+        neighbour = getattr(self, "neighbour", None)
         if kind == "region":
             what = f"every point like {self.point}" if glob else f"region at {self.point}"
+        elif neighbour is not None:
+            what = f"neighbour {neighbour} of {'level at' if glob else 'region at'} {self.point}"
         else:
             what = f"{_KIND_NAMES[kind]} {'of level at' if glob else 'at'} {self.point}"
         return what + (", 8-conn." if getattr(self, "connectivity", 4) == 8 else "")
@@ -212,6 +226,7 @@ class Translate(RegionAction):
     scope: str = _scope()
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.fill)
@@ -237,6 +252,7 @@ class Copy(RegionAction):
     scope: str = _scope()
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc)
@@ -263,6 +279,7 @@ class ChangeLevel(RegionAction):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.value)
@@ -284,6 +301,7 @@ class DeleteSelection(RegionAction):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc)
@@ -310,6 +328,7 @@ class ScaleSelection(RegionAction):
     scope: str = _scope()
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.fill)
@@ -337,6 +356,7 @@ class RotateSelection(RegionAction):
     scope: str = _scope()
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.fill)
@@ -361,6 +381,7 @@ class FlipSelection(RegionAction):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def _validate(self) -> None:
         super()._validate()
@@ -399,6 +420,7 @@ class Identity(RegionAction):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def _validate(self) -> None:
         super()._validate()
@@ -455,6 +477,7 @@ class Isometry(_Warp):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def _map(self):
         return (transforms.rotation_matrix(self.angle), (self.centre_row, self.centre_col),
@@ -483,6 +506,7 @@ class Similarity(_Warp):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def _map(self):
         (a, b), (c, d) = transforms.rotation_matrix(self.angle)
@@ -517,6 +541,7 @@ class Affinity(_Warp):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def _map(self):
         return (((self.m00, self.m01), (self.m10, self.m11)), (self.centre_row, self.centre_col),
