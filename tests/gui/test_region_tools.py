@@ -184,3 +184,68 @@ def test_global_operators_dialog_rotates_the_whole_texture_or_the_selection(boar
     levels = board.document.levels
     assert (levels[10:15, 15:20] == 3).all() and (levels[10:15, 20:25] == 3).all()
     assert (levels[4:8, 5:11] == 2).all()
+
+
+def test_scatter_every_region_from_the_global_dialog_then_undo_to_the_start(board, qtbot):
+    """Random manipulation of all regions (§3.4.3): the whole texture, again with the same seed
+    (on the scattered texture), a level only, then the Extract selection; undo to the start."""
+    from texeditor.regions.actions import ScatterRegions
+    from texeditor.regions.scatter import scatter_regions
+
+    board.submit(SetLevels(20, 5, 3, 3, 1))          # a third region, of level 1
+    start = board.document.levels.copy()
+    steps = board.history.index
+    qtbot.keyClick(board, QtCore.Qt.Key.Key_G, QtCore.Qt.KeyboardModifier.ControlModifier)
+    dialog = board._global_dialog
+    dialog.operator.setCurrentIndex(dialog.operator.findData("scatter"))
+    assert dialog.seed.isVisible() and not dialog.angle.isVisible()
+    assert dialog.target.text() == "Applies to every region of the whole texture."
+    dialog.radius.setValue(4)
+    dialog.rotation.setCurrentIndex(dialog.rotation.findData("any"))
+    dialog.scale_min.setValue(0.5)
+    dialog.scale_max.setValue(1.5)
+    dialog.wrap.setChecked(False)
+    dialog.seed.set_value(11)
+    expected = scatter_regions(start, 11, radius=4, rotation="any", scale=(0.5, 1.5))
+    assert not np.array_equal(expected, start)
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    assert np.array_equal(board.document.levels, expected)
+    qtbot.mouseClick(dialog.apply_button, LEFT)      # the same seed on the scattered texture
+    expected = scatter_regions(expected, 11, radius=4, rotation="any", scale=(0.5, 1.5))
+    assert np.array_equal(board.document.levels, expected)
+    board.undo()
+    board.undo()
+    assert np.array_equal(board.document.levels, start)
+
+    dialog.level.setValue(3)                         # the level-3 block only, moved
+    dialog.rotation.setCurrentIndex(dialog.rotation.findData("none"))
+    dialog.radius.setValue(3)
+    dialog.scale_min.setValue(1)
+    dialog.scale_max.setValue(1)
+    dialog.fill.setValue(1)
+    assert dialog.target.text() == "Applies to every region of level 3."
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    assert board.history.actions[-1] == ScatterRegions(11, radius=3, level=3, fill=1)
+    expected = scatter_regions(start, 11, mask=start == 3, radius=3, fill=1)
+    assert np.array_equal(board.document.levels, expected) and (expected != start).any()
+    assert (board.document.levels[4:8, 5:11] == 2).all()
+
+    dialog.scale_min.setValue(2)                     # a range upside down: said, not applied
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    assert board.errors and "scale_min" in board.errors[-1][1]
+    dialog.scale_min.setValue(1)
+
+    press_key(board, QtCore.Qt.Key.Key_E)            # with a selection: it, not the level
+    click(board.canvas.viewport(), cell_pos(board.canvas, 7, 5))
+    dialog._show_target()                            # as when the dialog is activated again
+    assert not dialog.level.isEnabled() and "selection at x 7, y 5" in dialog.target.text()
+    before = board.document.levels.copy()
+    dialog.radius.setValue(6)
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    action = board.history.actions[-1]
+    assert (action.row, action.col, action.level) == (5, 7, None)
+    assert np.array_equal(board.document.levels, scatter_regions(
+        before, 11, mask=before == 2, radius=6, fill=1))
+    while board.history.index > steps:
+        board.undo()
+    assert np.array_equal(board.document.levels, start)

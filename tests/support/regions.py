@@ -10,7 +10,7 @@ from texeditor.recipe.actions import NewCanvas, SetLevels
 from texeditor.recipe.history import History
 from texeditor.regions.actions import (Affinity, ChangeLevel, Copy, DeleteSelection, Fill,
                                       FlipSelection, Identity, Isometry, RotateSelection,
-                                      ScaleSelection, Similarity, Translate)
+                                      ScaleSelection, ScatterRegions, Similarity, Translate)
 
 
 def grid(text: str) -> np.ndarray:
@@ -72,6 +72,9 @@ EXAMPLES = [
     Similarity(1.5, 2, 2, row=1, col=1, kind="neighbours", neighbour=3),
     Similarity(0.5, -0.5, -0.5, wrap=True), Similarity(2, 3, 3, angle=45, row=3, col=3),
     Affinity(1, 0, 1, 1), Affinity(1, 0.5, 0, 1, 1, 1, 2, -3, row=1, col=1, fill=1),
+    ScatterRegions(2, radius=1, row=1, col=1, kind="neighbours", neighbour=2),
+    ScatterRegions(1, rotation="quarter", level=3, fill=1),
+    ScatterRegions(5, radius=2, rotation="any", scale_min=0.5, scale_max=1.5, wrap=True),
 ]
 
 

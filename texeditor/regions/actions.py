@@ -1,5 +1,6 @@
 """The region and global operators of thesis §3.4 as Actions: fill, translate, copy, the local
-manipulations of a selection and the four global operators, each a small replayable record.
+manipulations of a selection, the four global operators and the random manipulation of every
+region, each a small replayable record.
 
 Tools (GUI, CLI) build these from clicks and fields; `regions` and `transforms` do the work. A
 selection is stored as the recipe that extracted it — a point, the extraction kind, the scope,
@@ -17,7 +18,7 @@ from typing import ClassVar
 import numpy as np
 
 from . import extractext as regions
-from . import transforms
+from . import scatter, transforms
 from ..recipe.actions import MAX_CANVAS_PIXELS, MAX_CANVAS_SIDE, Action, param, register
 from ..markov.dpj import MAX_LEVELS
 from ..errors import InputError
@@ -109,6 +110,11 @@ def changed_boxes(changed: np.ndarray, *, min_gap: int = 8, max_boxes: int = 16)
     return boxes
 
 
+def _digest(mask: np.ndarray) -> str:
+    return hashlib.blake2b(np.packbits(mask).tobytes() + repr(mask.shape).encode(),
+                           digest_size=16).hexdigest()
+
+
 # -- the common base -------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
@@ -156,9 +162,7 @@ class RegionAction(Action):
             return "texture"
         if not 0 <= self.row < levels.shape[0] or not 0 <= self.col < levels.shape[1]:
             return "outside"
-        mask = self.selection(levels)
-        return hashlib.blake2b(np.packbits(mask).tobytes() + repr(mask.shape).encode(),
-                               digest_size=16).hexdigest()
+        return _digest(self.selection(levels))
 
     def _check_levels(self, doc, *values) -> None:
         for value in values:
@@ -552,5 +556,67 @@ class Affinity(_Warp):
                 f"[{self.m00:g} {self.m01:g}; {self.m10:g} {self.m11:g}]")
 
 
+@register
+@dataclass(frozen=True)
+class ScatterRegions(RegionAction):
+    """The random manipulation of every region at once (§3.4.3): each region of the selection,
+    of one level or of the texture (every level but the background) moved, turned and rescaled
+    about the centre of its box by its own map drawn from ``seed`` (`scatter`)."""
+
+    TYPE: ClassVar[str] = "scatter_regions"
+    seed: int = param("seed", default=0, doc="random seed: same seed, same maps")
+    radius: float = param("float", 0, MAX_CANVAS_SIDE, default=0.0,
+                          doc="each region moves at most this many points (uniform in the disc)")
+    rotation: str = param("str", hi=8, default="none",
+                          doc="none, quarter (a multiple of 90°) or any (any angle)")
+    scale_min: float = param("float", 1 / MAX_FACTOR, MAX_FACTOR, default=1.0,
+                             doc="the smallest zoom drawn")
+    scale_max: float = param("float", 1 / MAX_FACTOR, MAX_FACTOR, default=1.0,
+                             doc="the largest zoom drawn")
+    fill: int = _fill()
+    wrap: bool = _wrap()
+    level: int | None = param("int", 0, MAX_LEVELS - 1, default=None, optional=True,
+                              doc="every region of this level (with no selection's point)")
+    row: int | None = _point("row of the selection's point (none: the texture)", optional=True)
+    col: int | None = _point("column of the selection's point", optional=True)
+    kind: str = _kind()
+    scope: str = _scope()
+    connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
+
+    def _validate(self) -> None:
+        super()._validate()
+        if self.level is not None and self.row is not None:
+            raise InputError("scatter the regions of a selection or of a level, not both")
+        if self.scale_min > self.scale_max:
+            raise InputError(f"scale_min {self.scale_min:g} is above scale_max "
+                             f"{self.scale_max:g}")
+        if self.rotation not in scatter.ROTATIONS:
+            raise InputError(f"rotation must be one of {', '.join(scatter.ROTATIONS)}, got "
+                             f"{self.rotation!r}")
+
+    def selection(self, levels) -> np.ndarray | None:
+        if self.level is not None:
+            return np.asarray(levels) == self.level
+        return super().selection(levels)
+
+    def picked_region(self, levels) -> str | None:
+        if self.level is not None:
+            return _digest(self.selection(levels))
+        return super().picked_region(levels)
+
+    def apply(self, doc, prepared=None) -> None:
+        self._check_levels(doc, self.fill, *(() if self.level is None else (self.level,)))
+        self._commit(doc, scatter.scatter_regions(
+            doc.levels, self.seed, mask=self.selection(doc.levels), radius=self.radius,
+            rotation=self.rotation, scale=(self.scale_min, self.scale_max), fill=self.fill,
+            wrap=self.wrap, connectivity=self.connectivity))
+
+    def label(self) -> str:
+        what = f"level {self.level}" if self.level is not None else self._what()
+        return f"Scatter regions of {what}, seed {self.seed}"
+
+
 REGION_ACTIONS = (Fill, Translate, Copy, ChangeLevel, DeleteSelection, ScaleSelection,
-                  RotateSelection, FlipSelection, Identity, Isometry, Similarity, Affinity)
+                  RotateSelection, FlipSelection, Identity, Isometry, Similarity, Affinity,
+                  ScatterRegions)
