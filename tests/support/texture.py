@@ -6,7 +6,7 @@ import numpy as np
 from texeditor.recipe.actions import NewCanvas, SetLevels
 from texeditor.recipe.history import History
 from texeditor.recipe.sources import synthesis_recipe
-from texeditor.texture.actions import DoubleLevels, Incrust, Mix, RenderGrains
+from texeditor.texture.actions import DoubleLevels, Incrust, Mix, MixTextures, RenderGrains
 
 from . import REFS, TINY
 
@@ -24,7 +24,12 @@ EXAMPLES = [
                              negate=True, op4="min", c=1.0),
     Incrust(SYNTH, (REFS[0],), mask="levels", levels="0"),
     Incrust(SYNTH, (REFS[0],), mask="points", points=((0, 0), (2, 3))),
-    Incrust(SYNTH, (REFS[0],), mask="texture", levels="1", mask_source=SYNTH3, mask_dpjs=(REFS[1],)),
+    Incrust(SYNTH, (REFS[0],), mask="levels", levels="1-2", block=2),
+    Incrust(SYNTH, (REFS[0],), mask="texture", levels="1", mask_source=SYNTH3, mask_dpjs=(REFS[1],),
+            block=3),
+    MixTextures((SYNTH, SYNTH3), (REFS[0], REFS[1])),
+    MixTextures((SYNTH3, SYNTH, SYNTH3), (REFS[1], REFS[0]),
+                expression="not[(0.5 multiply T1) max T2] min (T3 xor T4)"),
     DoubleLevels("0123456789abcdef", 4),
 ]
 
