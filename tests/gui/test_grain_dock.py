@@ -220,6 +220,45 @@ def test_incrust_a_synthesis_where_this_texture_is_background(window, qtbot):
     dialog.close()
 
 
+def test_incrust_by_blocks_then_point_by_point_and_undo(window, qtbot):
+    """Blocks (pavés): where this texture is background on half a block of 4×4 or more, the
+    whole block shows T2; then the same point by point; undo twice gives the start back."""
+    from texeditor.recipe.sources import render_recipe
+    from texeditor.texture.composition import by_blocks
+
+    before = window.document.levels.copy()
+    dialog = open_composition(window, qtbot)
+    dialog.tabs.setCurrentIndex(0)
+    dialog.mask_kind.setCurrentIndex(dialog.mask_kind.findData("levels"))
+    dialog.mask_levels.setText("0")
+    dialog.source.seed.set_value(99)
+    dialog.block.setFocus()
+    for _ in range(3):                                      # 1 → 4, with the keyboard
+        press_key(dialog.block, QtCore.Qt.Key.Key_Up)
+    assert dialog.block.value() == 4
+    dialog.update_preview()
+    settled(window, qtbot)
+    assert "by blocks of 4" in dialog.status.text()
+    dialog.apply_button.click()
+    settled(window, qtbot)
+    action = window.history.actions[-1]
+    assert isinstance(action, Incrust) and action.block == 4
+    t2, _ = render_recipe(action.source, {r: window.document.dpjs[r] for r in action.source_dpjs})
+    blocks = by_blocks(before == 0, 4)
+    assert np.array_equal(window.document.levels, np.where(blocks, t2, before))
+    assert blocks.any() and not np.array_equal(blocks, before == 0)
+    dialog.block.setValue(1)
+    dialog.update_preview()
+    settled(window, qtbot)
+    dialog.apply_button.click()
+    settled(window, qtbot)
+    assert window.history.actions[-1].block == 1
+    window.act_undo.trigger()
+    window.act_undo.trigger()
+    assert np.array_equal(window.document.levels, before)
+    dialog.close()
+
+
 def test_mix_preset_xor_with_another_seed(window, qtbot):
     before = window.document.levels.copy()
     dialog = open_composition(window, qtbot)
