@@ -7,7 +7,7 @@ from PySide6 import QtCore
 from app.tools.regions import CopyTool, ExtractTool, FillTool, TranslateTool
 from texeditor.recipe.actions import NewCanvas, SetLevels
 
-from .support import cell_pos, click, drag, mouse, press_key
+from .support import cell_pos, click, drag, edit_and_apply, mouse, press_key
 
 LEFT = QtCore.Qt.MouseButton.LeftButton
 
@@ -249,3 +249,22 @@ def test_scatter_every_region_from_the_global_dialog_then_undo_to_the_start(boar
     while board.history.index > steps:
         board.undo()
     assert np.array_equal(board.document.levels, start)
+
+
+def test_a_scatter_step_edited_in_the_history_draws_again_with_its_new_seed(board, qtbot):
+    from texeditor.regions.scatter import scatter_regions
+
+    start = board.document.levels.copy()
+    qtbot.keyClick(board, QtCore.Qt.Key.Key_G, QtCore.Qt.KeyboardModifier.ControlModifier)
+    dialog = board._global_dialog
+    dialog.operator.setCurrentIndex(dialog.operator.findData("scatter"))
+    dialog.radius.setValue(5)
+    dialog.seed.set_value(1)
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    step = board.history.index - 1
+    assert np.array_equal(board.document.levels,
+                          scatter_regions(start, 1, radius=5, rotation="quarter", wrap=True))
+    edit_and_apply(qtbot, board, step, "seed", "2")
+    assert board.history.actions[step].seed == 2
+    assert np.array_equal(board.document.levels,
+                          scatter_regions(start, 2, radius=5, rotation="quarter", wrap=True))
