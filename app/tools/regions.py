@@ -295,7 +295,7 @@ class ExtractTool(Tool):
     def neighbour_count(self) -> int:
         """How many neighbours the selection's region has (0 unless it selects neighbours)."""
         s = self.selection
-        if s is None or s["kind"] != "neighbours" or self.mask() is None:
+        if s is None or s["kind"] != "neighbours" or self._mask is None:   # as last drawn
             return 0
         return int(regions.neighbour_labels(self.document.levels, (s["row"], s["col"]),
                                             scope=s["scope"],
@@ -325,7 +325,7 @@ class ExtractTool(Tool):
                            QtCore.QRectF(box[1], box[0], box[3] - box[1], box[2] - box[0]))
         count = 0 if mask is None else int(mask.sum())
         self.panel.setEnabled(count > 0)
-        self.neighbours.show_count(self.neighbour_count() if mask is not None else 0)
+        self.neighbours.show_count(self.neighbour_count())
         if self.selection is None:
             self.status.setText("No selection: click the canvas.")
         else:
