@@ -298,6 +298,14 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         self.shape_box.setToolTip("" if bitmap_ok else "Draw or choose a grain in the Grain stamps dock, "
                               "then press “Use the Grain tool's grain”")
 
+    def _link_toggled(self, same: bool) -> None:
+        """Unlinking changes no picture (across keeps the value down has) until a slider moves;
+        linking again makes across follow down at once."""
+        if same:
+            self._edited_now()
+        elif not self._loading:
+            self._enable_fields()
+
     def _edited(self) -> None:
         if self._loading:
             return
@@ -313,14 +321,6 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         self._enable_fields()
         self.update_preview()
         self.commit()
-
-    def _link_toggled(self, same: bool) -> None:
-        """Unlinking changes no picture (across keeps the value down has) until a slider moves;
-        linking again makes across follow down at once."""
-        if same:
-            self._edited_now()
-        elif not self._loading:
-            self._enable_fields()
 
     def use_tool_grain(self) -> None:
         from .tools.grain import GrainTool
