@@ -752,7 +752,10 @@ def _summary(entry) -> str:
              f"{direction} · {regular}"]
     g = entry.grain.get("render_grains")
     if g:
+        across = g.get("compression_x")
+        squeeze = f"{g.get('compression', 0):g}" + (
+            "" if across is None else f" down, {across:g} across")
         lines.append(f"grains: {g.get('shape')} {g.get('size')} px, explosion "
                      f"{g.get('explosion_x', 1):g}×{g.get('explosion_y', 1):g}, compression "
-                     f"{g.get('compression', 0):g}")
+                     f"{squeeze}")
     return "\n".join(lines)

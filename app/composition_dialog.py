@@ -1,5 +1,6 @@
-"""Image ▸ Composition… (thesis §5.4.1): incrust another texture into this one where a mask says,
-or mix the two, T3 = not[(a op1 T1) op2 (b op3 T2)] op4 c — with a preview, one Action per Apply.
+"""Image ▸ Composition… (thesis §5.4.1): incrust another texture into this one where a mask says
+(point by point or by blocks, the thesis's pavés), mix the two, T3 = not[(a op1 T1) op2 (b op3
+T2)] op4 c, or mix more textures in one expression — with a preview, one Action per Apply.
 
 T1 is the current texture; T2 (and a mask texture) is picked as a synthesis of a DPJ of the
 document, an opened `.texture` file, a bank entry (`bank_picker`), or this texture at an earlier
@@ -18,7 +19,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 from texeditor.texture import composition
 from texeditor.errors import TexeditorError
 from texeditor.recipe.actions import dpj_refs
-from texeditor.texture.actions import Incrust, Mix
+from texeditor.texture.actions import MAX_SOURCES, Incrust, Mix, MixTextures
 from texeditor.recipe.sources import check_recipe, recipe_of, synthesis_recipe
 
 from .bank_picker import choose_bank_entry, load_bank_source
@@ -43,6 +44,20 @@ PRESETS = [("Custom", None),
                                              op3="multiply", negate=True, op4="max", c=0.0))]
 MASKS = [("Levels of another texture", "texture"), ("Levels of this texture", "levels"),
          ("The Extract tool's selection", "selection"), ("Painted on the preview", "painted")]
+EXPRESSIONS = [         # name, the expression over T1…Tn
+    ("Average", lambda n: " add ".join(f"({w:g} multiply T{k})"
+                                       for k, w in enumerate(_shares(n), start=1))),
+    ("Brightest (max)", lambda n: " max ".join(f"T{k}" for k in range(1, n + 1))),
+    ("Darkest (min)", lambda n: " min ".join(f"T{k}" for k in range(1, n + 1))),
+    ("Each over the ones before", lambda n: " replace ".join(f"T{k}" for k in range(1, n + 1))),
+    ("Exclusive or", lambda n: " xor ".join(f"T{k}" for k in range(1, n + 1))),
+]
+
+
+def _shares(n: int) -> list[float]:
+    """n weights of two decimals summing to 1 (the first takes what rounding leaves)."""
+    share = round(1 / n, 2)
+    return [round(1 - share * (n - 1), 2)] + [share] * (n - 1)
 
 
 class SourcePicker(QtWidgets.QWidget):
@@ -248,6 +263,7 @@ class CompositionDialog(QtWidgets.QDialog):
         self.tabs = QtWidgets.QTabWidget()
         self.tabs.addTab(self._incrust_page(), "Incrustation")
         self.tabs.addTab(self._mix_page(), "Mixing")
+        self.tabs.addTab(self._expression_page(), "More textures")
         t2 = QtWidgets.QGroupBox("T2: the other texture")
         box = QtWidgets.QVBoxLayout(t2)
         self.source = SourcePicker(window, 2)
@@ -284,7 +300,8 @@ class CompositionDialog(QtWidgets.QDialog):
         self.timer.setInterval(150)
         self.timer.timeout.connect(self.update_preview)
         for signal in (self.source.changed, self.mask_source.changed, self.tabs.currentChanged,
-                       self.preview.painted):
+                       self.preview.painted, self.block.valueChanged,
+                       self.expression.textChanged):
             signal.connect(self.schedule)
         self._unsubscribe = window.history.subscribe(self._document_changed)
         self._history = window.history
@@ -316,8 +333,16 @@ class CompositionDialog(QtWidgets.QDialog):
         paint_row.addWidget(self.clear_paint)
         self.paint_widget = QtWidgets.QWidget()
         self.paint_widget.setLayout(paint_row)
+        self.block = QtWidgets.QSpinBox()
+        self.block.setRange(1, 256)
+        self.block.setSuffix(" points")
+        self.block.setSpecialValueText("1 (point by point)")
+        self.block.setToolTip("T2 shows by square blocks of this side (the thesis's pavés): "
+                              "each point of a mask texture says what a block shows; another "
+                              "mask shows T2 in a block where it holds on half of it")
         form.addRow("Mask", self.mask_kind)
         form.addRow("Levels", self.mask_levels)
+        form.addRow("Blocks", self.block)
         form.addRow(self.mask_group)
         form.addRow("Brush radius", self.paint_widget)
         self.mask_kind.currentIndexChanged.connect(self._mask_kind_changed)
@@ -353,6 +378,90 @@ class CompositionDialog(QtWidgets.QDialog):
             w.currentIndexChanged.connect(self._custom)
         self.negate.toggled.connect(self._custom)
         return page
+
+    def _expression_page(self) -> QtWidgets.QWidget:
+        """T = an expression over T1 (this texture), T2 (above) and T3… picked here."""
+        page = QtWidgets.QWidget()
+        layout = QtWidgets.QVBoxLayout(page)
+        note = QtWidgets.QLabel("T = an expression over T1 (this texture), T2 (above) and the "
+                                "textures below: and, or, xor, min, max, add, multiply, replace, "
+                                "not, numbers 0…1; left to right, brackets group.")
+        note.setWordWrap(True)
+        layout.addWidget(note)
+        self.extra_box = QtWidgets.QVBoxLayout()
+        holder = QtWidgets.QWidget()
+        holder.setLayout(self.extra_box)
+        scroll = QtWidgets.QScrollArea()
+        scroll.setWidgetResizable(True)
+        scroll.setWidget(holder)
+        scroll.setFrameShape(QtWidgets.QFrame.Shape.NoFrame)
+        scroll.setMinimumHeight(230)                       # two pickers in view
+        layout.addWidget(scroll, 1)
+        row = QtWidgets.QHBoxLayout()
+        self.add_texture = QtWidgets.QPushButton("Add a texture")
+        self.remove_texture = QtWidgets.QPushButton("Remove the last")
+        row.addWidget(self.add_texture)
+        row.addWidget(self.remove_texture)
+        layout.addLayout(row)
+        form = QtWidgets.QFormLayout()
+        self.expression_preset = QtWidgets.QComboBox()
+        self.expression_preset.addItem("Custom", None)
+        for text, make in EXPRESSIONS:
+            self.expression_preset.addItem(text, make)
+        self.expression = QtWidgets.QLineEdit()
+        self.expression.setToolTip("The mixing formula over T1…Tn, e.g. (0.5 multiply T1) add "
+                                   "(0.5 multiply T2) max T3")
+        form.addRow("Preset", self.expression_preset)
+        form.addRow("T =", self.expression)
+        layout.addLayout(form)
+        self.extra: list[SourcePicker] = []
+        self.add_texture.clicked.connect(self.add_source)
+        self.remove_texture.clicked.connect(self.remove_source)
+        self.expression_preset.currentIndexChanged.connect(self._expression_chosen)
+        self.expression.textEdited.connect(self._expression_typed)
+        self._new_picker()
+        self.expression_preset.setCurrentIndex(1)           # the average of T1, T2, T3
+        return page
+
+    def add_source(self) -> None:
+        """One more texture T3, T4… (a picker of its own; at most T8)."""
+        if len(self.extra) < MAX_SOURCES - 1:
+            self._new_picker()
+            self._textures_changed()
+
+    def _new_picker(self) -> None:
+        k = len(self.extra) + 3
+        group = QtWidgets.QGroupBox(f"T{k}")
+        picker = SourcePicker(self.main_window, k)
+        QtWidgets.QVBoxLayout(group).addWidget(picker)
+        self.extra_box.addWidget(group)
+        self.extra.append(picker)
+        picker.changed.connect(self.schedule)
+
+    def remove_source(self) -> None:
+        if len(self.extra) > 1:
+            group = self.extra.pop().parentWidget()
+            self.extra_box.removeWidget(group)
+            group.deleteLater()
+            self._textures_changed()
+
+    def _textures_changed(self) -> None:
+        self.add_texture.setEnabled(len(self.extra) < MAX_SOURCES - 1)
+        self.remove_texture.setEnabled(len(self.extra) > 1)
+        self._expression_chosen()
+        self.schedule()
+
+    def _expression_chosen(self) -> None:
+        """A preset writes the expression for the textures there are now (the text's change
+        schedules the preview)."""
+        make = self.expression_preset.currentData()
+        if make is not None:
+            self.expression.setText(make(2 + len(self.extra)))
+
+    def _expression_typed(self) -> None:
+        self.expression_preset.blockSignals(True)
+        self.expression_preset.setCurrentIndex(0)
+        self.expression_preset.blockSignals(False)
 
     @staticmethod
     def _weight(value: float) -> QtWidgets.QDoubleSpinBox:
@@ -424,24 +533,30 @@ class CompositionDialog(QtWidgets.QDialog):
     def action(self):
         """The Incrust or Mix of the current settings (TexeditorError says what is missing)."""
         source, refs = self.source.recipe()
+        if self.tabs.currentIndex() == 2:
+            recipes = [(source, refs)] + [p.recipe() for p in self.extra]
+            union = tuple(dict.fromkeys(r for _, refs in recipes for r in refs))
+            return MixTextures(tuple(text for text, _ in recipes), union,
+                               expression=self.expression.text())
         if self.tabs.currentIndex() == 1:
             values = {k: w.value() for k, w in self.weights.items()}
             values.update({k: w.currentData() for k, w in self.ops.items()})
             return Mix(source, refs, negate=self.negate.isChecked(), **values)
-        kind = self.mask_kind.currentData()
+        kind, block = self.mask_kind.currentData(), self.block.value()
         if kind == "texture":
             mask_source, mask_refs = self.mask_source.recipe()
             return Incrust(source, refs, mask="texture", levels=self.mask_levels.text(),
-                           mask_source=mask_source, mask_dpjs=mask_refs)
+                           mask_source=mask_source, mask_dpjs=mask_refs, block=block)
         if kind == "levels":
-            return Incrust(source, refs, mask="levels", levels=self.mask_levels.text())
+            return Incrust(source, refs, mask="levels", levels=self.mask_levels.text(),
+                           block=block)
         mask = self._selection() if kind == "selection" else self.preview.painted_mask
         if mask is None or not mask.any():
             raise TexeditorError("the mask is empty: " + (
                 "select with the Extract tool (E) first" if kind == "selection"
                 else "paint on the preview"))
         points = tuple(map(tuple, np.argwhere(mask).tolist()))
-        return Incrust(source, refs, mask="points", points=points)
+        return Incrust(source, refs, mask="points", points=points, block=block)
 
     def _selection(self):
         from .tools.regions import ExtractTool
@@ -465,8 +580,8 @@ class CompositionDialog(QtWidgets.QDialog):
     def _document_changed(self, change=None) -> None:
         if self.main_window.history is not self._history or not self.isVisible():
             return
-        self.source.reload()
-        self.mask_source.reload()
+        for picker in (self.source, self.mask_source, *self.extra):
+            picker.reload()
         if self.preview.painted_mask is None or self.preview.painted_mask.shape != self.main_window.document.shape:
             self.reset_painting()
         self.schedule()

@@ -53,8 +53,8 @@ def output_text(action: RenderGrains, texture_shape: tuple[int, int]) -> str:
         why.append("own grains for levels " + ", ".join(map(str, action.level_masks())))
     if action.explosion_x != 1 or action.explosion_y != 1:
         why.append(f"explosion {action.explosion_x:g}×{action.explosion_y:g}")
-    if action.compression:
-        why.append(f"compression {action.compression:g}")
+    if action.compression or action.compression_x:
+        why.append(f"compression {action.compression_text()}")
     scale = f"{lat.pitch_x}×" if lat.pitch_x == lat.pitch_y else f"{lat.pitch_x}×{lat.pitch_y}"
     text = (f"Output <b>{ow}×{oh}</b> px: {scale} the {w}×{h} texture ({', '.join(why)}); one "
             f"grain every {lat.pitch_x}×{lat.pitch_y} px" + (", odd rows shifted" if
@@ -193,6 +193,12 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         self.compression = ValueSlider(0, MAX_COMPRESSION, 100, "{:.2f}")
         self.compression.setToolTip("Brings grains together until they overlap; strong, it turns "
                                     "a grain texture into a spot texture")
+        self.compression_x = ValueSlider(0, MAX_COMPRESSION, 100, "{:.2f}")
+        self.compression_x.setToolTip("Compression across, when it differs from the one down")
+        self.same_compression = QtWidgets.QCheckBox("Same as down")
+        self.same_compression.setChecked(True)
+        self.same_compression.setToolTip("Uncheck to compress across and down apart (along one "
+                                         "axis only, as explosion can)")
         self.overlap = QtWidgets.QComboBox()
         for text, value in OVERLAPS:
             self.overlap.addItem(text, value)
@@ -203,7 +209,9 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         self.lattice.setToolTip("Automatic: a honeycomb for hexagons, a grid for the others")
         form.addRow("Explosion across", self.explode_x)
         form.addRow("Explosion down", self.explode_y)
-        form.addRow("Compression", self.compression)
+        form.addRow("Compression down", self.compression)
+        form.addRow("Compression across", self.compression_x)
+        form.addRow("", self.same_compression)
         form.addRow("Overlap", self.overlap)
         form.addRow("Lattice", self.lattice)
         self.natural = QtWidgets.QPushButton("Grains touching")
@@ -227,12 +235,13 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         self.setWidget(scrolled(body))
 
         for slider in (self.size_slider, self.angle, self.aspect, self.explode_x, self.explode_y,
-                       self.compression):
+                       self.compression, self.compression_x):
             slider.changed.connect(self._edited)
             slider.released.connect(self.commit)
         for combo in (self.shape_box, self.overlap, self.lattice):
             combo.currentIndexChanged.connect(self._edited_now)
         self.sides.valueChanged.connect(self._edited)
+        self.same_compression.toggled.connect(self._link_toggled)
         self.from_tool.clicked.connect(self.use_tool_grain)
         self.natural.clicked.connect(self.make_natural)
         self._enable_fields()
@@ -250,11 +259,16 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         return {"shape": shape, "size": self.size_slider.value(), "aspect": self.aspect.value(),
                 "sides": self.sides.value(), "angle": float(self.angle.value()),
                 "explosion_x": self.explode_x.value(), "explosion_y": self.explode_y.value(),
-                "compression": self.compression.value(), "overlap": self.overlap.currentData(),
+                "compression": self.compression.value(), "compression_x": self._across(),
+                "overlap": self.overlap.currentData(),
                 "lattice": self.lattice.currentData(),
                 "bitmap": self._bitmap if shape == "bitmap" else None,
                 "level_grains": ", ".join(f"{level}: {grain_spec(grain)}" for level, grain in
                                           sorted(self._level_grains.items())) or None}
+
+    def _across(self) -> float | None:
+        """The compression across, None while it is the same as down."""
+        return None if self.same_compression.isChecked() else self.compression_x.value()
 
     def action(self) -> RenderGrains | None:
         """The RenderGrains of the current settings (None, explained below the preview, if the
@@ -278,6 +292,9 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
             self.explode_x.set_value(action.explosion_x)
             self.explode_y.set_value(action.explosion_y)
             self.compression.set_value(action.compression)
+            self.same_compression.setChecked(action.compression_x is None)
+            self.compression_x.set_value(action.compression if action.compression_x is None
+                                         else action.compression_x)
             self.overlap.setCurrentIndex(self.overlap.findData(action.overlap))
             self.lattice.setCurrentIndex(self.lattice.findData(action.lattice))
             self._bitmap = action.bitmap or self._bitmap
@@ -291,9 +308,20 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         shape = self.shape_box.currentData()
         self.aspect.setEnabled(shape in ("rectangle", "circle", "polygon", "hexagon", "diamond"))
         self.sides.setEnabled(shape == "polygon")
+        self.compression_x.setEnabled(not self.same_compression.isChecked())
+        if self.same_compression.isChecked():          # the slider across shows the same value
+            self.compression_x.set_value(self.compression.value())
         bitmap_ok = shape != "bitmap" or self._bitmap is not None
         self.shape_box.setToolTip("" if bitmap_ok else "Draw or choose a grain in the Grain stamps dock, "
                               "then press “Use the Grain tool's grain”")
+
+    def _link_toggled(self, same: bool) -> None:
+        """Unlinking changes no picture (across keeps the value down has) until a slider moves;
+        linking again makes across follow down at once."""
+        if same:
+            self._edited_now()
+        elif not self._loading:
+            self._enable_fields()
 
     def _edited(self) -> None:
         if self._loading:
@@ -410,6 +438,7 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         self.explode_x.set_value(1)
         self.explode_y.set_value(1)
         self.compression.set_value(0)
+        self.compression_x.set_value(0)
         self._loading = False
         self._edited_now()
 
@@ -420,7 +449,7 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         return (self._commit_timer.isActive() or self._rendering is not None
                 or any(s.slider.isSliderDown() for s in (
                     self.size_slider, self.angle, self.aspect, self.explode_x, self.explode_y,
-                    self.compression)))
+                    self.compression, self.compression_x)))
 
     def drop_pending(self) -> None:
         """Forget settings still waiting for their pause, before the history goes back (undo, a

@@ -166,6 +166,8 @@ class ParamsForm(QtWidgets.QWidget):
             return f"{len(value)} colours (edit them in the Palette dock)"
         if kind == "points":
             return f"{len(value)} points"
+        if kind == "texts":
+            return f"{len(value)} texture recipes (set by its tool)"
         return str(value)
 
     def values(self) -> dict:

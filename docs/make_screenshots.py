@@ -627,6 +627,120 @@ def shot_trees_and_orders(app, window, out: Path) -> None:
 MORE_SHOTS.append(shot_trees_and_orders)
 
 
+def motifs():
+    """A 60×60 grid of motifs of three levels (an L, a bar, a T), as the thesis's figures of the
+    global operators draw them."""
+    import numpy as np
+
+    levels = np.zeros((60, 60), np.uint8)
+    shapes = [np.array([[1, 0, 0], [1, 0, 0], [1, 1, 1]]), np.array([[1, 1, 1, 1, 1]]),
+              np.array([[1, 1, 1], [0, 1, 0], [0, 1, 0]])]
+    for i in range(5):
+        for j in range(5):
+            shape = shapes[(i + j) % 3]
+            h, w = shape.shape
+            top, left = 12 * i + 4, 12 * j + 4
+            levels[top:top + h, left:left + w][shape > 0] = 1 + (i + j) % 3
+    return levels
+
+
+def shot_regions21(app, window, out: Path) -> None:
+    """Issue 21: the random manipulation of every region (a grid of motifs scattered through
+    the Global operators dialog), one neighbour isolated by the Extract tool, a mix of four
+    textures in one expression."""
+    import numpy as np
+    from PySide6 import QtGui
+
+    from app.images import qimage_from_rgb
+    from app.tools.regions import ExtractTool
+    from texeditor import DPJ
+    from texeditor.recipe.actions import NewCanvas, SetLevels, SetPalette
+    from texeditor.recipe.history import History
+    from texeditor.resources import bundled_dpj
+
+    previous = window.history
+    window.set_history(History())
+    window.submit(NewCanvas(60, 60, 4))
+    for (r, c), v in np.ndenumerate(motifs()):
+        if v:
+            window.submit(SetLevels(r, c, 1, 1, int(v)))
+    window.submit(SetPalette(((244, 240, 228), (176, 60, 40), (40, 110, 160), (60, 50, 40))))
+    start = len(window.history.actions)
+    dialog = window.global_operators()
+    dialog.operator.setCurrentIndex(dialog.operator.findData("scatter"))
+    panels = [("The motifs", None),
+              ("Quarter turns, moves within 3", dict(rotation="quarter", radius=3, lo=1, hi=1)),
+              ("Any angle, zoom 0.8–1.6, moves ≤ 4", dict(rotation="any", radius=4, lo=0.8,
+                                                            hi=1.6))]
+    side, caption, gap = 240, 26, 12
+    figure = QtGui.QImage(3 * side + 4 * gap, side + caption + 2 * gap,
+                          QtGui.QImage.Format.Format_RGB888)
+    figure.fill(QtGui.QColor(250, 250, 250))
+    painter = QtGui.QPainter(figure)
+    for k, (text, fields) in enumerate(panels):
+        if fields is not None:
+            while len(window.history.applied) > start:
+                window.undo()
+            dialog.rotation.setCurrentIndex(dialog.rotation.findData(fields["rotation"]))
+            dialog.radius.setValue(fields["radius"])
+            dialog.scale_min.setValue(fields["lo"])
+            dialog.scale_max.setValue(fields["hi"])
+            dialog.seed.set_value(21)
+            dialog.apply_button.click()
+        doc = window.document
+        rgb = np.repeat(np.repeat(np.asarray(doc.palette)[doc.levels], 4, axis=0), 4, axis=1)
+        x, y = gap + k * (side + gap), gap
+        painter.drawImage(x, y, qimage_from_rgb(np.ascontiguousarray(rgb)))
+        painter.setPen(QtGui.QColor(40, 40, 40))
+        painter.drawText(QtCore.QRect(x, y + side, side, caption),
+                         QtCore.Qt.AlignmentFlag.AlignCenter, text)
+    painter.end()
+    path = out / "scatter-regions.png"
+    figure.save(str(path))
+    print(path.relative_to(ROOT) if path.is_relative_to(ROOT) else path)
+    settle(app, 200)
+    save(dialog, out / "scatter-dialog.png")
+    dialog.close()
+
+    window.set_history(History())                  # a block with three neighbours
+    window.submit(NewCanvas(28, 20, 4))
+    for rect in ((4, 5, 4, 6, 2), (4, 11, 4, 2, 1), (8, 5, 1, 6, 3), (12, 16, 5, 7, 3)):
+        window.submit(SetLevels(*rect))
+    window.submit(SetPalette(((244, 240, 228), (40, 110, 160), (176, 60, 40), (60, 50, 40))))
+    tool = next(t for t in window.tools if isinstance(t, ExtractTool))
+    window.set_tool(tool)
+    tool.opts.kind.setCurrentIndex(tool.opts.kind.findData("neighbours"))
+    tool.click((7, 5), None)
+    tool.step_neighbour(1)
+    tool.step_neighbour(1)
+    window.canvas.fit()
+    settle(app, 300)
+    window.statusBar().clearMessage()
+    save(window, out / "extract-neighbours.png")
+    window.set_tool(window.tools[0])
+
+    history = History()
+    history.add_dpj(DPJ.load(bundled_dpj("gravel-3x3-g4")))
+    window.set_history(history)
+    window.synthesise(128, 128, 5)
+    window.runner.wait()
+    window.act_compose.trigger()
+    compose = window.composition_dialog
+    compose.tabs.setCurrentIndex(2)
+    compose.add_texture.click()
+    compose.expression_preset.setCurrentIndex(compose.expression_preset.findText("Darkest (min)"))
+    settle(app, 300)
+    window.runner.wait()
+    settle(app, 300)
+    save(compose, out / "composition-more.png")
+    compose.close()
+    window.mark_clean()
+    window.set_history(previous)
+
+
+MORE_SHOTS.append(shot_regions21)
+
+
 def shot_dpj_editor(app, window, out: Path) -> None:
     """The DPJ editor (issue 8): a 2×2, G = 3 DPJ drawn from a seed, its empty configuration
     set to 0.3 and made stationary, one entry loaded into the painter; then the two

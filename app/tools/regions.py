@@ -235,6 +235,8 @@ class ExtractTool(Tool):
         self.status = QtWidgets.QLabel("No selection: click the canvas.")
         self.status.setWordWrap(True)
         layout.addWidget(self.status)
+        self.neighbours = NeighbourStepper(self)
+        layout.addWidget(self.neighbours)
         self.panel = SelectionPanel(self)
         layout.addWidget(self.panel)
         self.panel.setEnabled(False)
@@ -272,7 +274,7 @@ class ExtractTool(Tool):
             return
         x, y = cell
         self.selection = {"row": y, "col": x, "kind": self.settings.kind,
-                          **recipe(self.settings)}
+                          **recipe(self.settings), "neighbour": None}
         self.refresh()
 
     def clear(self) -> None:
@@ -287,7 +289,28 @@ class ExtractTool(Tool):
         if not (0 <= s["row"] < h and 0 <= s["col"] < w):
             return None
         return regions.select(self.document.levels, (s["row"], s["col"]), kind=s["kind"],
-                              scope=s["scope"], connectivity=s["connectivity"])
+                              scope=s["scope"], connectivity=s["connectivity"],
+                              neighbour=s["neighbour"])
+
+    def neighbour_count(self) -> int:
+        """How many neighbours the selection's region has (0 unless it selects neighbours)."""
+        s = self.selection
+        if s is None or s["kind"] != "neighbours" or self._mask is None:   # as last drawn
+            return 0
+        return int(regions.neighbour_labels(self.document.levels, (s["row"], s["col"]),
+                                            scope=s["scope"],
+                                            connectivity=s["connectivity"]).max())
+
+    def step_neighbour(self, step: int) -> None:
+        """Isolate the next (or previous) neighbour, as ISOLER finds them one by one: all of
+        them, the 1st, the 2nd… the last, then all again. The selection's recipe records it."""
+        n = self.neighbour_count()
+        if not n:
+            return
+        current = self.selection["neighbour"] or 0
+        k = (current + step) % (n + 1)
+        self.selection = {**self.selection, "neighbour": k or None}
+        self.refresh()
 
     def refresh(self, change=None) -> None:
         """Redraw the selection over the current document (after any change, undo included)."""
@@ -302,11 +325,14 @@ class ExtractTool(Tool):
                            QtCore.QRectF(box[1], box[0], box[3] - box[1], box[2] - box[0]))
         count = 0 if mask is None else int(mask.sum())
         self.panel.setEnabled(count > 0)
+        self.neighbours.show_count(self.neighbour_count())
         if self.selection is None:
             self.status.setText("No selection: click the canvas.")
         else:
             s = self.selection
-            self.status.setText(f"{count} points selected ({KIND_WORDS[s['kind']]} at "
+            what = KIND_WORDS[s["kind"]] if s["neighbour"] is None else \
+                f"neighbour {s['neighbour']}"
+            self.status.setText(f"{count} points selected ({what} at "
                                 f"x {s['col']}, y {s['row']}).")
 
     def build(self, action_type, **params):
@@ -407,6 +433,38 @@ class ExtractTool(Tool):
             target %= self._mask.shape
         row, col = landed[np.argmin(((landed - target) ** 2).sum(axis=1))]
         return {**s, "row": int(row), "col": int(col)}
+
+
+class NeighbourStepper(QtWidgets.QWidget):
+    """With the neighbours selected: step through them one at a time (LIMITROPHES/ISOLER,
+    thesis Fig. 3.16) — all of them, the 1st, the 2nd… — so that one can be acted on alone."""
+
+    def __init__(self, tool: ExtractTool):
+        super().__init__()
+        row = QtWidgets.QHBoxLayout(self)
+        row.setContentsMargins(0, 0, 0, 0)
+        self.previous = QtWidgets.QPushButton("◀")
+        self.previous.setToolTip("The previous neighbour (before the first: all of them)")
+        self.next = QtWidgets.QPushButton("▶")
+        self.next.setToolTip("The next neighbour, in the order ISOLER finds them (after the "
+                             "last: all of them)")
+        self.label = QtWidgets.QLabel()
+        self.label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        for w in (self.previous, self.next):
+            w.setFixedWidth(w.sizeHint().height() * 2)
+        row.addWidget(self.previous)
+        row.addWidget(self.label, 1)
+        row.addWidget(self.next)
+        self.previous.clicked.connect(lambda: tool.step_neighbour(-1))
+        self.next.clicked.connect(lambda: tool.step_neighbour(1))
+        self.tool = tool
+        self.hide()
+
+    def show_count(self, n: int) -> None:
+        """Shown while the selection is of neighbours (``n`` of them)."""
+        self.setVisible(n > 0)
+        k = self.tool.selection["neighbour"] if n else None
+        self.label.setText(f"All {n} neighbours" if k is None else f"Neighbour {k} of {n}")
 
 
 class SelectionPanel(QtWidgets.QGroupBox):

@@ -15,7 +15,7 @@ from texeditor.texture.composition import fit
 from texeditor.recipe.document import dpj_ref
 from texeditor.recipe.history import History
 from texeditor.spots.actions import PlaceSpot
-from texeditor.texture.actions import Incrust, Mix
+from texeditor.texture.actions import Incrust, Mix, MixTextures
 from texeditor.recipe.sources import synthesis_recipe
 from texeditor.recipe.texturefile import load_texture, save_texture
 
@@ -257,3 +257,64 @@ def test_a_cancelled_pick_goes_back_to_the_previous_fill(window, qtbot):
     press_key(picker, Key.Key_Escape)
     qtbot.waitUntil(lambda: tool.opts.fill.currentData() == "document", timeout=3000)
     assert tool.texture is None
+
+
+def test_mix_three_textures_two_of_them_from_the_bank_in_one_expression(window, qtbot,
+                                                                        small_dpj):
+    """More textures: T2 and T3 bank entries, T4 a synthesis; the brightest of the four, then
+    a typed expression with brackets; undo back to the start (issue 21 item 9)."""
+    pebbled = add_entry(pebbles(small_dpj), "Pebbles")
+    striped = History()
+    striped.apply(NewCanvas(6, 4, 4))
+    striped.apply(SetLevels(0, 0, 4, 2, 2))                 # columns 0-1 of every 6: level 2
+    stripes = add_entry(striped, "Stripes")
+    start = window.document.levels.copy()
+    dialog, source = open_composition_on_the_bank(window, qtbot)
+    search_and_pick(qtbot, source.findChild(BankPicker), "pebbles")
+    qtbot.waitUntil(lambda: source.bank_source is not None, timeout=30_000)
+    QtTest.QTest.mouseClick(dialog.tabs.tabBar(), LEFT,
+                            pos=dialog.tabs.tabBar().tabRect(2).center())
+    assert dialog.tabs.currentIndex() == 2 and len(dialog.extra) == 1
+    t3 = dialog.extra[0]
+    choose(t3.kind, "bank")
+    QtTest.QTest.mouseClick(t3.bank_button, LEFT)
+    search_and_pick(qtbot, t3.findChild(BankPicker), "stripes")
+    qtbot.waitUntil(lambda: t3.bank_source is not None, timeout=30_000)
+    QtTest.QTest.mouseClick(dialog.add_texture, LEFT)         # T4: a synthesis, seed 4
+    assert len(dialog.extra) == 2 and dialog.extra[1].seed.value() == 4
+    dialog.expression_preset.setCurrentIndex(dialog.expression_preset.findText(
+        "Brightest (max)"))
+    assert dialog.expression.text() == "T1 max T2 max T3 max T4"
+    dialog.update_preview()
+    assert window.runner.wait(30_000)
+    assert "points change" in dialog.status.text(), dialog.status.text()
+    QtTest.QTest.mouseClick(dialog.apply_button, LEFT)
+    assert window.runner.wait(30_000)
+    action = window.history.actions[-1]
+    assert isinstance(action, MixTextures) and len(action.sources) == 3
+    shape = window.document.shape
+    t2, t3_levels = (fit(entry_levels(e), shape) for e in (pebbled, stripes))
+    t4 = fit(replay_one(action.sources[2], window), shape)
+    expected = np.maximum.reduce([start, t2, t3_levels, t4])       # all G = 4: levels are greys
+    assert np.array_equal(window.document.levels, expected)
+
+    QtTest.QTest.mouseClick(dialog.remove_texture, LEFT)      # back to T1…T3, typed
+    dialog.expression.setFocus()
+    dialog.expression.selectAll()
+    QtTest.QTest.keyClicks(dialog.expression, "T1 min (T2 max T3)")
+    assert dialog.expression_preset.currentText() == "Custom"
+    dialog.update_preview()
+    assert window.runner.wait(30_000)
+    QtTest.QTest.mouseClick(dialog.apply_button, LEFT)
+    assert window.runner.wait(30_000)
+    assert window.history.actions[-1].expression == "T1 min (T2 max T3)"
+    assert np.array_equal(window.document.levels, np.minimum(expected, np.maximum(t2, t3_levels)))
+    window.act_undo.trigger()
+    window.act_undo.trigger()
+    assert np.array_equal(window.document.levels, start)
+    dialog.close()
+
+
+def replay_one(recipe: str, window) -> np.ndarray:
+    from texeditor.recipe.sources import source_levels
+    return source_levels(window.document, recipe, (window.document.dpj_ref,))[0]

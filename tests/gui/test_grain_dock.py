@@ -106,6 +106,46 @@ def test_changing_the_shape_renders_hexagons_on_a_honeycomb(window, dock, qtbot)
     assert not dock.preview.pixmap().isNull()
 
 
+def test_compression_along_one_axis_then_both_and_undo_to_the_start(window, dock, qtbot):
+    """Unlinked, the sliders compress across and down apart; each setting is one edit of the
+    grain step, and undo brings the controls and the document back step by step."""
+    normal = window.document.levels.copy()
+    slide(dock.size_slider, 6)
+    settled(window, qtbot)
+    size = dock.size_slider.value()
+    assert not dock.compression_x.isEnabled()               # linked: across follows down
+    steps = window.history.index
+    qtbot.mouseClick(dock.same_compression, LEFT,
+                     pos=QtCore.QPoint(6, dock.same_compression.height() // 2))
+    settled(window, qtbot)
+    assert not dock.same_compression.isChecked() and dock.compression_x.isEnabled()
+    assert window.history.index == steps                    # unlinking alone changes nothing
+    slide(dock.compression_x, 0.5)
+    settled(window, qtbot)
+    across = dock.compression_x.value()
+    assert across > 0.3 and dock.compression.value() == 0
+    step = window.history.actions[grain_step(window.history)]
+    assert (step.compression, step.compression_x) == (0.0, across)
+    assert window.document.shape == (48 * size, 64 * round(size * (1 - across)))
+    assert np.array_equal(window.document.levels,
+                          gr.render(normal, "square", size, compression=0, compression_x=across))
+    assert "across" in dock.info.text()
+    slide(dock.compression, 0.3)                            # now down too, by its own amount
+    settled(window, qtbot)
+    down = dock.compression.value()
+    assert dock.compression_x.value() == across
+    assert np.array_equal(window.document.levels, gr.render(
+        normal, "square", size, compression=down, compression_x=across))
+    window.act_undo.trigger()
+    assert (dock.compression.value(), dock.compression_x.value()) == (0.0, across)
+    assert not dock.same_compression.isChecked()
+    window.act_undo.trigger()                               # before the size: linked again
+    assert dock.same_compression.isChecked() and dock.size_slider.value() == size
+    window.act_undo.trigger()
+    assert np.array_equal(window.document.levels, normal)
+    assert dock.same_compression.isChecked() and not dock.compression_x.isEnabled()
+
+
 def test_editing_the_grain_size_after_a_fill_replays_the_fill(window, dock, qtbot):
     normal = window.document.levels.copy()
     slide(dock.size_slider, 4)
@@ -175,6 +215,45 @@ def test_incrust_a_synthesis_where_this_texture_is_background(window, qtbot):
     t2, _ = render_recipe(action.source, {r: window.document.dpjs[r]
                                           for r in action.source_dpjs})
     assert np.array_equal(window.document.levels, np.where(before == 0, t2, before))
+    window.act_undo.trigger()
+    assert np.array_equal(window.document.levels, before)
+    dialog.close()
+
+
+def test_incrust_by_blocks_then_point_by_point_and_undo(window, qtbot):
+    """Blocks (pavés): where this texture is background on half a block of 4×4 or more, the
+    whole block shows T2; then the same point by point; undo twice gives the start back."""
+    from texeditor.recipe.sources import render_recipe
+    from texeditor.texture.composition import by_blocks
+
+    before = window.document.levels.copy()
+    dialog = open_composition(window, qtbot)
+    dialog.tabs.setCurrentIndex(0)
+    dialog.mask_kind.setCurrentIndex(dialog.mask_kind.findData("levels"))
+    dialog.mask_levels.setText("0")
+    dialog.source.seed.set_value(99)
+    dialog.block.setFocus()
+    for _ in range(3):                                      # 1 → 4, with the keyboard
+        press_key(dialog.block, QtCore.Qt.Key.Key_Up)
+    assert dialog.block.value() == 4
+    dialog.update_preview()
+    settled(window, qtbot)
+    assert "by blocks of 4" in dialog.status.text()
+    dialog.apply_button.click()
+    settled(window, qtbot)
+    action = window.history.actions[-1]
+    assert isinstance(action, Incrust) and action.block == 4
+    t2, _ = render_recipe(action.source, {r: window.document.dpjs[r] for r in action.source_dpjs})
+    blocks = by_blocks(before == 0, 4)
+    assert np.array_equal(window.document.levels, np.where(blocks, t2, before))
+    assert blocks.any() and not np.array_equal(blocks, before == 0)
+    dialog.block.setValue(1)
+    dialog.update_preview()
+    settled(window, qtbot)
+    dialog.apply_button.click()
+    settled(window, qtbot)
+    assert window.history.actions[-1].block == 1
+    window.act_undo.trigger()
     window.act_undo.trigger()
     assert np.array_equal(window.document.levels, before)
     dialog.close()

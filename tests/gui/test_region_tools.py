@@ -7,7 +7,7 @@ from PySide6 import QtCore
 from app.tools.regions import CopyTool, ExtractTool, FillTool, TranslateTool
 from texeditor.recipe.actions import NewCanvas, SetLevels
 
-from .support import cell_pos, click, drag, mouse, press_key
+from .support import cell_pos, click, drag, edit_and_apply, mouse, press_key
 
 LEFT = QtCore.Qt.MouseButton.LeftButton
 
@@ -103,6 +103,61 @@ def test_extract_neighbours_selects_every_region_touching_the_clicked_one(board,
     assert not mask[4:8, 5:11].any()                      # not the clicked block itself
 
 
+def test_extract_steps_through_the_neighbours_one_at_a_time_and_acts_on_one(board, qtbot):
+    """LIMITROPHES/ISOLER: the block of 2 touches the background (found first), a strip of 1
+    on its right (second) and a strip of 3 under it (third); each is selected alone in turn,
+    the second is recoloured, undone, and the stepper comes back round to all of them."""
+    from texeditor.recipe.replay import replay
+    from texeditor.regions.actions import ChangeLevel, DeleteSelection
+
+    board.submit(SetLevels(4, 11, 4, 2, 1))       # the strip of 1, x 11..12, y 4..7
+    board.submit(SetLevels(8, 5, 1, 6, 3))        # the strip of 3, x 5..10, y 8
+    start = board.document.levels.copy()
+    press_key(board, QtCore.Qt.Key.Key_E)
+    tool = board.tool
+    tool.opts.kind.setCurrentIndex(tool.opts.kind.findData("neighbours"))
+    click(board.canvas.viewport(), cell_pos(board.canvas, 7, 5))
+    stepper = tool.neighbours
+    assert stepper.isVisible() and stepper.label.text() == "All 3 neighbours"
+    background = start == 0
+    strip1, strip3 = np.zeros_like(background), np.zeros_like(background)
+    strip1[4:8, 11:13] = True
+    strip3[8, 5:11] = True
+    assert np.array_equal(tool.mask(), background | strip1 | strip3)
+    for k, expected in ((1, background), (2, strip1)):
+        qtbot.mouseClick(stepper.next, LEFT)
+        assert stepper.label.text() == f"Neighbour {k} of 3"
+        assert np.array_equal(tool.mask(), expected)
+        assert f"{int(expected.sum())} points selected (neighbour {k}" in tool.status.text()
+    board.palette_dock.swatches.current = 2
+    qtbot.mouseClick(tool.panel.recolour, LEFT)                    # the second one only
+    assert board.history.actions[-1] == ChangeLevel(5, 7, 2, kind="neighbours", neighbour=2)
+    expected = start.copy()
+    expected[strip1] = 2
+    assert np.array_equal(board.document.levels, expected)         # it joins the block of 2
+    again = replay(board.history.applied, board.document.dpjs)
+    assert again.result_hash() == board.document.result_hash()
+    board.undo()
+    assert np.array_equal(board.document.levels, start)
+    assert stepper.label.text() == "Neighbour 2 of 3" and np.array_equal(tool.mask(), strip1)
+    qtbot.mouseClick(stepper.next, LEFT)
+    assert np.array_equal(tool.mask(), strip3)
+    qtbot.mouseClick(tool.panel.delete, LEFT)                      # the same panel, again
+    assert board.history.actions[-1] == DeleteSelection(5, 7, kind="neighbours", neighbour=3)
+    assert not board.document.levels[strip3].any()
+    board.undo()
+    click(board.canvas.viewport(), cell_pos(board.canvas, 7, 5))   # a new click: all of them
+    assert stepper.label.text() == "All 3 neighbours"
+    qtbot.mouseClick(stepper.previous, LEFT)                       # back from all: the last
+    assert np.array_equal(tool.mask(), strip3)
+    qtbot.mouseClick(stepper.next, LEFT)
+    assert stepper.label.text() == "All 3 neighbours"
+    tool.opts.kind.setCurrentIndex(tool.opts.kind.findData("region"))
+    click(board.canvas.viewport(), cell_pos(board.canvas, 7, 5))
+    assert not stepper.isVisible()
+    assert np.array_equal(board.document.levels, start)
+
+
 def test_global_operators_dialog_rotates_the_whole_texture_or_the_selection(board, qtbot):
     from texeditor.regions import transforms
 
@@ -129,3 +184,87 @@ def test_global_operators_dialog_rotates_the_whole_texture_or_the_selection(boar
     levels = board.document.levels
     assert (levels[10:15, 15:20] == 3).all() and (levels[10:15, 20:25] == 3).all()
     assert (levels[4:8, 5:11] == 2).all()
+
+
+def test_scatter_every_region_from_the_global_dialog_then_undo_to_the_start(board, qtbot):
+    """Random manipulation of all regions (§3.4.3): the whole texture, again with the same seed
+    (on the scattered texture), a level only, then the Extract selection; undo to the start."""
+    from texeditor.regions.actions import ScatterRegions
+    from texeditor.regions.scatter import scatter_regions
+
+    board.submit(SetLevels(20, 5, 3, 3, 1))          # a third region, of level 1
+    start = board.document.levels.copy()
+    steps = board.history.index
+    qtbot.keyClick(board, QtCore.Qt.Key.Key_G, QtCore.Qt.KeyboardModifier.ControlModifier)
+    dialog = board._global_dialog
+    dialog.operator.setCurrentIndex(dialog.operator.findData("scatter"))
+    assert dialog.seed.isVisible() and not dialog.angle.isVisible()
+    assert dialog.target.text() == "Applies to every region of the whole texture."
+    dialog.radius.setValue(4)
+    dialog.rotation.setCurrentIndex(dialog.rotation.findData("any"))
+    dialog.scale_min.setValue(0.5)
+    dialog.scale_max.setValue(1.5)
+    dialog.wrap.setChecked(False)
+    dialog.seed.set_value(11)
+    expected = scatter_regions(start, 11, radius=4, rotation="any", scale=(0.5, 1.5))
+    assert not np.array_equal(expected, start)
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    assert np.array_equal(board.document.levels, expected)
+    qtbot.mouseClick(dialog.apply_button, LEFT)      # the same seed on the scattered texture
+    expected = scatter_regions(expected, 11, radius=4, rotation="any", scale=(0.5, 1.5))
+    assert np.array_equal(board.document.levels, expected)
+    board.undo()
+    board.undo()
+    assert np.array_equal(board.document.levels, start)
+
+    dialog.level.setValue(3)                         # the level-3 block only, moved
+    dialog.rotation.setCurrentIndex(dialog.rotation.findData("none"))
+    dialog.radius.setValue(3)
+    dialog.scale_min.setValue(1)
+    dialog.scale_max.setValue(1)
+    dialog.fill.setValue(1)
+    assert dialog.target.text() == "Applies to every region of level 3."
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    assert board.history.actions[-1] == ScatterRegions(11, radius=3, level=3, fill=1)
+    expected = scatter_regions(start, 11, mask=start == 3, radius=3, fill=1)
+    assert np.array_equal(board.document.levels, expected) and (expected != start).any()
+    assert (board.document.levels[4:8, 5:11] == 2).all()
+
+    dialog.scale_min.setValue(2)                     # a range upside down: said, not applied
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    assert board.errors and "scale_min" in board.errors[-1][1]
+    dialog.scale_min.setValue(1)
+
+    press_key(board, QtCore.Qt.Key.Key_E)            # with a selection: it, not the level
+    click(board.canvas.viewport(), cell_pos(board.canvas, 7, 5))
+    dialog._show_target()                            # as when the dialog is activated again
+    assert not dialog.level.isEnabled() and "selection at x 7, y 5" in dialog.target.text()
+    before = board.document.levels.copy()
+    dialog.radius.setValue(6)
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    action = board.history.actions[-1]
+    assert (action.row, action.col, action.level) == (5, 7, None)
+    assert np.array_equal(board.document.levels, scatter_regions(
+        before, 11, mask=before == 2, radius=6, fill=1))
+    while board.history.index > steps:
+        board.undo()
+    assert np.array_equal(board.document.levels, start)
+
+
+def test_a_scatter_step_edited_in_the_history_draws_again_with_its_new_seed(board, qtbot):
+    from texeditor.regions.scatter import scatter_regions
+
+    start = board.document.levels.copy()
+    qtbot.keyClick(board, QtCore.Qt.Key.Key_G, QtCore.Qt.KeyboardModifier.ControlModifier)
+    dialog = board._global_dialog
+    dialog.operator.setCurrentIndex(dialog.operator.findData("scatter"))
+    dialog.radius.setValue(5)
+    dialog.seed.set_value(1)
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    step = board.history.index - 1
+    assert np.array_equal(board.document.levels,
+                          scatter_regions(start, 1, radius=5, rotation="quarter", wrap=True))
+    edit_and_apply(qtbot, board, step, "seed", "2")
+    assert board.history.actions[step].seed == 2
+    assert np.array_equal(board.document.levels,
+                          scatter_regions(start, 2, radius=5, rotation="quarter", wrap=True))

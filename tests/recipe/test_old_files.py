@@ -18,8 +18,9 @@ EXPECTED = json.loads((RELEASE / "expected.json").read_text())   # stem → entr
 STEMS = sorted(EXPECTED)
 
 # Action types registered after release 0.1.0 (none yet): the old files cannot hold them.
-ADDED_SINCE_0_1 = frozenset({"synthesize_scales",      # issue 19
-                             "dominance_tree", "lay_along_order"})     # issue 21
+ADDED_SINCE_0_1 = frozenset({"synthesize_scales",                      # issue 19
+                             "dominance_tree", "lay_along_order",       # issue 21
+                             "scatter_regions", "mix_textures"})
 
 
 @pytest.fixture(scope="module")

@@ -20,7 +20,8 @@ from texeditor.recipe.replay import replay
 from texeditor.recipe.logopt import optimize
 from texeditor.regions.actions import (REGION_ACTIONS, Affinity, ChangeLevel, Copy,
                                       DeleteSelection, Fill, FlipSelection, Identity, Isometry,
-                                      RotateSelection, ScaleSelection, Similarity, Translate)
+                                      RotateSelection, ScaleSelection, ScatterRegions,
+                                      Similarity, Translate)
 
 
 def test_every_region_action_is_registered():
@@ -108,7 +109,8 @@ def test_selections_follow_their_recipe():
         if getattr(action, "row", None) is not None:
             mask = regions.select(T, (action.row, action.col), kind=getattr(action, "kind",
                                                                             "region"),
-                                  scope=action.scope, connectivity=action.connectivity)
+                                  scope=action.scope, connectivity=action.connectivity,
+                                  neighbour=getattr(action, "neighbour", None))
             assert np.array_equal(action.selection(T), mask)
 
 
@@ -266,10 +268,11 @@ def draw_region_action(data, doc):
     g = doc.num_levels
     r, c = data.draw(st.integers(0, h - 1)), data.draw(st.integers(0, w - 1))
     kind, scope, conn = data.draw(KIND_SCOPE)
-    sel = dict(kind=kind, scope=scope, connectivity=conn)
+    neighbour = data.draw(st.none() | st.integers(1, 3)) if kind == "neighbours" else None
+    sel = dict(kind=kind, scope=scope, connectivity=conn, neighbour=neighbour)
     level = st.integers(0, g - 1)
     to = (data.draw(st.integers(-3, h + 2)), data.draw(st.integers(-3, w + 2)))
-    which = data.draw(st.integers(0, 11))
+    which = data.draw(st.integers(0, 12))
     centre = (data.draw(st.floats(-2, h + 2)), data.draw(st.floats(-2, w + 2)))
     whole = data.draw(st.booleans())
     target = dict(row=None, col=None) if whole else dict(row=r, col=c)
@@ -291,6 +294,10 @@ def draw_region_action(data, doc):
         lambda: Similarity(data.draw(st.floats(0.3, 3)), *centre, wrap=wrap, **target, **sel),
         lambda: Affinity(1, data.draw(st.floats(-1, 1)), data.draw(st.floats(-1, 1)), 1.5, *centre,
                          wrap=wrap, **target, **sel),
+        lambda: ScatterRegions(data.draw(st.integers(0, 9)), radius=data.draw(st.floats(0, 4)),
+                               rotation=data.draw(st.sampled_from(["none", "quarter", "any"])),
+                               scale_min=0.5, scale_max=data.draw(st.floats(0.5, 2)),
+                               fill=data.draw(level), wrap=wrap, **target, **sel),
     ][which]()
 
 

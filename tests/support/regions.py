@@ -10,7 +10,7 @@ from texeditor.recipe.actions import NewCanvas, SetLevels
 from texeditor.recipe.history import History
 from texeditor.regions.actions import (Affinity, ChangeLevel, Copy, DeleteSelection, Fill,
                                       FlipSelection, Identity, Isometry, RotateSelection,
-                                      ScaleSelection, Similarity, Translate)
+                                      ScaleSelection, ScatterRegions, Similarity, Translate)
 
 
 def grid(text: str) -> np.ndarray:
@@ -62,14 +62,19 @@ EXAMPLES = [
     Fill(3, 2, 2), Fill(0, 0, 3, scope="global", connectivity=8),
     Translate(1, 7, 0, 6), Translate(1, 1, -2, 9, fill=1, kind="regions_in_region", wrap=True),
     Copy(3, 3, 6, 4), Copy(7, 7, 0, 0, scope="global", connectivity=8, wrap=True),
+    ChangeLevel(1, 1, 3, kind="neighbours", neighbour=2),
     ChangeLevel(1, 1, 2, kind="neighbours"), DeleteSelection(3, 3, kind="partial"),
     ScaleSelection(1, 1, 1.5), ScaleSelection(3, 3, 2, factor_cols=0.5, fill=1, wrap=True),
     RotateSelection(1, 7, 30), RotateSelection(1, 1, 90, kind="region_in_region"),
     FlipSelection(7, 0, "vertical"), FlipSelection(1, 1, kind="regions_in_region"),
     Identity(2, 3), Identity(0, 4, 2, 3, 3, 4, wrap=True, row=1, col=1),
     Isometry(90, 3.5, 3.5), Isometry(30, 2, 2, row=1, col=1, keep_source=True, fill=3),
+    Similarity(1.5, 2, 2, row=1, col=1, kind="neighbours", neighbour=3),
     Similarity(0.5, -0.5, -0.5, wrap=True), Similarity(2, 3, 3, angle=45, row=3, col=3),
     Affinity(1, 0, 1, 1), Affinity(1, 0.5, 0, 1, 1, 1, 2, -3, row=1, col=1, fill=1),
+    ScatterRegions(2, radius=1, row=1, col=1, kind="neighbours", neighbour=2),
+    ScatterRegions(1, rotation="quarter", level=3, fill=1),
+    ScatterRegions(5, radius=2, rotation="any", scale_min=0.5, scale_max=1.5, wrap=True),
 ]
 
 

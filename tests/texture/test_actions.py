@@ -19,7 +19,8 @@ from texeditor.recipe.replay import replay
 from texeditor.markov.levels import load_image
 from texeditor.recipe.logopt import optimize, trace
 from texeditor.resources import ROOT
-from texeditor.texture.actions import TEXTURE_ACTIONS, DoubleLevels, Incrust, Mix, RenderGrains
+from texeditor.texture.actions import (TEXTURE_ACTIONS, DoubleLevels, Incrust, Mix, MixTextures,
+                                      RenderGrains)
 from texeditor.recipe.sources import recipe_of, render_recipe
 from texeditor.recipe.texturefile import load_texture, save_texture
 
@@ -41,6 +42,7 @@ def test_json_round_trip(action):
 @pytest.mark.parametrize("obj, what", [
     ({"shape": "blob"}, "shape"), ({"size": 0}, "size"), ({"overlap": "sum"}, "overlap"),
     ({"explosion_x": 0.5}, "explosion_x"), ({"compression": 0.95}, "compression"),
+    ({"compression_x": 1.0}, "compression_x"),
     ({"lattice": "hex"}, "lattice"), ({"shape": "bitmap", "bitmap": "xyz"}, "drawn grain")])
 def test_bad_grain_parameters_are_refused_on_load(obj, what):
     with pytest.raises(FormatError, match=what):
@@ -90,6 +92,21 @@ def test_the_log_optimiser_knows_the_new_canvas_size():
     assert len(shorter) < len(actions)
     a, b = replay(actions, {}), replay(shorter, {})
     assert a.result_hash() == b.result_hash()
+
+
+def test_compression_across_only_renders_and_old_steps_keep_both_axes():
+    """A step of release 0.1 has no compression_x: its compression still squeezes both axes."""
+    old = action_from_json({"type": "render_grains", "version": 1, "shape": "square", "size": 4,
+                            "compression": 0.5})
+    assert old.compression_x is None and old.grain_lattice() == gr.Lattice(2, 2)
+    across = RenderGrains("square", 4, compression=0.0, compression_x=0.5)
+    assert across.grain_lattice() == gr.Lattice(4, 2)
+    assert across.label() == "Grains: square 4 px, compression 0.5 across, 0 down (last)"
+    history = history_of(T, extra=[across])
+    assert history.document.shape == (8, 6)
+    assert np.array_equal(history.document.levels, gr.render(T, "square", 4, compression=0,
+                                                              compression_x=0.5))
+    assert replay(history.applied, TINY).result_hash() == history.document.result_hash()
 
 
 def test_render_grains_too_large_is_refused_and_the_document_kept():
@@ -194,6 +211,104 @@ def test_composition_errors():
     with pytest.raises(InputError, match="not part of this document"):
         history.apply(Mix(SYNTH, (REFS[0],)))
     assert history.index == 1
+
+
+# -- incrustation by blocks and mixes of N textures (issue 21 item 9) -----------------------------
+
+def drawn_recipe(width, height, g, *rects):
+    """The recipe of a hand-made texture: a blank canvas and rectangles (top, left, h, w, v)."""
+    return recipe_of([NewCanvas(width, height, g), *(SetLevels(*r) for r in rects)])
+
+
+DIAGONAL = drawn_recipe(2, 2, 2, (0, 0, 1, 1, 1), (1, 1, 1, 1, 1))     # 1 . / . 1
+TWOS = drawn_recipe(4, 4, 3, (0, 0, 4, 4, 2))                          # every point 2
+
+
+def test_a_mask_texture_by_blocks_shows_t2_in_whole_blocks():
+    history = history_of(np.zeros((4, 6), np.uint8), 3, extra=[
+        Incrust(TWOS, mask="texture", levels="1", mask_source=DIAGONAL, block=2)])
+    assert history.document.levels.tolist() == [[2, 2, 0, 0, 2, 2], [2, 2, 0, 0, 2, 2],
+                                                 [0, 0, 2, 2, 0, 0], [0, 0, 2, 2, 0, 0]]
+    assert history.applied[-1].label().endswith("by blocks of 2")
+    assert replay(history.applied, {}).result_hash() == history.document.result_hash()
+    history.undo()
+    assert not history.document.levels.any()
+
+
+def test_painted_points_and_the_documents_levels_by_blocks():
+    painted = Incrust(TWOS, mask="points", points=((0, 0), (0, 1), (3, 3)), block=2)
+    history = history_of(np.zeros((4, 4), np.uint8), 3, extra=[painted])
+    # block (0, 0) holds 2 of its 4 points, block (1, 1) 1 of 4
+    assert history.document.levels.tolist() == [[2, 2, 0, 0], [2, 2, 0, 0], [0] * 4, [0] * 4]
+    own = np.array([[1, 1, 0, 0], [1, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1]], np.uint8)
+    history = history_of(own, 3, extra=[Incrust(TWOS, mask="levels", levels="1", block=2)])
+    assert history.document.levels.tolist() == [[2, 2, 0, 0], [2, 2, 0, 0], [0, 0, 0, 0],
+                                                [0, 0, 0, 1]]
+
+
+def test_an_incrustation_of_release_0_1_has_blocks_of_one_point():
+    old = action_from_json({"type": "incrust", "version": 2, "source": TWOS,
+                            "source_dpjs": [], "mask": "levels", "levels": "1"})
+    assert old.block == 1
+    own = np.array([[1, 0], [0, 0]], np.uint8)
+    assert history_of(own, 3, extra=[old]).document.levels.tolist() == [[2, 0], [0, 0]]
+
+
+def test_a_mix_of_three_textures_in_one_expression():
+    """The share of white of three black/white textures, on G = 4 (see test_composition): it
+    cannot be had from two mixes in a row, which round to the levels in between."""
+    t2 = drawn_recipe(5, 1, 4, (0, 2, 1, 3, 3))                  # . . 3 3 3
+    t3 = drawn_recipe(5, 1, 2, (0, 3, 1, 2, 1))                  # . . . 1 1 (G = 2)
+    base = np.array([[0, 3, 3, 0, 3]], np.uint8)
+    action = MixTextures((t2, t3), expression="(0.34 multiply T1) add (0.33 multiply T2) "
+                                              "add (0.33 multiply T3)")
+    history = history_of(base, 4, extra=[action])
+    assert history.document.levels.tolist() == [[0, 1, 2, 2, 3]]
+    assert action.label() == "Mix T1…T3: (0.34 multiply T1) add (0.33 multiply T…"
+    again = action_from_json(json.loads(json.dumps(action.to_json())))
+    assert again == action and again.sources == (t2, t3)
+    assert replay(history.applied, {}).result_hash() == history.document.result_hash()
+    history.undo()
+    assert history.document.levels.tolist() == base.tolist()
+
+
+def test_a_mix_of_four_textures_with_synthesised_sources_saved_and_reopened(tmp_path):
+    history = History()
+    ref = history.add_dpj(TINY_DPJS[0])
+    history.apply(Synthesize(ref, 6, 5, 7))
+    history.document.store_dpj(TINY_DPJS[1])
+    action = MixTextures((SYNTH, SYNTH3, DIAGONAL), (REFS[0], REFS[1]),
+                         expression="T1 xor T2 xor [T3 min T4]")
+    history.apply(action)
+    t1 = replay(history.applied[:1], TINY).levels
+    t2, t3 = synth_levels(SYNTH), composition.fit(synth_levels(SYNTH3), (5, 6))
+    t4 = composition.fit(np.eye(2, dtype=np.uint8), (5, 6))
+    # G = 2 target: T3's greys (0, 1/2, 1) count as white from 1/2 up (codes half up)
+    expected = t1 ^ t2 ^ np.minimum((t3 >= 1).astype(np.uint8), t4)
+    assert np.array_equal(history.document.levels, expected)
+    path = tmp_path / "four.texture"
+    save_texture(path, history)
+    again, _ = load_texture(path)
+    assert again.document.result_hash() == history.document.result_hash()
+
+
+@pytest.mark.parametrize("make, what", [
+    (lambda: MixTextures((SYNTH,), (REFS[0],), expression="T1 max T2"), "2..7 texts"),
+    (lambda: MixTextures((TWOS, DIAGONAL), expression="T1 max T2"), "does not use T3"),
+    (lambda: MixTextures((TWOS, DIAGONAL), expression="T1 max T2 max T5"), "names T5"),
+    (lambda: MixTextures((SYNTH, DIAGONAL), (), expression="T1 max T2 max T3"),
+     "T2 uses DPJ"),
+    (lambda: MixTextures((TWOS, DIAGONAL), (REFS[0],)), "no texture uses DPJ"),
+    (lambda: MixTextures((TWOS, "not json")), "T3: .*not valid JSON"),
+])
+def test_bad_mixes_are_refused(make, what):
+    with pytest.raises(InputError, match=what):
+        make()
+
+
+def test_a_block_must_be_a_whole_number_of_points():
+    with pytest.raises(InputError, match="block = 0"):
+        Incrust(TWOS, mask="levels", levels="1", block=0)
 
 
 # -- doubling --------------------------------------------------------------------------------------

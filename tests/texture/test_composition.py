@@ -165,3 +165,81 @@ def test_convert_levels_keeps_the_greys():
     assert cp.convert_levels(np.arange(4), 4, 8).tolist() == [0, 2, 5, 7]
     assert cp.convert_levels(np.arange(8), 8, 2).tolist() == [0, 0, 0, 0, 1, 1, 1, 1]
     assert cp.convert_levels(np.arange(3), 3, 3).tolist() == [0, 1, 2]
+
+
+# -- incrustation by blocks (pavés, issue 21 item 9) ---------------------------------------------
+
+def test_a_mask_texture_at_block_scale_gives_each_of_its_points_a_block():
+    diagonal = np.array([[1, 0], [0, 1]])
+    assert cp.pave(diagonal, 2, (4, 4)).tolist() == [[1, 1, 0, 0], [1, 1, 0, 0],
+                                                    [0, 0, 1, 1], [0, 0, 1, 1]]
+    # blocks of 3 on 4×5: the last row and the last two columns are blocks cut by the edge
+    assert cp.pave(diagonal, 3, (4, 5)).tolist() == [[1, 1, 1, 0, 0], [1, 1, 1, 0, 0],
+                                                    [1, 1, 1, 0, 0], [0, 0, 0, 1, 1]]
+    # a mask smaller than the grid of blocks is repeated, as any source is
+    assert cp.pave(np.array([[2, 0]]), 1, (2, 3)).tolist() == [[2, 0, 2], [2, 0, 2]]
+    assert cp.pave(np.array([[2, 0]]), 2, (4, 8))[:, ::2].tolist() == [[2, 0, 2, 0]] * 4
+
+
+def test_a_point_mask_by_blocks_holds_where_half_a_block_does():
+    painted = cp.membership_from_points([(0, 0), (1, 1), (2, 2), (4, 4)], (5, 5))
+    # blocks of 2: (0,0) has 2 of its 4 points, (1,1) 1 of 4, the corner block (2,2) 1 of 1
+    assert cp.by_blocks(painted, 2).astype(int).tolist() == [
+        [1, 1, 0, 0, 0], [1, 1, 0, 0, 0], [0, 0, 0, 0, 0], [0, 0, 0, 0, 0], [0, 0, 0, 0, 1]]
+    assert np.array_equal(cp.by_blocks(painted, 1), painted)
+    with pytest.raises(InputError, match="block"):
+        cp.by_blocks(painted, 0)
+
+
+# -- an expression over N textures (issue 21 item 9) ------------------------------------------------
+
+def test_three_textures_averaged_on_the_grey_scale():
+    """(0.34·T1) + (0.33·T2) + (0.33·T3) of black/white textures on G = 4: the share of white,
+    0, 0.34, 0.67, 0.66, 1, gives levels floor(3·x + 1/2) = 0, 1, 2, 2, 3. T3 has G = 2: its
+    white is 1 on its own scale."""
+    t1, t2 = np.array([[0, 3, 3, 0, 3]]), np.array([[0, 0, 3, 3, 3]])
+    t3 = np.array([[0, 0, 0, 1, 1]])
+    out = cp.evaluate("(0.34 multiply T1) add (0.33 multiply T2) add (0.33 multiply T3)",
+                      [(t1, 4), (t2, 4), (t3, 2)], 4)
+    assert out.tolist() == [[0, 1, 2, 2, 3]]
+
+
+def test_four_textures_under_logic_and_brackets():
+    bits = [np.array([[0, 1, 0, 1, 0, 1, 0, 1]]), np.array([[0, 0, 1, 1, 0, 0, 1, 1]]),
+            np.array([[0, 0, 0, 0, 1, 1, 1, 1]]), np.array([[1, 1, 1, 1, 1, 1, 1, 0]])]
+    ts = [(b, 2) for b in bits]
+    parity = bits[0] ^ bits[1] ^ bits[2]
+    assert np.array_equal(cp.evaluate("T1 xor T2 xor T3 and T4", ts, 2), parity & bits[3])
+    # left to right unless grouped: T1 or (T2 and T3) is not (T1 or T2) and T3
+    grouped = cp.evaluate("T1 or (T2 and T3) max (0 multiply T4)", ts, 2)
+    assert np.array_equal(grouped, bits[0] | (bits[1] & bits[2]))
+    assert np.array_equal(cp.evaluate("not [T1 max T2 max T3] min T4", ts, 2),
+                          (1 - (bits[0] | bits[1] | bits[2])) & bits[3])
+
+
+def test_the_thesis_formula_as_an_expression_gives_the_two_texture_mix():
+    ops = dict(a=0.5, op1="multiply", op2="max", b=1.0, op3="and", negate=True, op4="add",
+               c=0.25)
+    expected = cp.mix(X4, Y4, levels=4, **ops)
+    text = "not[(0.5 multiply T1) max (1 and T2)] add 0.25"
+    assert np.array_equal(cp.evaluate(text, [(X4, 4), (Y4, 4)], 4), expected)
+
+
+@pytest.mark.parametrize("text, n, message", [
+    ("", 3, "empty"), ("T1 max T2", 3, "does not use T3"), ("T1 max T4", 3, "names T4"),
+    ("T1 max", 1, "ends where"), ("(T1 max T2", 2, "not closed"), ("[T1 max T2)", 2, "not closed"),
+    ("T1 T2", 2, "goes on after its end"), ("T1 nand T2", 2, "unknown operator"),
+    ("T1 max 1.5", 1, "outside 0..1"), ("T1 + T2", 2, "neither a texture"),
+    ("T1 max " + "(" * 40 + "T2" + ")" * 40, 2, "nests more than"),
+    ("T1 max T2 " * 200, 2, "longer than"),
+])
+def test_bad_expressions_say_what_is_wrong(text, n, message):
+    with pytest.raises(InputError, match=message):
+        cp.parse_expression(text, n)
+
+
+def test_expression_inputs_are_checked():
+    with pytest.raises(InputError, match="same shape"):
+        cp.evaluate("T1 max T2", [(X2, 2), (Y2.T, 2)], 2)
+    with pytest.raises(InputError, match="levels outside"):
+        cp.evaluate("T1 max T2", [(X4, 2), (Y4, 4)], 4)

@@ -222,6 +222,33 @@ def test_strong_compression_turns_grains_into_spots():
     assert label(tight > 0).max() < label(loose > 0).max() / 3
 
 
+def test_compression_across_only_overlaps_grains_along_rows_only():
+    """Squares of 4 at pitch 2 across, 4 down: grain c covers columns 2c−1..2c+2 (mod 6), every
+    row; the later grain wins where two lie: 1 on {5,0,1,2}, 2 on {1..4}, 3 on {3,4,5,0}."""
+    out = gr.render(grid("1 2 3"), "square", 4, compression=0.0, compression_x=0.5)
+    assert out.shape == (4, 6)
+    assert np.array_equal(out, grid("\n".join(["3 2 2 3 3 3"] * 4)))
+
+
+def test_compression_down_only_overlaps_grains_along_columns_only():
+    out = gr.render(grid("1\n2\n3"), "square", 4, compression=0.5, compression_x=0.0)
+    assert out.shape == (6, 4)
+    assert np.array_equal(out, grid("\n".join(["3 3 3 3", "2 2 2 2", "2 2 2 2", "3 3 3 3",
+                                                 "3 3 3 3", "3 3 3 3"])))
+
+
+def test_compression_per_axis_sets_each_pitch():
+    nat = gr.Lattice(8, 8)
+    assert gr.density_lattice(nat, compression=0.5, compression_x=0.0) == gr.Lattice(4, 8)
+    assert gr.density_lattice(nat, compression=0.0, compression_x=0.5) == gr.Lattice(8, 4)
+    assert gr.density_lattice(nat, explosion_x=2, compression=0.25, compression_x=0.25) == \
+        gr.Lattice(6, 12)                  # round(8·2·0.75) across, round(8·0.75) down
+    # no compression across of its own: the one down applies to both axes, as before
+    assert gr.density_lattice(nat, compression=0.25, compression_x=None) == gr.Lattice(6, 6)
+    honey = gr.density_lattice(gr.Lattice(7, 8, 4), compression=0.0, compression_x=0.5)
+    assert honey == gr.Lattice(7, 4, 2)   # odd rows shift by half the new pitch
+
+
 def test_pitch_follows_explosion_and_compression():
     nat = gr.Lattice(8, 8)
     assert gr.density_lattice(nat, explosion_x=2) == gr.Lattice(8, 16)
@@ -231,7 +258,8 @@ def test_pitch_follows_explosion_and_compression():
 
 
 @pytest.mark.parametrize("kw", [{"explosion_x": 0.5}, {"explosion_y": 9}, {"compression": 0.95},
-                                {"compression": -0.1}])
+                                {"compression": -0.1}, {"compression_x": 0.95},
+                                {"compression_x": -0.1}])
 def test_density_out_of_range_is_an_input_error(kw):
     with pytest.raises(InputError):
         gr.render(grid("1"), "square", 2, **kw)

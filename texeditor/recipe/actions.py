@@ -21,6 +21,7 @@ MAX_CANVAS_PIXELS = 2**26
 MAX_SEED = 2**63 - 1
 MAX_POINTS = 1_000_000
 MAX_REFS = 64                  # a "refs" parameter without its own bound (a .texture's limit)
+MAX_TEXT = 2**24               # each text of a "texts" parameter (a texture recipe's limit)
 _REF = re.compile(r"^[0-9a-f]{16}$")
 
 REGISTRY: dict[str, type["Action"]] = {}
@@ -33,7 +34,7 @@ class ParamSpec:
     """What a form needs to edit one parameter: its name, kind, bounds, value and a hint."""
 
     name: str
-    kind: str            # int, float, bool, str, ref, refs, seed, palette, points
+    kind: str            # int, float, bool, str, ref, refs, seed, palette, points, texts
     minimum: float | None
     maximum: float | None
     optional: bool
@@ -101,6 +102,17 @@ def _refs(name, value, lo, hi):
     return refs
 
 
+def _texts(name, value, lo, hi):
+    """A tuple of ``lo``..``hi`` texts (the recipes of a composition's textures), each at most
+    MAX_TEXT characters; what each holds is the Action's to check."""
+    lo, hi = lo or 0, hi or MAX_REFS
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if not isinstance(value, (list, tuple)) or not lo <= len(value) <= hi:
+        raise InputError(f"{name} must be a list of {lo}..{hi} texts, got {_short(value)}")
+    return tuple(_str(f"each of {name}", v, None, MAX_TEXT) for v in value)
+
+
 def _short(value) -> str:
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
@@ -138,7 +150,7 @@ def _points(name, value, lo, hi):
 _KINDS: dict[str, Callable] = {
     "int": _int, "seed": lambda n, v, lo, hi: _int(n, v, 0, MAX_SEED), "float": _float,
     "bool": _bool, "str": _str, "ref": _ref, "refs": _refs, "palette": palette_param,
-    "points": _points,
+    "points": _points, "texts": _texts,
 }
 
 

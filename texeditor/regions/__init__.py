@@ -1,9 +1,9 @@
 """EXTRACTEXT (thesis §3.4): regions picked by level and connectivity, the local operators on
 them (fill, move, copy, scale, rotate…) and the global ones (identity, isometry, similarity,
-affinity), with their Actions.
+affinity, and the random manipulation of every region at once), with their Actions.
 """
 
-from . import extractext, transforms
+from . import extractext, scatter, transforms
 from .actions import REGION_ACTIONS
 
-__all__ = ["extractext", "transforms", "REGION_ACTIONS"]
+__all__ = ["extractext", "scatter", "transforms", "REGION_ACTIONS"]

@@ -1,9 +1,11 @@
 """The region and global operators of thesis §3.4 as Actions: fill, translate, copy, the local
-manipulations of a selection and the four global operators, each a small replayable record.
+manipulations of a selection, the four global operators and the random manipulation of every
+region, each a small replayable record.
 
 Tools (GUI, CLI) build these from clicks and fields; `regions` and `transforms` do the work. A
-selection is stored as the recipe that extracted it — a point, the extraction kind, the scope and
-the connectivity — so replaying the log finds the same points again, bit for bit.
+selection is stored as the recipe that extracted it — a point, the extraction kind, the scope,
+the connectivity and, for one neighbour isolated among several, its number — so replaying the
+log finds the same points again, bit for bit.
 """
 
 from __future__ import annotations
@@ -16,8 +18,8 @@ from typing import ClassVar
 import numpy as np
 
 from . import extractext as regions
-from . import transforms
-from ..recipe.actions import MAX_CANVAS_SIDE, Action, param, register
+from . import scatter, transforms
+from ..recipe.actions import MAX_CANVAS_PIXELS, MAX_CANVAS_SIDE, Action, param, register
 from ..markov.dpj import MAX_LEVELS
 from ..errors import InputError
 
@@ -51,6 +53,12 @@ def _kind():
 def _scope():
     return param("str", hi=16, default="region",
                  doc="region: the connected region at the point; global: every point of its level")
+
+
+def _neighbour():
+    return param("int", 1, MAX_CANVAS_PIXELS, default=None, optional=True,
+                 doc="with kind neighbours: only the k-th (1 = the first ISOLER finds); none: "
+                     "all of them")
 
 
 def _connectivity():
@@ -102,6 +110,11 @@ def changed_boxes(changed: np.ndarray, *, min_gap: int = 8, max_boxes: int = 16)
     return boxes
 
 
+def _digest(mask: np.ndarray) -> str:
+    return hashlib.blake2b(np.packbits(mask).tobytes() + repr(mask.shape).encode(),
+                           digest_size=16).hexdigest()
+
+
 # -- the common base -------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
@@ -109,8 +122,8 @@ class RegionAction(Action):
     """A level edit that reads the levels it changes: EFFECT "levels", never covers the canvas.
 
     Subclasses name the selection with ``row``, ``col`` and, where they have them, ``kind``,
-    ``scope`` and ``connectivity``; ``apply`` computes the new matrix with a pure function and
-    writes only the points that change (the undo record is their bounding box).
+    ``scope``, ``connectivity`` and ``neighbour``; ``apply`` computes the new matrix with a pure
+    function and writes only the points that change (the undo record is their bounding box).
     """
 
     EFFECT: ClassVar[str] = "levels"
@@ -126,6 +139,9 @@ class RegionAction(Action):
             raise InputError(f"connectivity must be 4 or 8, got {self.connectivity}")
         if (getattr(self, "row", 0) is None) != (getattr(self, "col", 0) is None):
             raise InputError("give both row and col of the selection's point, or neither")
+        if getattr(self, "neighbour", None) is not None and kind != "neighbours":
+            raise InputError(f"neighbour picks one of the neighbours: it goes with kind "
+                             f"'neighbours', not {kind!r}")
 
     @property
     def point(self) -> tuple[int, int] | None:
@@ -137,7 +153,8 @@ class RegionAction(Action):
             return None
         return regions.select(levels, self.point, kind=getattr(self, "kind", "region"),
                               scope=getattr(self, "scope", "region"),
-                              connectivity=getattr(self, "connectivity", 4))
+                              connectivity=getattr(self, "connectivity", 4),
+                              neighbour=getattr(self, "neighbour", None))
 
     def picked_region(self, levels) -> str | None:
         """The selection's points, as a digest (the whole texture: "texture")."""
@@ -145,9 +162,7 @@ class RegionAction(Action):
             return "texture"
         if not 0 <= self.row < levels.shape[0] or not 0 <= self.col < levels.shape[1]:
             return "outside"
-        mask = self.selection(levels)
-        return hashlib.blake2b(np.packbits(mask).tobytes() + repr(mask.shape).encode(),
-                               digest_size=16).hexdigest()
+        return _digest(self.selection(levels))
 
     def _check_levels(self, doc, *values) -> None:
         for value in values:
@@ -167,8 +182,11 @@ class RegionAction(Action):
             return "texture"
         kind = getattr(self, "kind", "region")
         glob = getattr(self, "scope", "region") == "global"
+        neighbour = getattr(self, "neighbour", None)
         if kind == "region":
             what = f"every point like {self.point}" if glob else f"region at {self.point}"
+        elif neighbour is not None:
+            what = f"neighbour {neighbour} of {'level at' if glob else 'region at'} {self.point}"
         else:
             what = f"{_KIND_NAMES[kind]} {'of level at' if glob else 'at'} {self.point}"
         return what + (", 8-conn." if getattr(self, "connectivity", 4) == 8 else "")
@@ -212,6 +230,7 @@ class Translate(RegionAction):
     scope: str = _scope()
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.fill)
@@ -237,6 +256,7 @@ class Copy(RegionAction):
     scope: str = _scope()
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc)
@@ -263,6 +283,7 @@ class ChangeLevel(RegionAction):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.value)
@@ -284,6 +305,7 @@ class DeleteSelection(RegionAction):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc)
@@ -310,6 +332,7 @@ class ScaleSelection(RegionAction):
     scope: str = _scope()
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.fill)
@@ -337,6 +360,7 @@ class RotateSelection(RegionAction):
     scope: str = _scope()
     connectivity: int = _connectivity()
     wrap: bool = _wrap()
+    neighbour: int | None = _neighbour()
 
     def apply(self, doc, prepared=None) -> None:
         self._check_levels(doc, self.fill)
@@ -361,6 +385,7 @@ class FlipSelection(RegionAction):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def _validate(self) -> None:
         super()._validate()
@@ -399,6 +424,7 @@ class Identity(RegionAction):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def _validate(self) -> None:
         super()._validate()
@@ -455,6 +481,7 @@ class Isometry(_Warp):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def _map(self):
         return (transforms.rotation_matrix(self.angle), (self.centre_row, self.centre_col),
@@ -483,6 +510,7 @@ class Similarity(_Warp):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def _map(self):
         (a, b), (c, d) = transforms.rotation_matrix(self.angle)
@@ -517,6 +545,7 @@ class Affinity(_Warp):
     kind: str = _kind()
     scope: str = _scope()
     connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
 
     def _map(self):
         return (((self.m00, self.m01), (self.m10, self.m11)), (self.centre_row, self.centre_col),
@@ -527,5 +556,67 @@ class Affinity(_Warp):
                 f"[{self.m00:g} {self.m01:g}; {self.m10:g} {self.m11:g}]")
 
 
+@register
+@dataclass(frozen=True)
+class ScatterRegions(RegionAction):
+    """The random manipulation of every region at once (§3.4.3): each region of the selection,
+    of one level or of the texture (every level but the background) moved, turned and rescaled
+    about the centre of its box by its own map drawn from ``seed`` (`scatter`)."""
+
+    TYPE: ClassVar[str] = "scatter_regions"
+    seed: int = param("seed", default=0, doc="random seed: same seed, same maps")
+    radius: float = param("float", 0, MAX_CANVAS_SIDE, default=0.0,
+                          doc="each region moves at most this many points (uniform in the disc)")
+    rotation: str = param("str", hi=8, default="none",
+                          doc="none, quarter (a multiple of 90°) or any (any angle)")
+    scale_min: float = param("float", 1 / MAX_FACTOR, MAX_FACTOR, default=1.0,
+                             doc="the smallest zoom drawn")
+    scale_max: float = param("float", 1 / MAX_FACTOR, MAX_FACTOR, default=1.0,
+                             doc="the largest zoom drawn")
+    fill: int = _fill()
+    wrap: bool = _wrap()
+    level: int | None = param("int", 0, MAX_LEVELS - 1, default=None, optional=True,
+                              doc="every region of this level (with no selection's point)")
+    row: int | None = _point("row of the selection's point (none: the texture)", optional=True)
+    col: int | None = _point("column of the selection's point", optional=True)
+    kind: str = _kind()
+    scope: str = _scope()
+    connectivity: int = _connectivity()
+    neighbour: int | None = _neighbour()
+
+    def _validate(self) -> None:
+        super()._validate()
+        if self.level is not None and self.row is not None:
+            raise InputError("scatter the regions of a selection or of a level, not both")
+        if self.scale_min > self.scale_max:
+            raise InputError(f"scale_min {self.scale_min:g} is above scale_max "
+                             f"{self.scale_max:g}")
+        if self.rotation not in scatter.ROTATIONS:
+            raise InputError(f"rotation must be one of {', '.join(scatter.ROTATIONS)}, got "
+                             f"{self.rotation!r}")
+
+    def selection(self, levels) -> np.ndarray | None:
+        if self.level is not None:
+            return np.asarray(levels) == self.level
+        return super().selection(levels)
+
+    def picked_region(self, levels) -> str | None:
+        if self.level is not None:
+            return _digest(self.selection(levels))
+        return super().picked_region(levels)
+
+    def apply(self, doc, prepared=None) -> None:
+        self._check_levels(doc, self.fill, *(() if self.level is None else (self.level,)))
+        self._commit(doc, scatter.scatter_regions(
+            doc.levels, self.seed, mask=self.selection(doc.levels), radius=self.radius,
+            rotation=self.rotation, scale=(self.scale_min, self.scale_max), fill=self.fill,
+            wrap=self.wrap, connectivity=self.connectivity))
+
+    def label(self) -> str:
+        what = f"level {self.level}" if self.level is not None else self._what()
+        return f"Scatter regions of {what}, seed {self.seed}"
+
+
 REGION_ACTIONS = (Fill, Translate, Copy, ChangeLevel, DeleteSelection, ScaleSelection,
-                  RotateSelection, FlipSelection, Identity, Isometry, Similarity, Affinity)
+                  RotateSelection, FlipSelection, Identity, Isometry, Similarity, Affinity,
+                  ScatterRegions)

@@ -549,19 +549,35 @@ def extract_partial(levels, point, *, scope: str = "region", connectivity: int =
 
 
 def select(levels, point, *, kind: str = "region", scope: str = "region",
-           connectivity: int = 4) -> np.ndarray:
+           connectivity: int = 4, neighbour: int | None = None) -> np.ndarray:
     """The selection an extraction tool makes at ``point``: one presence mask for every kind.
 
     ``kind`` is "region" (EXTRACTEXT), "region_in_region", "regions_in_region", "neighbours"
-    (all of them, as one mask) or "partial"; ``scope`` and ``connectivity`` apply to the region
-    found at ``point``. The Actions store these few values and replay the same selection.
+    or "partial"; ``scope`` and ``connectivity`` apply to the region found at ``point``. The
+    neighbours are all of them, as one mask, or with ``neighbour=k`` the k-th alone, isolated
+    as ISOLER finds them (1 the first; none when there are fewer). The Actions store these few
+    values and replay the same selection.
+
+    >>> grid = np.array([[0, 0, 0, 0, 3],
+    ...                  [1, 2, 2, 0, 3],
+    ...                  [0, 0, 2, 1, 1]], np.uint8)
+    >>> select(grid, (1, 1), kind="neighbours", neighbour=2).astype(int)
+    array([[0, 0, 0, 0, 0],
+           [1, 0, 0, 0, 0],
+           [0, 0, 0, 0, 0]])
     """
     if kind not in KINDS:
         raise InputError(f"unknown extraction {kind!r}: choose one of {', '.join(KINDS)}")
+    if neighbour is not None and kind != "neighbours":
+        raise InputError(f"a neighbour number picks one of the neighbours: it goes with the "
+                         f"extraction 'neighbours', not {kind!r}")
+    if neighbour is not None and neighbour < 1:
+        raise InputError(f"neighbours are numbered from 1, got {neighbour}")
     if kind == "region":
         return extractext(levels, point, scope=scope, connectivity=connectivity)
     if kind == "neighbours":
-        return neighbour_labels(levels, point, scope=scope, connectivity=connectivity) > 0
+        labels = neighbour_labels(levels, point, scope=scope, connectivity=connectivity)
+        return labels > 0 if neighbour is None else labels == neighbour
     extract = {"region_in_region": extract_region_in_region,
                "regions_in_region": extract_regions_in_region,
                "partial": extract_partial}[kind]

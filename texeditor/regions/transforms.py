@@ -213,15 +213,16 @@ def _integer_offset(offset) -> tuple[int, int] | None:
     return (int(r), int(c)) if r == int(r) and c == int(c) else None
 
 
-def _carry(mask, m, inv, centre, offset, wrap):
+def _carry(mask, m, inv, centre, offset, wrap, *, label=None, box=None):
     """Where each point of a selection lands: destination (rows, cols) and source (rows, cols).
 
     Every destination point of the image of the selection's box takes its nearest source; it is
     kept when that source is selected. With ``wrap`` destinations are folded onto the canvas and,
-    where folds overlap, the last in scan order wins.
+    where folds overlap, the last in scan order wins. ``mask`` may be a label matrix: the
+    selection is then its points of ``label``, whose box is ``box``.
     """
     h, w = mask.shape
-    t, l, b, r = bbox(mask)
+    t, l, b, r = bbox(mask) if box is None else box
     ys, xs = _forward(m, centre, offset, [t - 0.5, t - 0.5, b - 0.5, b - 0.5],
                       [l - 0.5, r - 0.5, l - 0.5, r - 0.5])
     r0, r1 = math.floor(ys.min()) - 1, math.ceil(ys.max()) + 2
@@ -237,7 +238,7 @@ def _carry(mask, m, inv, centre, offset, wrap):
     qr, qc = np.arange(r0, r1), np.arange(c0, c1)
     sr, sc = _sources(inv, centre, offset, qr, qc)
     ok = (sr >= 0) & (sr < h) & (sc >= 0) & (sc < w)
-    ok[ok] = mask[sr[ok], sc[ok]]
+    ok[ok] = mask[sr[ok], sc[ok]] if label is None else mask[sr[ok], sc[ok]] == label
     dr, dc = np.nonzero(ok)
     sr, sc = sr[dr, dc], sc[dr, dc]
     dr, dc = dr + r0, dc + c0
@@ -318,6 +319,28 @@ def _resample(levels, inv, centre, offset, wrap, fill, keep_source) -> np.ndarra
         base = levels[rows[0]:rows[-1] + 1] if keep_source else fill
         out[rows[0]:rows[-1] + 1] = np.where(inside, got, base)
     return out
+
+
+def carry_region(out: np.ndarray, levels: np.ndarray, labels: np.ndarray, label: int, box,
+                 matrix, *, centre: Point, offset: Point = (0.0, 0.0),
+                 wrap: bool = False) -> None:
+    """Write the region ``labels == label`` of ``levels`` (its box ``box``) where the map takes
+    it, into ``out``: in place, as `paste` — the operators that move many regions, each by its
+    own map, call it on their own copy. Only the region's box is read, whatever the canvas.
+
+    >>> labels = np.array([[1, 1, 0], [0, 2, 0], [0, 0, 0]])
+    >>> out = np.zeros((3, 3), np.uint8)
+    >>> carry_region(out, labels.astype(np.uint8) * 5, labels, 2, (1, 1, 2, 2), ((1, 0), (0, 1)),
+    ...              centre=(1, 1), offset=(1, 1))
+    >>> out
+    array([[ 0,  0,  0],
+           [ 0,  0,  0],
+           [ 0,  0, 10]], dtype=uint8)
+    """
+    m, inv = linear_map(matrix)
+    dr, dc, sr, sc = _carry(labels, m, inv, _as_vector(centre, "centre"),
+                            _as_vector(offset, "offset"), wrap, label=label, box=box)
+    out[dr, dc] = levels[sr, sc]
 
 
 def transform_mask(mask, matrix, *, centre: Point = (0.0, 0.0), offset: Point = (0.0, 0.0),

@@ -16,12 +16,15 @@ import numpy as np
 from . import composition
 from ..markov import doubling
 from . import grain_render as gr
-from ..recipe.actions import Action, param, register
-from ..recipe.sources import (check_recipe, recipe_field, refs_field, source_levels,
-                              upgrade_ref)
+from ..recipe.actions import Action, dpj_refs, param, register
+from ..recipe.sources import (check_recipe, parse_recipe, recipe_field, refs_field,
+                              source_levels, upgrade_ref)
 from ..errors import InputError
 
 MASKS = ("texture", "levels", "points")
+MAX_SOURCES = 7                # T2…T8: a mix of at most eight textures
+MAX_BLOCK = 4096               # the side of an incrustation's block (pavé), points
+DEFAULT_EXPRESSION = "(0.34 multiply T1) add (0.33 multiply T2) add (0.33 multiply T3)"
 
 
 # -- grains and density (§5.3) ---------------------------------------------------------------------
@@ -51,7 +54,8 @@ class RenderGrains(Action):
     explosion_y: float = param("float", 1.0, gr.MAX_EXPLOSION, default=1.0,
                                doc="blank space between grains down (1 = touching)")
     compression: float = param("float", 0.0, gr.MAX_COMPRESSION, default=0.0,
-                               doc="brings grains together until they overlap (0 = touching)")
+                               doc="brings grains together until they overlap (0 = touching): "
+                                   "down, and across unless compression_x is set")
     overlap: str = param("str", hi=8, default="last",
                          doc="where grains overlap: last (drawn later wins), max or min level")
     lattice: str = param("str", hi=16, default="auto",
@@ -61,6 +65,8 @@ class RenderGrains(Action):
     level_grains: str | None = param("str", hi=16 * 4500, default=None, optional=True,
                                      doc="a grain per level, e.g. 1: circle 5, 2: square 3 "
                                          "(the levels not listed use the grain above)")
+    compression_x: float | None = param("float", 0.0, gr.MAX_COMPRESSION, default=None,
+                                        optional=True, doc="compression across, when it differs")
 
     def _validate(self) -> None:
         if self.overlap not in gr.OVERLAP_RULES:
@@ -84,7 +90,8 @@ class RenderGrains(Action):
     def grain_lattice(self) -> gr.Lattice:
         return gr.grain_lattice(self.union(), shape=self.shape, lattice=self.lattice,
                                 explosion_x=self.explosion_x, explosion_y=self.explosion_y,
-                                compression=self.compression)
+                                compression=self.compression,
+                                compression_x=self.compression_x)
 
     def render(self, levels, progress=None, cancel=None) -> np.ndarray:
         return gr.render_grains(levels, self.mask(), self.grain_lattice(), self.overlap,
@@ -125,9 +132,15 @@ class RenderGrains(Action):
         density = []
         if self.explosion_x != 1 or self.explosion_y != 1:
             density.append(f"explosion {self.explosion_x:g}×{self.explosion_y:g}")
-        if self.compression:
-            density.append(f"compression {self.compression:g} ({self.overlap})")
+        if self.compression or self.compression_x:
+            density.append(f"compression {self.compression_text()} ({self.overlap})")
         return "Grains: " + ", ".join([what] + density)
+
+    def compression_text(self) -> str:
+        """"0.3", or "0.5 across, 0 down" when the axes differ."""
+        if self.compression_x is None or self.compression_x == self.compression:
+            return f"{self.compression:g}"
+        return f"{self.compression_x:g} across, {self.compression:g} down"
 
 
 # -- composition (§5.4.1) --------------------------------------------------------------------------
@@ -191,7 +204,8 @@ class Incrust(Action):
     The mask is a third texture's levels (``texture``: a recipe, the points whose level is in
     ``levels``), the document's own levels (``levels``), or painted points — a brush, or a
     selection frozen into its points (``points``). N textures are N − 1 incrustations, each with
-    its own levels of one mask texture.
+    its own levels of one mask texture. With ``block`` > 1 T2 shows by blocks (the thesis's
+    pavés, §5.4.1): each point of the mask texture says what a block shows.
     """
 
     TYPE: ClassVar[str] = "incrust"
@@ -207,6 +221,9 @@ class Incrust(Action):
     mask_dpjs: tuple = refs_field("the DPJs the mask texture's recipe needs, at every depth")
     points: tuple = param("points", 0, 16383, default=(),
                           doc="painted (row, col) points where T2 shows")
+    block: int = param("int", 1, MAX_BLOCK, default=1,
+                       doc="T2 shows by blocks of this many points a side (pavés): each point "
+                           "of a mask texture is a block; another mask, at least half a block")
 
     def _validate(self) -> None:
         if self.mask not in MASKS:
@@ -232,14 +249,17 @@ class Incrust(Action):
             source_levels(doc, self.mask_source, self.mask_dpjs, progress, cancel)
 
     def membership(self, doc) -> np.ndarray:
-        """Where T2 shows, on the document's canvas."""
-        if self.mask == "points":
-            return composition.membership_from_points(self.points, doc.shape)
+        """Where T2 shows, on the document's canvas (by whole blocks when ``block`` > 1)."""
         chosen = composition.parse_level_set(self.levels)
-        if self.mask == "levels":
-            return composition.membership_from_levels(doc.levels, chosen)
-        m, _ = source_levels(doc, self.mask_source, self.mask_dpjs)
-        return composition.membership_from_levels(composition.fit(m, doc.shape), chosen)
+        if self.mask == "texture":
+            m, _ = source_levels(doc, self.mask_source, self.mask_dpjs)
+            return composition.membership_from_levels(
+                composition.pave(m, self.block, doc.shape), chosen)
+        if self.mask == "points":
+            inside = composition.membership_from_points(self.points, doc.shape)
+        else:
+            inside = composition.membership_from_levels(doc.levels, chosen)
+        return inside if self.block == 1 else composition.by_blocks(inside, self.block)
 
     def apply(self, doc, prepared=None) -> None:
         t2, g2 = source_levels(doc, self.source, self.source_dpjs)
@@ -250,7 +270,64 @@ class Incrust(Action):
         where = {"texture": f"levels {self.levels} of a mask texture",
                  "levels": f"the document's levels {self.levels}",
                  "points": f"{len(self.points)} painted points"}[self.mask]
-        return f"Incrust T2 where {where}"
+        blocks = f", by blocks of {self.block}" if self.block > 1 else ""
+        return f"Incrust T2 where {where}{blocks}"
+
+
+@register
+@dataclass(frozen=True)
+class MixTextures(Action):
+    """T = an expression over T1 (the document) and T2…TN, other textures (§5.4.1: the mixing
+    formula "extends to more than two textures"), point by point on the grey scale
+    (`composition.evaluate`); each Ti repeated or cropped to the canvas."""
+
+    TYPE: ClassVar[str] = "mix_textures"
+    EFFECT: ClassVar[str] = "levels"
+    sources: tuple = param("texts", 2, MAX_SOURCES,
+                           doc="the recipes of T2, T3…: the logs that rebuild them (JSON)")
+    sources_dpjs: tuple = refs_field("the DPJs the recipes need, at every depth")
+    expression: str = param("str", hi=composition.MAX_EXPRESSION, default=DEFAULT_EXPRESSION,
+                            doc="over T1 (this texture), T2…, e.g. (0.5 multiply T1) add "
+                                "(0.5 multiply T2) max T3")
+
+    def _validate(self) -> None:
+        used = set()
+        for k, text in enumerate(self.sources, start=2):
+            used.update(_recipe_refs(text, self.sources_dpjs, f"T{k}"))
+        extra = [r for r in self.sources_dpjs if r not in used]
+        if extra:
+            raise InputError(f"no texture uses DPJ {', '.join(extra)}, which the step names")
+        composition.parse_expression(self.expression, 1 + len(self.sources))
+
+    def prepare(self, doc, progress=None, cancel=None) -> None:
+        for text in self.sources:
+            source_levels(doc, text, _recipe_refs(text, self.sources_dpjs), progress, cancel)
+
+    def apply(self, doc, prepared=None) -> None:
+        textures = [(doc.levels, doc.num_levels)]
+        for text in self.sources:
+            levels, g = source_levels(doc, text, _recipe_refs(text, self.sources_dpjs))
+            textures.append((composition.fit(levels, doc.shape), g))
+        _commit(doc, composition.evaluate(self.expression, textures, doc.num_levels))
+
+    def label(self) -> str:
+        text = " ".join(self.expression.split())
+        return f"Mix T1…T{1 + len(self.sources)}: " + (text if len(text) <= 40 else
+                                                         text[:39] + "…")
+
+
+def _recipe_refs(text: str, refs: tuple, what: str = "a texture") -> tuple:
+    """The DPJs one recipe of a step uses, each of which the step must name (``refs``: at
+    most MAX_RECIPE_DPJS for all the recipes)."""
+    try:
+        used = tuple(dpj_refs(parse_recipe(text)))
+    except InputError as exc:
+        raise InputError(f"{what}: {exc}") from None
+    missing = [r for r in used if r not in refs]
+    if missing:
+        raise InputError(f"{what} uses DPJ {', '.join(missing)}, which the step does not name "
+                         f"(it names {', '.join(refs) or 'none'})")
+    return used
 
 
 def _commit(doc, new: np.ndarray) -> None:
@@ -288,4 +365,4 @@ class DoubleLevels(Action):
         return f"Double the levels, seed {self.seed}"
 
 
-TEXTURE_ACTIONS = (RenderGrains, Mix, Incrust, DoubleLevels)
+TEXTURE_ACTIONS = (RenderGrains, Mix, Incrust, MixTextures, DoubleLevels)

@@ -1,5 +1,6 @@
 """Composition of textures (thesis §5.4.1): incrustation (a membership mask says which texture shows
-at each point) and mixing, T3 = not[(a op1 T1) op2 (b op3 T2)] op4 c.
+at each point, point by point or by blocks, the thesis's "pavés") and mixing,
+T3 = not[(a op1 T1) op2 (b op3 T2)] op4 c, or an expression over more textures.
 
 It sits after synthesis and before display: the Compose actions of `texture_actions` call these
 pure functions on level matrices; nothing here knows about documents, logs or files.
@@ -24,6 +25,15 @@ the target's G levels by rounding half up: level = floor(T3·(G−1) + 1/2). Cod
 operators) are taken on the target's G. Because every input is one of at most 16 levels, the whole
 formula is evaluated once per pair of levels into a lookup table, then indexed: exact and fast.
 
+The formula extends to more than two textures (§5.4.1) as an *expression* (:func:`parse_expression`,
+never Python's eval): T1…TN, numbers in [0, 1], the operators above between two operands,
+evaluated left to right, ``not``, and brackets ( ) or [ ] to group — the thesis's formula is
+``not[(a op1 T1) op2 (b op3 T2)] op4 c``. It is evaluated on the whole canvas at once.
+
+Incrustation by blocks ("pavés", §5.4.1): each point of a mask texture stands for a block of
+``block × block`` points (:func:`pave`); a mask drawn point by point (the document's levels,
+painted points) shows T2 by whole blocks where it holds on at least half a block (:func:`by_blocks`).
+
 >>> import numpy as np
 >>> t1 = np.array([[0, 1], [0, 1]]); t2 = np.array([[0, 0], [1, 1]])
 >>> mix(t1, t2, levels=2, op2="xor")
@@ -36,6 +46,7 @@ array([[0, 0],
 
 from __future__ import annotations
 
+import re
 from typing import Sequence
 
 import numpy as np
@@ -213,3 +224,179 @@ def _check_levels(levels: np.ndarray, num_levels: int, name: str) -> None:
         raise InputError(f"{name} must hold integer levels, got {levels.dtype}")
     if levels.size and (levels.min() < 0 or levels.max() >= num_levels):
         raise InputError(f"{name} holds levels outside 0..{num_levels - 1}")
+
+
+# -- incrustation by blocks ("pavés") --------------------------------------------------------------
+
+def pave(levels, block: int, shape: tuple[int, int]) -> np.ndarray:
+    """A mask texture read at block scale: each of its points a ``block × block`` block, the
+    whole repeated to cover ``shape`` (the thesis's pavés: a point of a synthesis window says
+    which texture a block shows).
+
+    >>> pave(np.array([[1, 0]]), 2, (3, 6))
+    array([[1, 1, 0, 0, 1, 1],
+           [1, 1, 0, 0, 1, 1],
+           [1, 1, 0, 0, 1, 1]])
+    """
+    block = _block(block)
+    h, w = shape
+    coarse = fit(levels, (-(-h // block), -(-w // block)))
+    return np.repeat(np.repeat(coarse, block, axis=0), block, axis=1)[:h, :w]
+
+
+def by_blocks(membership, block: int) -> np.ndarray:
+    """A point-by-point mask made of whole blocks: a ``block × block`` block (counted from the
+    top-left; those at the right and bottom edges may be cut) holds where at least half of its
+    points hold.
+
+    >>> by_blocks(np.array([[1, 1, 0, 0], [0, 0, 0, 1], [0, 0, 0, 0]], bool), 2).astype(int)
+    array([[1, 1, 0, 0],
+           [1, 1, 0, 0],
+           [0, 0, 0, 0]])
+    """
+    block = _block(block)
+    membership = np.asarray(membership, dtype=bool)
+    h, w = membership.shape
+    rows, cols = -(-h // block), -(-w // block)
+    padded = np.zeros((rows * block, cols * block), np.int64)
+    padded[:h, :w] = membership
+    inside = np.zeros_like(padded)
+    inside[:h, :w] = 1
+    count = padded.reshape(rows, block, cols, block).sum(axis=(1, 3))
+    size = inside.reshape(rows, block, cols, block).sum(axis=(1, 3))
+    held = 2 * count >= size
+    return np.repeat(np.repeat(held, block, axis=0), block, axis=1)[:h, :w]
+
+
+def _block(block) -> int:
+    if isinstance(block, bool) or not isinstance(block, (int, np.integer)) or block < 1:
+        raise InputError(f"a block (pavé) is a whole number of points ≥ 1, got {block!r}")
+    return int(block)
+
+
+# -- an expression over N textures -----------------------------------------------------------------
+
+MAX_EXPRESSION = 1000          # characters
+MAX_DEPTH = 32                 # brackets and nots nested
+_TOKEN = re.compile(r"\s*(?:(?P<number>\d+(?:\.\d*)?|\.\d+)|(?P<texture>T\d+)|(?P<word>[a-z]+)"
+                    r"|(?P<open>[(\[])|(?P<close>[)\]]))", re.IGNORECASE)
+
+
+def parse_expression(text: str, textures: int) -> tuple:
+    """The tree of an expression over T1…T``textures`` (InputError says what is wrong): a number
+    ``("number", x)``, a texture ``("T", k)``, ``("not", e)`` or ``(op, left, right)``. Every
+    texture must be used; operators chain left to right (brackets group).
+
+    >>> parse_expression("not[(0.5 multiply T1) max T2] min 1", 2)
+    ('min', ('not', ('max', ('multiply', ('number', 0.5), ('T', 1)), ('T', 2))), ('number', 1.0))
+    """
+    if not isinstance(text, str) or not text.strip():
+        raise InputError("the expression is empty: write one over T1, T2…, like T1 max T2")
+    if len(text) > MAX_EXPRESSION:
+        raise InputError(f"the expression is longer than {MAX_EXPRESSION} characters")
+    tokens = _tokens(text)
+    tree, end = _chain(tokens, 0, 0, textures)
+    if end < len(tokens):
+        raise InputError(f"the expression goes on after its end, at {tokens[end][1]!r}: "
+                         "an operator is missing, or a bracket is not opened")
+    unused = sorted(set(range(1, textures + 1)) - _used(tree))
+    if unused:
+        raise InputError(f"the expression does not use {', '.join(f'T{k}' for k in unused)}")
+    return tree
+
+
+def _tokens(text: str) -> list[tuple[str, str]]:
+    tokens, at = [], 0
+    while text[at:].strip():
+        m = _TOKEN.match(text, at)
+        if m is None:
+            raise InputError(f"the expression has {text[at:].strip()[:12]!r}, which is neither "
+                             f"a texture T1…, a number, an operator ({', '.join(OPS)}), not, "
+                             "nor a bracket")
+        kind = m.lastgroup
+        tokens.append((kind, m.group(kind)))
+        at = m.end()
+    return tokens
+
+
+def _chain(tokens, i, depth, textures):
+    """operand {operator operand}: left to right."""
+    tree, i = _operand(tokens, i, depth, textures)
+    while i < len(tokens) and tokens[i][0] == "word" and tokens[i][1].lower() != "not":
+        op = tokens[i][1].lower()
+        check_op(op)
+        right, i = _operand(tokens, i + 1, depth, textures)
+        tree = (op, tree, right)
+    return tree, i
+
+
+def _operand(tokens, i, depth, textures):
+    if depth > MAX_DEPTH:
+        raise InputError(f"the expression nests more than {MAX_DEPTH} brackets deep")
+    if i >= len(tokens):
+        raise InputError("the expression ends where a texture, a number or a bracket is due")
+    kind, text = tokens[i]
+    if kind == "number":
+        value = float(text)
+        if value > 1:
+            raise InputError(f"the number {text} is outside 0..1 (the grey scale: 0 the "
+                             "background, 1 the top level)")
+        return ("number", value), i + 1
+    if kind == "texture":
+        k = int(text[1:])
+        if not 1 <= k <= textures:
+            raise InputError(f"the expression names {text.upper()}, but there are T1…T{textures}")
+        return ("T", k), i + 1
+    if kind == "word" and text.lower() == "not":
+        inner, i = _operand(tokens, i + 1, depth + 1, textures)
+        return ("not", inner), i
+    if kind == "open":
+        inner, i = _chain(tokens, i + 1, depth + 1, textures)
+        closing = ")" if text == "(" else "]"
+        if i >= len(tokens) or tokens[i][1] != closing:
+            raise InputError(f"a bracket {text} is not closed by {closing}")
+        return inner, i + 1
+    raise InputError(f"the expression has {text!r} where a texture, a number or a bracket "
+                     "is due")
+
+
+def _used(tree) -> set[int]:
+    if tree[0] == "T":
+        return {tree[1]}
+    if tree[0] == "number":
+        return set()
+    return set().union(*(_used(t) for t in tree[1:]))
+
+
+def evaluate(text: str, textures: Sequence[tuple[np.ndarray, int]], levels: int) -> np.ndarray:
+    """T = the expression, point by point, as a ``levels``-level matrix: ``textures`` are
+    (levels, G) of T1…TN, of one shape, each on its own grey scale.
+
+    >>> t = [(np.array([[0, 1, 1, 0]]), 2), (np.array([[0, 1, 0, 1]]), 2),
+    ...      (np.array([[1, 1, 0, 0]]), 2)]
+    >>> evaluate("T1 xor T2 xor T3", t, 2)
+    array([[1, 1, 1, 1]], dtype=uint8)
+    """
+    tree = parse_expression(text, len(textures))
+    shape = np.shape(textures[0][0])
+    greys = []
+    for k, (t, g) in enumerate(textures, start=1):
+        t = np.asarray(t)
+        if t.shape != shape:
+            raise InputError(f"T{k} {t.shape} and T1 {shape} must have the same shape")
+        _check_levels(t, g, f"T{k}")
+        greys.append(to_scale(t, g))
+    _check_levels(np.zeros(0, np.uint8), levels, "the result")
+    value = np.broadcast_to(_value(tree, greys, levels), shape)
+    return from_scale(value, levels)
+
+
+def _value(tree, greys, levels):
+    if tree[0] == "number":
+        return np.float64(tree[1])
+    if tree[0] == "T":
+        return greys[tree[1] - 1]
+    if tree[0] == "not":
+        return 1.0 - _value(tree[1], greys, levels)
+    return apply_op(tree[0], _value(tree[1], greys, levels), _value(tree[2], greys, levels),
+                    levels)

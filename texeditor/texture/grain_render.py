@@ -17,8 +17,8 @@ a tileable texture stays tileable.
 Density. The *natural* pitch makes grains touch: the mask's box on a grid; for hexagons, the
 honeycomb pitch with no hole between grains and the least overlap (found once per mask). The
 explosion factors stretch it along x and y (blank space between grains, §5.3.2); compression
-shrinks it in both directions until grains overlap: pitch = round(natural · explosion ·
-(1 − compression)), at least 1. Where grains overlap, the *overlap rule* decides: ``last`` (the
+shrinks it until grains overlap, in both directions or along each axis by its own amount (like
+explosion): pitch = round(natural · explosion · (1 − compression)) on each axis, at least 1. Where grains overlap, the *overlap rule* decides: ``last`` (the
 grain drawn later, in scan order, wins), ``max`` or ``min`` level. Level 0 is the background: its
 points draw no grain, so they never hide a neighbour's.
 
@@ -100,16 +100,22 @@ def _honeycomb(data: bytes, shape: tuple[int, int]) -> Lattice:
 
 
 def density_lattice(natural: Lattice, *, explosion_x: float = 1.0, explosion_y: float = 1.0,
-                    compression: float = 0.0) -> Lattice:
-    """The natural pitch stretched by the explosion factors and shrunk by the compression."""
+                    compression: float = 0.0, compression_x: float | None = None) -> Lattice:
+    """The natural pitch stretched by the explosion factors and shrunk by the compression:
+    ``compression`` down, and across too unless ``compression_x`` gives its own amount.
+
+    >>> density_lattice(Lattice(8, 8), compression=0.5, compression_x=0.25)
+    Lattice(pitch_y=4, pitch_x=6, row_offset=0)
+    """
     if not (1.0 <= explosion_x <= MAX_EXPLOSION and 1.0 <= explosion_y <= MAX_EXPLOSION):
         raise InputError(f"explosion factors must lie in 1..{MAX_EXPLOSION:g} "
                          f"(got {explosion_x:g} across, {explosion_y:g} down)")
-    if not 0.0 <= compression <= MAX_COMPRESSION:
-        raise InputError(f"compression must lie in 0..{MAX_COMPRESSION:g}, got {compression:g}")
-    squeeze = 1.0 - compression
-    py = max(1, _round(natural.pitch_y * explosion_y * squeeze))
-    px = max(1, _round(natural.pitch_x * explosion_x * squeeze))
+    across = compression if compression_x is None else compression_x
+    for value in (compression, across):
+        if not 0.0 <= value <= MAX_COMPRESSION:
+            raise InputError(f"compression must lie in 0..{MAX_COMPRESSION:g}, got {value:g}")
+    py = max(1, _round(natural.pitch_y * explosion_y * (1.0 - compression)))
+    px = max(1, _round(natural.pitch_x * explosion_x * (1.0 - across)))
     return Lattice(py, px, px // 2 if natural.row_offset else 0)
 
 
@@ -118,13 +124,14 @@ def _round(x: float) -> int:
 
 
 def grain_lattice(mask, *, shape: str = "square", lattice: str = "auto", explosion_x=1.0,
-                  explosion_y=1.0, compression=0.0) -> Lattice:
+                  explosion_y=1.0, compression=0.0, compression_x=None) -> Lattice:
     """The lattice for a grain mask: ``auto`` is a honeycomb for hexagons and a grid otherwise."""
     if lattice not in LATTICES:
         raise InputError(f"lattice must be one of {', '.join(LATTICES)}, got {lattice!r}")
     honeycomb = lattice == "honeycomb" or (lattice == "auto" and shape == "hexagon")
     return density_lattice(natural_lattice(mask, honeycomb), explosion_x=explosion_x,
-                           explosion_y=explosion_y, compression=compression)
+                           explosion_y=explosion_y, compression=compression,
+                           compression_x=compression_x)
 
 
 def grain_union(masks) -> np.ndarray:
@@ -289,13 +296,14 @@ def grain_of(shape: str = "square", size: int = 8, *, aspect: float = 1.0, sides
 
 def render(levels, shape: str = "square", size: int = 8, *, aspect: float = 1.0, sides: int = 6,
            angle: float = 0.0, bitmap: str | None = None, explosion_x: float = 1.0,
-           explosion_y: float = 1.0, compression: float = 0.0, overlap: str = "last",
-           lattice: str = "auto", level_grains: str | None = None) -> np.ndarray:
+           explosion_y: float = 1.0, compression: float = 0.0, compression_x: float | None = None,
+           overlap: str = "last", lattice: str = "auto",
+           level_grains: str | None = None) -> np.ndarray:
     """A texture drawn with grains of one shape, size and orientation at one density — or, for
     the levels ``level_grains`` lists (see :func:`parse_level_grains`), their own grains."""
     mask = grain_of(shape, size, aspect=aspect, sides=sides, angle=angle, bitmap=bitmap)
     level_masks = {v: g.mask() for v, g in parse_level_grains(level_grains).items()}
     lat = grain_lattice(grain_union([mask, *level_masks.values()]), shape=shape,
                         lattice=lattice, explosion_x=explosion_x, explosion_y=explosion_y,
-                        compression=compression)
+                        compression=compression, compression_x=compression_x)
     return render_grains(levels, mask, lat, overlap, level_masks=level_masks)
