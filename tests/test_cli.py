@@ -189,3 +189,16 @@ def test_resynth_and_photo_models_end_to_end(tmp_path, photo, capsys):
     assert code == 0 and "scale 1 of 2" in out
     code, _, err = run(capsys, "resynth", photo, "--scales", "9", "-o", tmp_path / "x.png")
     assert code == 2 and "1..6" in err and not (tmp_path / "x.png").exists()
+
+
+def test_acquire_with_colour_classes_keeps_the_photo_colours(tmp_path, capsys):
+    path = tmp_path / "coffee.png"
+    skio.imsave(path, data.coffee()[::4, ::4], check_contrast=False)
+    out = tmp_path / "coffee.dpj"
+    code, _, _ = run(capsys, "acquire", path, "--levels", "4", "--quantizer", "lab", "-o", out)
+    assert code == 0
+    dpj = DPJ.load(out)
+    from texeditor.markov.levels import quantize
+    np.testing.assert_array_equal(dpj.palette, quantize(data.coffee()[::4, ::4], 4, "lab").palette)
+    assert dpj.meta["quantizer"] == "lab"
+    assert np.ptp(dpj.palette.astype(int), axis=1).max() > 40     # colours, not greys

@@ -212,8 +212,8 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--window", help="UxV: u columns by v rows (default 2x2; with --scales, "
                    "the finer scales' window, default 3x2)")
     a.add_argument("--levels", type=int, default=4, help="G, the number of levels (2..16)")
-    a.add_argument("--quantizer", choices=("band", "lloyd"), default=None,
-                   help="default: band (lloyd with --scales)")
+    a.add_argument("--quantizer", choices=("band", "lloyd", "lab"), default=None,
+                   help="default: band (lloyd with --scales); lab: colour classes in CIELAB")
     a.add_argument("--wrap", action="store_true", help="count windows on the torus")
     a.add_argument("--scales", help="N or auto: a photo model of N scales with the photo's tone "
                    "(a .dpj of format 2) instead of one DPJ")
