@@ -186,6 +186,17 @@ def to_grey(image) -> np.ndarray:
 _BAND_ROWS = 256
 
 
+def to_rgb(image) -> np.ndarray:
+    """RGB (H, W, 3) float64 in [0, 1] of any supported image: RGBA laid on white (as in
+    `to_grey`), a grey one repeated in the three channels."""
+    image = np.asarray(image)
+    _check_shape(image)
+    if image.ndim == 2 or image.shape[2] < 3:
+        return np.repeat(to_grey(image)[..., None], 3, axis=2)
+    rgb = _as_unit_float(image)
+    return ski.color.rgba2rgb(rgb) if rgb.shape[2] == 4 else rgb
+
+
 def _grey_band(image: np.ndarray) -> np.ndarray:
     img = _as_unit_float(image)
     if img.ndim == 2:
