@@ -255,3 +255,29 @@ def test_plate_colours_are_edited_by_a_palette_on_the_plates():
     assert history.document.plate_colours.tolist() == [list(sp.CREAM), list(sp.BLUE)]
     history.undo()
     assert history.document.plate_colours.tolist() == [list(sp.RED), list(sp.BLUE)]
+
+
+def _painted_on_plates(log, action):
+    """The plates a document gets from the level steps of ``log`` (after its new canvas) and
+    ``action``, each done on the plates of a blank canvas with plates all 0."""
+    first = log[0]
+    plates = History()
+    plates.apply(NewCanvas(first.width, first.height, first.levels))
+    plates.apply(AddPlates(tuple(map(tuple, replay(log[:1], {}).palette)), fill=0))
+    for step in list(log[1:]) + [action]:
+        plates.apply(OnPlates.of(step))
+    return plates.document
+
+
+def test_every_level_step_paints_on_the_plates_what_it_paints_on_the_levels():
+    from ..support import paint, regions
+    cases = [(regions.history_of(regions.T).applied, a) for a in regions.EXAMPLES]
+    cases += [(paint.textured().actions, a) for a in paint.EXAMPLES]
+    cases += [(sp.history().applied, PlaceSpot(DISC, 4, 6, level=1, contour=0.3, seed=2)),
+              (sp.history().applied, SetPalette((sp.RED, sp.BLUE, sp.CREAM)))]
+    for log, action in cases:
+        levels = replay(list(log) + [action], {})
+        plates = _painted_on_plates(log, action)
+        np.testing.assert_array_equal(plates.plates, levels.levels, err_msg=action.label())
+        np.testing.assert_array_equal(plates.plate_colours, levels.palette)
+        assert not plates.levels.any()                    # the texture stays blank
