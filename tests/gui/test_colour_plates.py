@@ -179,3 +179,34 @@ def test_plates_from_a_photo_through_the_dock(qtbot, window, tmp_path, monkeypat
     qtbot.keyClick(window, Key.Key_Z, CTRL)
     np.testing.assert_array_equal(window.document.plates, plates)
     assert not window.errors
+
+
+def test_acquire_with_colour_classes_synthesises_in_the_photo_colours(qtbot, window, tmp_path,
+                                                                     monkeypatch):
+    from skimage import data
+
+    from texeditor.markov.levels import quantize
+
+    photo = data.coffee()[::4, ::4]
+    path = tmp_path / "coffee.png"
+    io.imsave(path, photo)
+    qtbot.keyClick(window, Key.Key_I, CTRL)
+    dialog = window.acquire_dialog
+    qtbot.waitExposed(dialog)
+    assert dialog.wait()
+    monkeypatch.setattr(QtWidgets.QFileDialog, "getOpenFileName", lambda *a, **k: (str(path), ""))
+    qtbot.mouseClick(dialog.browse, LEFT)
+    dialog.levels.setValue(5)
+    dialog.method.setCurrentIndex(dialog.method.findData("lab"))
+    assert dialog.wait()
+    expected = quantize(photo, 5, "lab")
+    np.testing.assert_array_equal(dialog.quantization.levels, expected.levels)
+    np.testing.assert_array_equal(dialog.dpj.palette, expected.palette)
+    assert dialog.dpj.meta["quantiser"] == "lab"
+    qtbot.mouseClick(dialog.ok_button, LEFT)
+    assert window.runner.wait(60_000)
+    doc = window.document
+    np.testing.assert_array_equal(doc.palette, expected.palette)
+    y, x = np.argwhere(doc.levels == 4)[0]
+    assert window.canvas.displayed_colour(x, y) == tuple(expected.palette[4])
+    assert not window.errors
