@@ -17,7 +17,7 @@ from PySide6 import QtCore, QtWidgets
 from texeditor.errors import TexeditorError
 from texeditor.markov.levels import load_image
 from texeditor.texture.plate_actions import AddPlates, OnPlates, PlatesFromPhoto, RemovePlates
-from texeditor.texture.plates import grid_text, laid_on_plates, photo_grid
+from texeditor.texture.plates import grid_text, laid_on_plates, levels_on_plates, photo_grid
 
 from .acquire_dialog import IMAGE_FILTER
 
@@ -129,10 +129,11 @@ class PlateOps:
         tone = self.tone_picture()
         if doc.plates is None or not self.act_plates.isChecked() or not doc.levels.size:
             return tone
-        texture = tone if tone is not None else np.asarray(
-            doc.palette if palette is None else palette, np.uint8)[doc.levels]
-        return laid_on_plates(texture, doc.plates,
-                              doc.plate_colours if colours is None else colours)
+        colours = doc.plate_colours if colours is None else colours
+        if tone is not None:
+            return laid_on_plates(tone, doc.plates, colours)
+        return levels_on_plates(doc.levels, doc.palette if palette is None else palette,
+                                doc.plates, colours)
 
     def _preview_palette(self, palette) -> None:
         """A palette being dragged in the palette dock, shown on the canvas (not yet a step)."""

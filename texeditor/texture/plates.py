@@ -48,6 +48,23 @@ def laid_on_plates(picture: np.ndarray, plates: np.ndarray, colours) -> np.ndarr
     return out
 
 
+def levels_on_plates(levels: np.ndarray, palette, plates: np.ndarray, colours) -> np.ndarray:
+    """`laid_on_plates` of a texture seen through its palette, by a table of the P × G colours a
+    point can take (one look-up per point: 0.12 s for 2048² points, against 0.6 s).
+
+    >>> levels_on_plates(np.array([[0, 1]], np.uint8), [[0, 0, 0], [200, 200, 200]],
+    ...                  np.array([[0, 1]], np.uint8), [[200, 50, 50], [0, 0, 250]])
+    array([[[100,   0,   0],
+            [100, 100, 255]]], dtype=uint8)
+    """
+    grey = np.asarray(palette, np.float64) @ _GREY
+    counts = np.bincount(levels.ravel(), minlength=len(grey))
+    offset = grey - counts @ grey / max(levels.size, 1)
+    table = np.asarray(colours, np.float64)[:, None, :] + offset[None, :, None]
+    table = np.clip(np.rint(table), 0, 255).astype(np.uint8)
+    return table[plates, levels]
+
+
 def _bands(picture: np.ndarray):
     for top in range(0, picture.shape[0], _BAND_ROWS):
         yield picture[top:top + _BAND_ROWS].astype(np.float64)
@@ -56,10 +73,11 @@ def _bands(picture: np.ndarray):
 def document_picture(doc, tone: np.ndarray | None = None, *, plates: bool = True) -> np.ndarray:
     """What the document looks like, (H, W, 3) uint8: its levels in their palette (or ``tone``,
     the photo's own colours), laid on its plates when it has some and ``plates`` is on."""
-    picture = np.asarray(doc.palette, np.uint8)[doc.levels] if tone is None else tone
-    if plates and doc.plates is not None:
-        picture = laid_on_plates(picture, doc.plates, doc.plate_colours)
-    return picture
+    if not plates or doc.plates is None:
+        return np.asarray(doc.palette, np.uint8)[doc.levels] if tone is None else tone
+    if tone is None:
+        return levels_on_plates(doc.levels, doc.palette, doc.plates, doc.plate_colours)
+    return laid_on_plates(tone, doc.plates, doc.plate_colours)
 
 
 # -- plates from a photo ----------------------------------------------------------------------------
