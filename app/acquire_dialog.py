@@ -29,7 +29,8 @@ from .images import photo_rgb, qimage_from_rgb
 
 PREVIEW = 240
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.gif *.webp);;All files (*)"
-QUANTISERS = (("Band (thesis: 90 % central band)", "band"), ("Lloyd–Max (least squares)", "lloyd"))
+QUANTISERS = (("Band (thesis: 90 % central band)", "band"), ("Lloyd–Max (least squares)", "lloyd"),
+              ("Colour classes (CIELAB)", "lab"))
 DEBOUNCE_MS = 150
 SCALE_STRIP = 2 * PREVIEW + 6      # the scale previews share the width of the two big ones
 SCALE_SIDE = 100                   # ... each at most this square (the dialog fits 800 pixels)

@@ -194,7 +194,7 @@ class FileOps:
         if path.suffix.lower() != ".png":
             path = path.with_name(path.name + ".png")
         doc = self.history.document
-        picture = self.tone_picture()        # the picture on show: the photo's tone, if it is
+        picture = self.display_picture()     # the picture on show: tone, plates, if they are
         try:
             if picture is not None:
                 write_picture(path, picture, scale)

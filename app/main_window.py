@@ -33,6 +33,8 @@ from .history_dock import HistoryDock
 from .palette_dock import PaletteDock
 from .photo_ops import PhotoOps
 from .relief_dock import ReliefDock
+from .plate_ops import PlateOps
+from .plates_dock import PlatesDock
 from .synthesis_dock import SynthesisDock
 from .synthesis_worker import TaskRunner, render_synthesis
 from .tool_dock import ToolOptionsDock
@@ -70,6 +72,8 @@ DOCKS = (
              tab_with="grain_dock"),
     DockSpec("relief_dock", ReliefDock, "ReliefDock", LEFT, tab_with="density_dock",
              hidden=True),
+    DockSpec("plates_dock", PlatesDock, "PlatesDock", RIGHT, tab_with="synthesis_dock",
+             hidden=True),
 )
 
 # (objectName, title), in menu bar order
@@ -77,7 +81,7 @@ MENUS = (("FileMenu", "&File"), ("EditMenu", "&Edit"), ("ImageMenu", "&Image"),
          ("ViewMenu", "&View"), ("ToolsMenu", "&Tools"), ("GrainStampsMenu", "Grain &stamps"))
 
 
-class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
+class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
     def __init__(self, history: History | None = None, path=None):
         super().__init__()
         self.setWindowTitle(APP_NAME)
@@ -237,6 +241,9 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         self.act_double = a("&Double the levels…", self.open_doubling, None,
                             "Turn a G-level texture into 2G levels, learnt from a photo "
                             "(thesis §4.5)")
+        self.act_plates_dock = a("Colour &plates…", self.show_plates_dock, None,
+                                 "Lay the texture on coloured plates: add them, take them from a "
+                                 "photo, paint them (thesis §1.2.3)")
         self.act_cancel = a("&Cancel work", self.runner.cancel, "Esc")
         self.act_cancel.setEnabled(False)
         self.act_zoom_in = a("Zoom &in", self.canvas.zoom_in, ["+", "=", "Ctrl++"])
@@ -252,6 +259,17 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         self.act_tone.setChecked(True)
         self.act_tone.setEnabled(False)
         self.act_tone.toggled.connect(self._tone_toggled)     # also when the dock's box toggles
+        self.act_plates = a("Show &plates", lambda _=False: None, None,
+                            "Lay the texture on its colour plates (thesis §1.2.3), on the canvas "
+                            "and in exports", checkable=True)
+        self.act_plates.setChecked(True)
+        self.act_plates.setEnabled(False)
+        self.act_plates.toggled.connect(self._plates_toggled)
+        self.act_paint_plates = a("Paint on the &plates", lambda _=False: None, "Shift+P",
+                                  "The tools and the palette work on the colour plates instead "
+                                  "of the texture's levels", checkable=True)
+        self.act_paint_plates.setEnabled(False)
+        self.act_paint_plates.toggled.connect(self._paint_target_changed)
 
     def _build_menus(self) -> None:
         for name, title in MENUS:
@@ -278,11 +296,11 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         menu.addSeparator()
         menu.addActions([self.act_global, self.act_peano])
         menu.addSeparator()
-        menu.addActions([self.act_compose, self.act_double])
+        menu.addActions([self.act_compose, self.act_double, self.act_plates_dock])
         menu = self.menu("ViewMenu")
         menu.addActions([self.act_zoom_in, self.act_zoom_out, self.act_fit, self.act_actual])
         menu.addSeparator()
-        menu.addActions([self.act_tiled, self.act_tone])
+        menu.addActions([self.act_tiled, self.act_tone, self.act_plates])
         menu.addSeparator()
         menu.addActions([dock.toggleViewAction() for dock in self.docks()])
 
@@ -310,6 +328,8 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
             tool.qaction.setIconText(tool.LABEL or tool.NAME.split()[0])   # the button's label
             group.addAction(tool.qaction)
             menu.addAction(tool.qaction)
+        menu.addSeparator()
+        menu.addAction(self.act_paint_plates)
         self.tool_dock.set_tools(self.tools)
         self.set_tool(self.tools[0])
 
@@ -369,7 +389,14 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         self.synthesis_dock.tone_box.toggled.connect(self.act_tone.setChecked)
         self.act_tone.toggled.connect(self.synthesis_dock.tone_box.setChecked)
         self.palette_dock.committed.connect(self._palette_committed)
-        self.palette_dock.preview.connect(self.canvas.set_palette)
+        self.palette_dock.preview.connect(self._preview_palette)
+        self.plates_dock.paint_box.toggled.connect(self.act_paint_plates.setChecked)
+        self.act_paint_plates.toggled.connect(self.plates_dock.paint_box.setChecked)
+        self.plates_dock.add_requested.connect(self.add_plates)
+        self.plates_dock.photo_requested.connect(self.plates_from_photo)
+        self.plates_dock.remove_requested.connect(self.remove_plates)
+        self.plates_dock.show_box.toggled.connect(self.act_plates.setChecked)
+        self.act_plates.toggled.connect(self.plates_dock.show_box.setChecked)
         self.history_dock.stepClicked.connect(self.goto_step)
         self.history_dock.editRequested.connect(self.edit_step)
         self.history_dock.optimiseRequested.connect(self.optimise_log)
@@ -401,10 +428,17 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         super().closeEvent(ev)
 
     def _size_docks(self) -> None:
-        """Synthesis and palette at their natural height; the history takes the rest."""
+        """Synthesis (and the Plates dock, its tab: the taller, and their tab bar) and palette
+        at their natural height; the history takes the rest."""
         docks = [self.synthesis_dock, self.palette_dock, self.history_dock]
-        heights = [d.widget().widget().sizeHint().height() + d.height() - d.widget().height() + 2
-                   for d in docks[:2]]
+
+        def natural(d):
+            return d.widget().widget().sizeHint().height() + d.height() - d.widget().height() + 2
+        tabs = [bar.sizeHint().height() for bar in self.findChildren(QtWidgets.QTabBar)
+                if bar.isVisible() and self.plates_dock.windowTitle() in
+                [bar.tabText(i) for i in range(bar.count())]]
+        heights = [max(natural(self.synthesis_dock), natural(self.plates_dock)) + sum(tabs[:1]),
+                   natural(self.palette_dock)]
         rest = max(200, sum(d.height() for d in docks) - sum(heights))
         self.resizeDocks(docks, heights + [rest], QtCore.Qt.Orientation.Vertical)
         self.resizeDocks([self.history_dock, self.tool_dock], [340, 190],
@@ -432,10 +466,11 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         the canvas redraws the box a step touched, each dock refreshes on the kinds it shows."""
         what = EVERYTHING if change is None else change.what
         doc = self.history.document
-        if "levels" in what or "palette" in what:
+        if what & {"levels", "palette", "plates"}:
             self._show_document(doc, change)
-        if "palette" in what:
-            self.palette_dock.set_palette(doc.palette)
+        if what & {"palette", "plates"}:
+            self._refresh_plates()
+            self.palette_dock.set_palette(self.paint_palette())
         if "levels" in what or "palette" in what:
             self.relief_dock.document_changed()
         if what & {"log", "dpj"}:
@@ -455,10 +490,10 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
     def _show_document(self, doc, change) -> None:
         """Redraw the canvas as little as the change allows: a box of cells, a recolouring,
         or (a new matrix, a replay) the whole picture."""
-        picture = self.tone_picture() if doc.levels.size else None
+        picture = self.display_picture() if doc.levels.size else None
         if not doc.levels.size:
             self.canvas.image.clear()
-        elif picture is not None:       # tone: the whole picture is drawn again (scan order)
+        elif picture is not None:       # tone, plates: the whole picture is drawn again
             self.canvas.set_image(doc.levels, doc.palette, picture)
         elif self.canvas.picture is not None:        # tone was shown: back to the palette
             self.canvas.set_image(doc.levels, doc.palette)
@@ -501,6 +536,11 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
         ``prepared``: the step's slow part, done in the worker (a synthesis's levels)."""
         if self.edits_locked():
             return False
+        try:
+            action = self.on_target(action)
+        except TexeditorError as exc:
+            self.show_error("This change cannot be made on the plates", exc)
+            return False
         if (prepared is None and warmup.pending()
                 and warmup.needs_kernels(action, self.history.document)):
             return self._after_warm_up(action)
@@ -533,8 +573,8 @@ class MainWindow(FileOps, PhotoOps, QtWidgets.QMainWindow):
     def _palette_committed(self, palette) -> None:
         """A palette the document refused (while a replay runs, say) is not left on show."""
         if not self.submit(SetPalette(palette)):
-            self.palette_dock.set_palette(self.history.document.palette)
-            self.canvas.set_palette(self.history.document.palette)
+            self.palette_dock.set_palette(self.paint_palette())
+            self._show_document(self.history.document, None)
 
     def undo(self) -> None:
         if self._replaying is not None:

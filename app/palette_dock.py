@@ -1,11 +1,15 @@
-"""The palette dock: the G levels as swatches, the current level, and the grey-scale controls.
+"""The palette dock: the G levels as swatches, the current level and its hue, saturation and
+value, and the grey-scale controls.
 
 It turns clicks into a current level and colour edits into palettes the main window submits as
 SetPalette Actions; while a slider is dragged it only previews on the canvas (digest §8: the
-extremes of the grey scale are also the contrast control).
+extremes of the grey scale are also the contrast control). While the tools paint on the colour
+plates, it shows and edits the plate colours instead (the main window says which).
 """
 
 from __future__ import annotations
+
+import colorsys
 
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
@@ -45,6 +49,19 @@ def fit_grey_scale(palette, contrast_hint: int = 0) -> tuple[int, int, int]:
     error = np.abs(ramps - grey[None, :]).max(axis=1)
     best = np.flatnonzero(error == error.min())
     return darkest, lightest, int(cs[best[np.argmin(np.abs(cs[best] - contrast_hint))]])
+
+
+def hsv_of(rgb) -> tuple[float, float, float]:
+    """(hue in degrees 0..360, saturation 0..100 %, value 0..100 %) of an RGB colour 0..255."""
+    h, s, v = colorsys.rgb_to_hsv(*(int(c) / 255.0 for c in rgb))
+    return h * 360.0, s * 100.0, v * 100.0
+
+
+def rgb_of(hsv) -> tuple[int, int, int]:
+    """The RGB colour 0..255 of (hue°, saturation %, value %), each component rounded."""
+    h, s, v = hsv
+    return tuple(int(round(c * 255)) for c in colorsys.hsv_to_rgb((h % 360) / 360.0, s / 100.0,
+                                                                    v / 100.0))
 
 
 def text_colour(rgb) -> QtGui.QColor:
@@ -129,6 +146,7 @@ class PaletteDock(QtWidgets.QDockWidget):
         super().__init__("Palette", parent)
         self.setObjectName("PaletteDock")
         self.palette_rgb = np.zeros((2, 3), np.uint8)
+        self.plates_mode = False
         self._value_labels: dict[QtWidgets.QSlider, QtWidgets.QLabel] = {}
         # among contrasts that give the same greys (rounding), the one this palette was made or
         # first shown with: the same palette always shows the same sliders (undo, redo)
@@ -141,6 +159,20 @@ class PaletteDock(QtWidgets.QDockWidget):
         layout.addWidget(self.swatches)
         self.current_label = QtWidgets.QLabel()
         layout.addWidget(self.current_label)
+
+        self._hsv = (0.0, 0.0, 0.0)   # the current level's colour, exact: only what is moved moves
+        row = QtWidgets.QHBoxLayout()
+        self.hue, self.saturation, self.value = (
+            self._hsv_box(row, name, hi, suffix, k, tip) for k, (name, hi, suffix, tip) in
+            enumerate((("H", 359, "°", "Hue of the current level, degrees round the colour "
+                        "wheel (0 red, 120 green, 240 blue)"),
+                       ("S", 100, " %", "Saturation of the current level: 0 % a grey, 100 % "
+                        "the pure hue"),
+                       ("V", 100, " %", "Value of the current level: 0 % black, 100 % the "
+                        "brightest colour of this hue and saturation"))))
+        layout.addLayout(row)
+        self._hsv_timer = QtCore.QTimer(self, singleShot=True, interval=COMMIT_DELAY_MS)
+        self._hsv_timer.timeout.connect(self._commit_hsv)
 
         group = self.grey_group = QtWidgets.QGroupBox("Grey scale")
         form = QtWidgets.QFormLayout(group)
@@ -172,6 +204,21 @@ class PaletteDock(QtWidgets.QDockWidget):
         s.valueChanged.connect(self._grey_scale_moved)
         s.sliderReleased.connect(self._commit_grey_scale)
         return s
+
+    def _hsv_box(self, row, name, hi, suffix, component, tip) -> QtWidgets.QSpinBox:
+        """A spin box for one HSV component (wrapping round for the hue), after its name."""
+        spin = QtWidgets.QSpinBox()
+        spin.setRange(0, hi)
+        spin.setSuffix(suffix)
+        spin.setToolTip(tip)
+        spin.setWrapping(component == 0)
+        spin.valueChanged.connect(lambda v, k=component: self._hsv_moved(k, v))
+        label = QtWidgets.QLabel(name)
+        label.setToolTip(tip)
+        label.setBuddy(spin)
+        row.addWidget(label)
+        row.addWidget(spin, 1)
+        return spin
 
     def _with_value(self, slider) -> QtWidgets.QWidget:
         box = QtWidgets.QWidget()
@@ -209,6 +256,13 @@ class PaletteDock(QtWidgets.QDockWidget):
         self._refresh_value_labels()
         self._show_current()
 
+    def set_plates_mode(self, plates: bool) -> None:
+        """Show the plate colours (the tools paint on the plates) or the texture's palette;
+        the grey scale is the texture's own (plates keep their colours)."""
+        self.setWindowTitle("Palette — plate colours" if plates else "Palette")
+        self.grey_group.setVisible(not plates)
+        self.plates_mode = plates
+
     def _refresh_value_labels(self) -> None:
         for slider, label in self._value_labels.items():   # valueChanged was blocked
             label.setText(str(slider.value()))
@@ -224,7 +278,18 @@ class PaletteDock(QtWidgets.QDockWidget):
     def _show_current(self) -> None:
         level = self.swatches.current
         r, g, b = (int(c) for c in self.palette_rgb[level])
-        self.current_label.setText(f"Current level {level}  ·  #{r:02x}{g:02x}{b:02x}")
+        what = "plate" if self.plates_mode else "level"
+        self.current_label.setText(f"Current {what} {level}  ·  #{r:02x}{g:02x}{b:02x}")
+        if not self._hsv_timer.isActive():
+            self._show_hsv()
+
+    def _show_hsv(self) -> None:
+        """The HSV controls show the current level's colour (after a click, undo, a replay)."""
+        self._hsv = hsv_of(self.palette_rgb[self.swatches.current])
+        for box, value in zip((self.hue, self.saturation, self.value), self._hsv):
+            box.blockSignals(True)
+            box.setValue(int(round(value)) % (box.maximum() + 1))
+            box.blockSignals(False)
 
     # -- edits ------------------------------------------------------------------------------------
     def edit_colour(self, level: int) -> None:
@@ -257,10 +322,31 @@ class PaletteDock(QtWidgets.QDockWidget):
             self._commit_timer.start()    # keyboard or click steps: one action once they settle
 
     def flush(self) -> None:
-        """Commit a grey-scale edit still settling, before the history goes back (undo, a
-        step clicked): landing after it, the edit would drop the steps just undone."""
+        """Commit a grey-scale or colour edit still settling, before the history goes back
+        (undo, a step clicked): landing after it, the edit would drop the steps just undone."""
         if self._commit_timer.isActive():
             self._commit_grey_scale()
+        if self._hsv_timer.isActive():
+            self._commit_hsv()
+
+    def hsv_palette(self) -> np.ndarray:
+        """The palette with the current level in the colour the HSV controls show."""
+        palette = self.palette_rgb.copy()
+        palette[self.swatches.current] = rgb_of(self._hsv)
+        return palette
+
+    def _hsv_moved(self, component: int, value: int) -> None:
+        hsv = list(self._hsv)
+        hsv[component] = float(value)
+        self._hsv = tuple(hsv)
+        self.preview.emit(self.hsv_palette())
+        self._hsv_timer.start()           # typed or stepped: one action once it settles
+
+    def _commit_hsv(self) -> None:
+        self._hsv_timer.stop()
+        palette = self.hsv_palette()
+        if not np.array_equal(palette, self.palette_rgb):
+            self.committed.emit(palette)
 
     def _commit_grey_scale(self) -> None:
         self._commit_timer.stop()

@@ -871,5 +871,39 @@ def shot_relief(app, window, out: Path) -> None:
 MORE_SHOTS.append(shot_relief)
 
 
+def shot_colour_plates(app, window, out: Path) -> None:
+    """Colour plates (issue 20): a gravel texture laid on plates taken from a colour photo
+    (scikit-image's coffee cup, blurred) and a stroke of the lightest plate painted across
+    them, the plate colours in the palette dock."""
+    from skimage import data, io
+
+    from app.resources import estimate_from_photo
+    from texeditor.paint.actions import Stroke
+    from texeditor.recipe.history import History
+
+    history = History()
+    history.add_dpj(estimate_from_photo(ROOT / "resources" / "images" / "gravel.png",
+                                        window=(3, 3), levels=4))
+    window.set_history(history)
+    window.synthesise(384, 256, 1984)
+    window.runner.wait()
+    settle(app)
+    with tempfile.TemporaryDirectory() as folder:
+        photo = Path(folder) / "coffee.png"
+        io.imsave(photo, data.coffee())
+        window.plates_from_photo(6, 0.03, photo)
+    window.act_plates_dock.trigger()
+    window.act_paint_plates.setChecked(True)
+    window.submit(Stroke(points=((200, 20), (150, 120), (190, 230)), level=5, size=14))
+    window.palette_dock.swatches.current = 5
+    window.palette_dock.set_palette(window.paint_palette())
+    window.canvas.fit()
+    settle(app, 300)
+    save(window, out / "colour-plates.png")
+
+
+MORE_SHOTS.append(shot_colour_plates)
+
+
 if __name__ == "__main__":
     sys.exit(main())

@@ -214,3 +214,40 @@ def test_resynth_and_photo_models_end_to_end(tmp_path, photo, capsys):
     assert code == 0 and "scale 1 of 2" in out
     code, _, err = run(capsys, "resynth", photo, "--scales", "9", "-o", tmp_path / "x.png")
     assert code == 2 and "1..6" in err and not (tmp_path / "x.png").exists()
+
+
+def test_acquire_with_colour_classes_keeps_the_photo_colours(tmp_path, capsys):
+    path = tmp_path / "coffee.png"
+    skio.imsave(path, data.coffee()[::4, ::4], check_contrast=False)
+    out = tmp_path / "coffee.dpj"
+    code, _, _ = run(capsys, "acquire", path, "--levels", "4", "--quantizer", "lab", "-o", out)
+    assert code == 0
+    dpj = DPJ.load(out)
+    from texeditor.markov.levels import quantize
+    np.testing.assert_array_equal(dpj.palette, quantize(data.coffee()[::4, ::4], 4, "lab").palette)
+    assert dpj.meta["quantizer"] == "lab"
+    assert np.ptp(dpj.palette.astype(int), axis=1).max() > 40     # colours, not greys
+
+
+def test_render_writes_the_texture_laid_on_its_plates_as_rgb(tmp_path, capsys):
+    from texeditor.recipe.actions import NewCanvas, SetLevels
+    from texeditor.recipe.history import History
+    from texeditor.recipe.texturefile import save_texture
+    from texeditor.texture.plate_actions import AddPlates, OnPlates
+
+    history = History()
+    history.apply(NewCanvas(4, 2, 2))                       # greys 0 and 255
+    history.apply(SetLevels(0, 0, 1, 4, 1))                 # top row 255: mean grey 127.5
+    history.apply(AddPlates(((100, 50, 200), (240, 120, 0))))
+    history.apply(OnPlates.of(SetLevels(0, 2, 2, 2, 1)))    # right half on plate 1
+    tex = tmp_path / "plates.texture"
+    save_texture(tex, history)
+    code, out, _ = run(capsys, "render", tex, "--scale", "2", "-o", tmp_path / "rgb.png")
+    assert code == 0 and "colour plates" in out
+    rgb = skio.imread(tmp_path / "rgb.png")
+    plate = np.array([[[100, 50, 200]] * 2 + [[240, 120, 0]] * 2] * 2, float)
+    offset = np.array([[127.5], [-127.5]])[..., None]       # grey − mean grey, row by row
+    expected = np.clip(np.rint(plate + offset), 0, 255).astype(np.uint8)
+    np.testing.assert_array_equal(rgb, np.repeat(np.repeat(expected, 2, 0), 2, 1))
+    assert run(capsys, "render", tex, "--no-plates", "-o", tmp_path / "grey.png")[0] == 0
+    np.testing.assert_array_equal(skio.imread(tmp_path / "grey.png"), [[255] * 4, [0] * 4])

@@ -151,17 +151,22 @@ def _synth_texture(dpj, width, height, seed, out, tileable=False) -> int:
 
 
 def cmd_render(args) -> int:
-    from .export import write_npy, write_png
+    from .export import write_npy, write_picture, write_png
     from .recipe.texturefile import render_texture
+    from .texture.plates import document_picture
 
     out = output_path(args.output, (".png", ".npy"))
     doc = render_texture(args.texture)  # replays and checks the stored hash
-    if out.suffix.lower() == ".png":
-        write_png(out, doc.levels, doc.palette, scale=args.scale)
-    else:
+    plates = doc.plates is not None and not args.no_plates
+    if out.suffix.lower() == ".npy":
         write_npy(out, doc.levels)
+    elif plates:                        # RGB: the texture's greys laid on its colour plates
+        write_picture(out, document_picture(doc), scale=args.scale)
+    else:
+        write_png(out, doc.levels, doc.palette, scale=args.scale)
     height, width = doc.shape
-    print(f"{out}: {width}x{height}, {len(doc.actions)} actions replayed, hash verified")
+    print(f"{out}: {width}x{height}, {len(doc.actions)} actions replayed, hash verified"
+          + (", on its colour plates" if plates and out.suffix.lower() == ".png" else ""))
     return 0
 
 
@@ -246,8 +251,8 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--window", help="UxV: u columns by v rows (default 2x2; with --scales, "
                    "the finer scales' window, default 3x2)")
     a.add_argument("--levels", type=int, default=4, help="G, the number of levels (2..16)")
-    a.add_argument("--quantizer", choices=("band", "lloyd"), default=None,
-                   help="default: band (lloyd with --scales)")
+    a.add_argument("--quantizer", choices=("band", "lloyd", "lab"), default=None,
+                   help="default: band (lloyd with --scales); lab: colour classes in CIELAB")
     a.add_argument("--wrap", action="store_true", help="count windows on the torus")
     a.add_argument("--scales", help="N or auto: a photo model of N scales with the photo's tone "
                    "(a .dpj of format 2) instead of one DPJ")
@@ -289,6 +294,8 @@ def build_parser() -> argparse.ArgumentParser:
     r = sub.add_parser("render", help="replay a .texture and write the picture or the levels")
     r.add_argument("texture")
     r.add_argument("--scale", type=int, default=1, help="PNG upscale: each point as NxN pixels")
+    r.add_argument("--no-plates", action="store_true",
+                   help="PNG: the levels in their palette, without the colour plates")
     r.add_argument("-o", "--output", required=True, help="OUT.png or OUT.npy")
     r.set_defaults(func=cmd_render)
 

@@ -96,7 +96,8 @@ class Tool:
     # -- helpers for subclasses -----------------------------------------------------------------------
     @property
     def document(self):
-        return self.main_window.document
+        """What the tool paints: the document, or its plates while painting on them."""
+        return self.main_window.paint_document
 
     def inside(self, cell: Cell) -> bool:
         h, w = self.document.shape

@@ -22,7 +22,7 @@ from .support import cell_pos, click, press_key
 Key = QtCore.Qt.Key
 # The layouts users saved name docks by these: they must never change.
 SAVED_DOCK_NAMES = {"ToolOptionsDock", "SynthesisDock", "PaletteDock", "HistoryDock", "BankDock",
-                    "BrushDock", "GrainDock", "GrainDensityDock", "ReliefDock"}
+                    "BrushDock", "GrainDock", "GrainDensityDock", "ReliefDock", "PlatesDock"}
 
 
 @pytest.fixture(autouse=True)
@@ -184,6 +184,13 @@ def test_a_settings_dataclass_and_its_widgets_mirror_each_other(board, qtbot):
     assert (levels[4:8, 5:11] == 1).all() and (levels[14:18, 5:11] == 2).all()
 
 
+def first_of_column(spec) -> str:
+    """The dock a tabbed dock's column starts with (the bank, the synthesis dock)."""
+    while spec.tab_with:
+        spec = next(s for s in DOCKS if s.attr == spec.tab_with)
+    return spec.attr
+
+
 def test_the_declared_docks_and_menus_are_built_and_found_by_object_name(board, qtbot):
     names = [spec.object_name for spec in DOCKS]
     assert set(names) == SAVED_DOCK_NAMES and len(names) == len(set(names))
@@ -193,9 +200,9 @@ def test_the_declared_docks_and_menus_are_built_and_found_by_object_name(board, 
         assert dock is getattr(board, spec.attr) and type(dock) is spec.cls
         assert board.dockWidgetArea(dock) == spec.area
         assert dock.toggleViewAction() in view.actions()
-        if spec.tab_with:                      # one column of tabs behind the bank
+        if spec.tab_with:                      # a column of tabs behind its first dock
             dock.show()
-            assert dock in board.tabifiedDockWidgets(board.bank_dock)
+            assert dock in board.tabifiedDockWidgets(getattr(board, first_of_column(spec)))
             dock.setHidden(spec.hidden)
     assert [d.objectName() for d in board.docks()] == names
 

@@ -247,3 +247,86 @@ def test_a_one_pixel_high_strip_quantises(tmp_path):
     io.imsave(tmp_path / "strip.png", strip, check_contrast=False)
     q = lv.quantize(lv.load_image(tmp_path / "strip.png"), 4)
     assert q.levels.shape == (1, 100_000) and set(np.unique(q.levels)) == {0, 1, 2, 3}
+
+
+# -- colour classes in CIELAB ("lab") ------------------------------------------------------------
+def _patches():
+    """Red, green and blue patches of 6, 10 and 4 columns (5 rows); the red one in two shades."""
+    image = np.zeros((5, 20, 3), np.uint8)
+    image[:, :6] = (250, 0, 0)
+    image[:2, :6] = (200, 30, 10)
+    image[:, 6:16] = (0, 200, 0)
+    image[:, 16:] = (0, 0, 255)
+    return image
+
+
+def test_lab_finds_the_three_patches_ordered_by_lightness_with_their_mean_colours():
+    q = lv.quantize(_patches(), 3, "lab")
+    # L*: blue (0, 0, 255) 32.3 < red 53 < green (0, 200, 0) 71: level 0 is the darkest
+    expected = np.zeros((5, 20), np.uint8)
+    expected[:, :6], expected[:, 6:16] = 1, 2
+    np.testing.assert_array_equal(q.levels, expected)
+    red = (3 * np.array([250, 0, 0]) + 2 * np.array([200, 30, 10])) / 5     # 230, 12, 4
+    np.testing.assert_array_equal(q.palette, [[0, 0, 255], np.round(red), [0, 200, 0]])
+    assert q.levels.dtype == np.uint8 and q.palette.dtype == np.uint8 and q.thresholds.size == 0
+
+
+def test_lab_tells_apart_colours_of_one_grey_that_the_grey_quantisers_merge():
+    image = np.zeros((4, 8, 3), np.uint8)
+    image[:, :4] = (200, 60, 60)          # a red and a green of nearly the same grey
+    image[:, 4:] = (40, 110, 40)
+    image[0, 0] = (0, 0, 0)               # and one black point: a grey quantiser's contrast
+    grey = lv.to_grey(image)
+    assert abs(grey[1, 0] - grey[1, 4]) < 0.01
+    assert len(np.unique(lv.quantize(image, 2, "lloyd").levels[1:])) == 1
+    q = lv.quantize(image, 3, "lab")
+    assert q.levels[0, 0] == 0 and set(q.levels[1:, :4].ravel()) != set(q.levels[1:, 4:].ravel())
+    assert len(np.unique(q.levels[1:])) == 2
+
+
+def test_lab_is_deterministic_and_reads_16_bit_photos_like_8_bit_ones():
+    rng = np.random.default_rng(5)
+    image = rng.integers(0, 256, (40, 50, 3), dtype=np.uint8)
+    first, again = lv.quantize(image, 6, "lab"), lv.quantize(image.copy(), 6, "lab")
+    np.testing.assert_array_equal(first.levels, again.levels)
+    np.testing.assert_array_equal(first.palette, again.palette)
+    wide = lv.quantize(image.astype(np.uint16) * 257, 6, "lab")
+    np.testing.assert_array_equal(wide.levels, first.levels)
+    lightness = ski_lab(first.palette)[:, 0]
+    assert np.all(np.diff(lightness) > 0)             # level 0 the darkest
+
+
+def ski_lab(palette):
+    from skimage.color import rgb2lab
+    return rgb2lab(np.asarray(palette, np.float64)[None] / 255)[0]
+
+
+def test_lab_classes_are_a_local_optimum_of_the_colour_error():
+    """Lloyd's fixed point: every colour is nearest (in CIELAB) to its own class's mean."""
+    from skimage.color import rgb2lab
+    image = data.astronaut()[::4, ::4]
+    q = lv.quantize(image, 5, "lab")
+    lab = rgb2lab(image)
+    centres = np.array([lab[q.levels == k].mean(axis=0) for k in range(5)])
+    nearest = ((lab[:, :, None, :] - centres) ** 2).sum(-1).argmin(-1)
+    assert np.mean(nearest == q.levels) > 0.99       # bins of 5 bits: a few border colours
+
+
+def test_lab_on_a_grey_photo_is_exactly_lloyd():
+    grey = data.camera()[::4, ::4]
+    rgb = np.repeat(grey[:, :, None], 3, axis=2)
+    for image in (grey, rgb, np.dstack([rgb, np.full(grey.shape, 255, np.uint8)])):
+        lab, lloyd = lv.quantize(image, 4, "lab"), lv.quantize(image, 4, "lloyd")
+        np.testing.assert_array_equal(lab.levels, lloyd.levels)
+        np.testing.assert_array_equal(lab.palette, lloyd.palette)
+        np.testing.assert_array_equal(lab.thresholds, lloyd.thresholds)
+
+
+def test_lab_lays_rgba_on_white_and_refuses_fewer_colours_than_classes():
+    image = np.zeros((2, 4, 4), np.uint8)
+    image[:, :2] = (255, 0, 0, 255)
+    image[:, 2:] = (0, 0, 255, 0)          # transparent blue: white, as to_grey sees it
+    q = lv.quantize(image, 2, "lab")
+    np.testing.assert_array_equal(q.levels, [[0, 0, 1, 1]] * 2)
+    with pytest.raises(ImageError, match="only 2 colours"):
+        lv.quantize(image, 3, "lab")

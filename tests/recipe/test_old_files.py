@@ -20,7 +20,9 @@ STEMS = sorted(EXPECTED)
 # Action types registered after release 0.1.0 (none yet): the old files cannot hold them.
 ADDED_SINCE_0_1 = frozenset({"synthesize_scales",                      # issue 19
                              "dominance_tree", "lay_along_order",       # issue 21
-                             "scatter_regions", "mix_textures"})
+                             "scatter_regions", "mix_textures",
+                             "add_plates", "plates_from_photo", "remove_plates",  # issue 20
+                             "on_plates"})
 
 
 @pytest.fixture(scope="module")

@@ -37,7 +37,7 @@ def one_of_each() -> list:
     from texeditor.recipe.actions import SynthesizeScales
     from texeditor.texture.actions import DoubleLevels
 
-    from . import paint, spots as spot, texture
+    from . import paint, plates, spots as spot, texture
     from .regions import EXAMPLES, T, history_of
 
     histories = []
@@ -75,5 +75,9 @@ def one_of_each() -> list:
     h.apply(ScatterSpots(spot.DISC, 12, seed=7, scale=0.5, level=3))
     spot.delete(h, 2)                                   # the PlaceSpot, step 3
     histories.append(("spots", h))
+    h = plates.history()
+    for action in plates.EXAMPLES:                      # each plate step, the last removes them
+        h.apply(action)
+        histories.append((action.TYPE, History.from_log(h.applied, {})))
     return histories
 

@@ -89,7 +89,7 @@ def compute(levels: np.ndarray, palette) -> Attributes:
 
 
 def central_crop(levels: np.ndarray, side: int) -> np.ndarray:
-    h, w = levels.shape
+    h, w = levels.shape[:2]
     top, left = max(0, (h - side) // 2), max(0, (w - side) // 2)
     return levels[top:top + side, left:left + side]
 

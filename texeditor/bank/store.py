@@ -36,6 +36,7 @@ from ..recipe.replay import replay
 from ..recipe.stored import Recipe, open_recipe
 from ..recipe.logopt import optimize
 from ..resources import ROOT as RESOURCES
+from ..texture.plates import document_picture
 from ..recipe.texturefile import (MAX_ACTIONS, MAX_DESCRIPTION_CHARS, TextureFile,
                           read_texture, texture_bytes)
 
@@ -744,7 +745,10 @@ class Bank:
                 if picture is None:
                     doc = self.render(entry_id, cancel=cancel)
                     picture = doc.levels, doc.palette
-                self._set_derived(entry_id, thumbnail_png(*picture), attrs.compute(*picture))
+                    thumbnail = document_thumbnail(doc)
+                else:
+                    thumbnail = thumbnail_png(*picture)
+                self._set_derived(entry_id, thumbnail, attrs.compute(*picture))
             except Cancelled:
                 raise
             except BankError:
@@ -884,7 +888,7 @@ def make_record(source, name: str, *, tags=(), description: str = "", progress=N
     return Record(name=name, description=description, tags=tags, width=w, height=h,
                   levels=doc.num_levels, actions=actions, dpjs={r: doc.dpjs[r] for r in refs},
                   main_dpj=main, grain=grain_parameters(actions), sha256=doc.result_hash(),
-                  thumbnail=thumbnail_png(doc.levels, doc.palette),
+                  thumbnail=document_thumbnail(doc),
                   attributes=attrs.compute(doc.levels, doc.palette))
 
 
@@ -933,14 +937,24 @@ def grain_parameters(actions) -> dict:
 def thumbnail_png(levels: np.ndarray, palette, size: int = THUMB) -> bytes:
     """A PNG of the central size×size points at one pixel per point (enlarged by a whole factor
     when the texture is smaller): a thumbnail that shows the real grain, not a blur of it."""
-    import imageio.v3 as iio
-
     crop = attrs.central_crop(np.asarray(levels), size)
-    k = max(1, size // max(crop.shape))
     palette = np.asarray(palette, dtype=np.uint8)
     if np.all(palette == palette[:, :1]):
         palette = palette[:, 0]                    # grey: a third of the bytes
-    image = palette[crop]
+    return _thumbnail(palette[crop], size)
+
+
+def document_thumbnail(doc: Document, size: int = THUMB) -> bytes:
+    """A document's thumbnail: its levels in their palette, or laid on its colour plates."""
+    if doc.plates is None:
+        return thumbnail_png(doc.levels, doc.palette, size)
+    return _thumbnail(attrs.central_crop(document_picture(doc), size), size)
+
+
+def _thumbnail(image: np.ndarray, size: int) -> bytes:
+    import imageio.v3 as iio
+
+    k = max(1, size // max(image.shape[:2]))
     if k > 1:
         image = np.repeat(np.repeat(image, k, axis=0), k, axis=1)
     return iio.imwrite("<bytes>", image, extension=".png")

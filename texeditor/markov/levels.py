@@ -1,4 +1,4 @@
-"""Levels & palettes: turn a photo into a matrix of G grey levels and a palette (thesis §5.2.1).
+"""Levels & palettes: turn a photo into a matrix of G levels and a palette (thesis §5.2.1).
 
 It sits at the start of the data flow, photo → levels → DPJ: acquisition counts the windows of the
 level matrix made here, and synthesis paints its levels with the palette made here.
@@ -12,6 +12,7 @@ from typing import NamedTuple
 
 import imageio.v3 as iio
 import numpy as np
+import scipy.cluster.vq
 from PIL import Image
 import skimage as ski     # its subpackages load on first use, not at start-up
 
@@ -26,7 +27,10 @@ MAX_PIXELS = 64 * 2**20
 MAX_IMAGE_BYTES = 256 * 2**20
 BAND = (5.0, 95.0)
 MAX_LLOYD_ITERATIONS = 100
-METHODS = ("band", "lloyd")
+METHODS = ("band", "lloyd", "lab")
+# "lab" fits its classes on the photo's colours binned to this many bits a channel (at most 2^15
+# bins, each at the mean CIELAB of its pixels), then sends each exact colour to the nearest class.
+_FIT_BITS = 5
 # Greys and thresholds are rounded to 1e-6, finer than a 16-bit step (1.5e-5) but coarser than the
 # noise between the same photo stored as uint8, uint16, float32 or float64 (at most 6e-8), so that
 # noise cannot move a pixel lying on a threshold across it.
@@ -39,6 +43,7 @@ class Quantization(NamedTuple):
     levels: np.ndarray      # (H, W) uint8, every value < G
     palette: np.ndarray     # (G, 3) uint8 RGB: the photo's mean colour in each level
     thresholds: np.ndarray  # (G-1,) float64 on the [0, 1] grey scale; a grey equal to one goes up
+    #                         (empty for "lab" on a colour photo: its classes are not grey bands)
 
 
 # -- reading a photo ---------------------------------------------------------------------------
@@ -173,12 +178,23 @@ def to_grey(image) -> np.ndarray:
     image = np.asarray(image)
     _check_shape(image)
     grey = np.empty(image.shape[:2], np.float64)
-    for top in range(0, image.shape[0], _BAND_ROWS):
-        grey[top:top + _BAND_ROWS] = _grey_band(image[top:top + _BAND_ROWS])
+    for top, band in zip(range(0, image.shape[0], _BAND_ROWS), _bands(image)):
+        grey[top:top + _BAND_ROWS] = _grey_band(band)
     return grey
 
 
 _BAND_ROWS = 256
+
+
+def to_rgb(image) -> np.ndarray:
+    """RGB (H, W, 3) float64 in [0, 1] of any supported image: RGBA laid on white (as in
+    `to_grey`), a grey one repeated in the three channels."""
+    image = np.asarray(image)
+    _check_shape(image)
+    if image.ndim == 2 or image.shape[2] < 3:
+        return np.repeat(to_grey(image)[..., None], 3, axis=2)
+    rgb = _as_unit_float(image)
+    return ski.color.rgba2rgb(rgb) if rgb.shape[2] == 4 else rgb
 
 
 def _grey_band(image: np.ndarray) -> np.ndarray:
@@ -205,17 +221,37 @@ def _as_unit_float(image) -> np.ndarray:
 
 # -- quantisation -----------------------------------------------------------------------------
 def quantize(image, levels: int, method: str = "band") -> Quantization:
-    """Cut a photo into G levels ("band": the thesis's; "lloyd": minimum mean-square error)."""
+    """Cut a photo into G levels ("band": the thesis's; "lloyd": minimum mean-square error;
+    "lab": G colour classes in CIELAB, see `_lab_quantize`, which is "lloyd" on a grey photo)."""
     levels = check_levels(levels)
     if method not in METHODS:
         raise InputError(f"unknown quantisation method {method!r}: choose one of {', '.join(METHODS)}")
+    if method == "lab" and has_colour(image):
+        return _lab_quantize(np.asarray(image), levels)
     grey = to_grey(image)
     np.round(grey, _DECIMALS, out=grey)
     _check_contrast(grey)
     find = _band_thresholds if method == "band" else _lloyd_thresholds
     thresholds = np.round(find(grey, levels), _DECIMALS)
     index = np.searchsorted(thresholds, grey, side="right").astype(np.uint8)
-    return Quantization(index, _palette(image, grey, index, thresholds), thresholds)
+    edges = np.concatenate([[0.0], thresholds, [1.0]])
+    centres = np.repeat(((edges[:-1] + edges[1:]) / 2)[:, None], 3, axis=1)
+    return Quantization(index, _palette(image, grey, index, centres), thresholds)
+
+
+def has_colour(image) -> bool:
+    """True when some pixel's red, green and blue differ (alpha aside): a photo with colour."""
+    image = np.asarray(image)
+    _check_shape(image)
+    if image.ndim == 2 or image.shape[2] < 3:
+        return False
+    return any(np.any(band[..., 0] != band[..., 1]) or np.any(band[..., 1] != band[..., 2])
+               for band in _bands(image))
+
+
+def _bands(image: np.ndarray):
+    for top in range(0, image.shape[0], _BAND_ROWS):
+        yield image[top:top + _BAND_ROWS]
 
 
 def check_levels(levels) -> int:
@@ -280,18 +316,18 @@ def _lloyd_thresholds(grey: np.ndarray, levels: int) -> np.ndarray:
     return thresholds
 
 
-def _palette(image, grey: np.ndarray, index: np.ndarray, thresholds: np.ndarray) -> np.ndarray:
+def _palette(image, grey, index: np.ndarray, empty: np.ndarray) -> np.ndarray:
     """Each level's mean colour in the photo (alpha ignored), so a texture looks like the photo.
 
-    A level no pixel falls in gets the grey at the centre of its interval of the grey scale.
+    A level no pixel falls in takes its ``empty`` colour (G, 3) in [0, 1]: the grey at the
+    centre of its interval of the grey scale, or its class's centre in CIELAB.
     """
-    levels = thresholds.size + 1
+    levels = len(empty)
     image = np.asarray(image)
     colour = image.ndim == 3 and image.shape[2] >= 3
     flat = index.ravel()
     counts = np.bincount(flat, minlength=levels)
-    edges = np.concatenate([[0.0], thresholds, [1.0]])
-    means = np.repeat(((edges[:-1] + edges[1:]) / 2)[:, None], 3, axis=1)
+    means = np.array(empty, np.float64)
     seen = counts > 0
     for c in range(3):
         if colour:       # one channel at a time as float64 (not the whole RGB photo at once)
@@ -301,3 +337,97 @@ def _palette(image, grey: np.ndarray, index: np.ndarray, thresholds: np.ndarray)
         sums = np.bincount(flat, weights=values, minlength=levels)
         means[seen, c] = sums[seen] / counts[seen]
     return np.round(means * 255).astype(np.uint8)
+
+
+# -- colour classes in CIELAB -------------------------------------------------------------------
+def _lab_quantize(image: np.ndarray, levels: int) -> Quantization:
+    """G colour classes: Lloyd's iterations (k-means) in CIELAB, where distances follow what the
+    eye sees, ordered by lightness L* (level 0 the darkest, as with greys); palette = each
+    class's mean colour in the photo.
+
+    Each pixel is taken as its 8-bit colour laid on white (as `to_grey` lays RGBA): the classes
+    are fitted on those colours binned to _FIT_BITS a channel (weighted by their pixels), then
+    every exact colour goes to the nearest class, so the cost hardly grows with the photo. The
+    first centres are drawn by k-means++ from a fixed seed: the same photo gives the same
+    levels on every machine.
+    """
+    codes = _colour_codes(image)
+    counts = np.bincount(codes.ravel(), minlength=1 << 24)
+    colours = np.flatnonzero(counts)
+    if colours.size < levels:
+        raise ImageError(f"the photo has only {colours.size} colours: choose G ≤ {colours.size} "
+                         "colour classes")
+    lab, weights = _lab_of_codes(colours), counts[colours].astype(np.float64)
+    points, mass = _fit_bins(colours, lab, weights)
+    if len(points) < levels:        # a few close colours: fit on the colours themselves
+        points, mass = lab, weights
+    centres = _lab_centres(points, mass, levels)
+    lut = np.zeros(1 << 24, np.uint8)
+    lut[colours] = _nearest(lab, centres)
+    index = lut[codes]
+    empty = ski.color.lab2rgb(centres[None])[0]
+    return Quantization(index, _palette(image, None, index, empty), np.empty(0))
+
+
+def _colour_codes(image: np.ndarray) -> np.ndarray:
+    """(H, W) uint32: each pixel's 8-bit colour (RGBA laid on white) as 0xRRGGBB."""
+    codes = np.empty(image.shape[:2], np.uint32)
+    for top, band in zip(range(0, image.shape[0], _BAND_ROWS), _bands(image)):
+        rgb = _as_unit_float(band)
+        if rgb.shape[2] == 4:
+            rgb = ski.color.rgba2rgb(rgb)
+        rgb8 = np.round(rgb * 255).astype(np.uint32)
+        codes[top:top + _BAND_ROWS] = (rgb8[..., 0] << 16) | (rgb8[..., 1] << 8) | rgb8[..., 2]
+    return codes
+
+
+def _lab_of_codes(codes: np.ndarray) -> np.ndarray:
+    rgb = np.stack([(codes >> 16) & 255, (codes >> 8) & 255, codes & 255], axis=-1) / 255.0
+    return np.round(ski.color.rgb2lab(rgb[None])[0], _DECIMALS)
+
+
+def _fit_bins(colours: np.ndarray, lab: np.ndarray, counts: np.ndarray):
+    """The colours binned to _FIT_BITS a channel: each bin's mean CIELAB and its pixels."""
+    drop = 8 - _FIT_BITS
+    mask = (1 << _FIT_BITS) - 1
+    key = (((colours >> (16 + drop)) & mask) << (2 * _FIT_BITS)
+           | ((colours >> (8 + drop)) & mask) << _FIT_BITS | ((colours >> drop) & mask))
+    bins, inverse = np.unique(key, return_inverse=True)
+    weights = np.bincount(inverse, weights=counts, minlength=bins.size)
+    means = np.stack([np.bincount(inverse, weights=counts * lab[:, c], minlength=bins.size)
+                      for c in range(3)], axis=-1) / weights[:, None]
+    return np.round(means, _DECIMALS), weights
+
+
+def _lab_centres(points: np.ndarray, weights: np.ndarray, levels: int) -> np.ndarray:
+    """Weighted Lloyd iterations from k-means++ centres until no point changes class; an empty
+    class keeps its centre. The centres come back sorted by L* (then a*, b*)."""
+    centres = _plus_plus(points, weights, levels, np.random.default_rng(0))
+    labels = None
+    for _ in range(MAX_LLOYD_ITERATIONS):
+        new = _nearest(points, centres)
+        if labels is not None and np.array_equal(new, labels):
+            break
+        labels = new
+        mass = np.bincount(labels, weights=weights, minlength=levels)
+        for c in range(3):
+            sums = np.bincount(labels, weights=weights * points[:, c], minlength=levels)
+            centres[mass > 0, c] = np.round(sums[mass > 0] / mass[mass > 0], _DECIMALS)
+    return centres[np.lexsort(centres.T[::-1])]
+
+
+def _plus_plus(points, weights, k: int, rng) -> np.ndarray:
+    """k-means++ (Arthur & Vassilvitskii): each next centre drawn with probability ∝ pixels ×
+    squared distance to the nearest centre so far, so the first centres are far apart."""
+    chosen = [rng.choice(len(points), p=weights / weights.sum())]
+    nearest = ((points - points[chosen[0]]) ** 2).sum(axis=1)
+    for _ in range(1, k):       # the points are distinct and k ≤ their number: mass > 0
+        mass = weights * nearest
+        chosen.append(rng.choice(len(points), p=mass / mass.sum()))
+        nearest = np.minimum(nearest, ((points - points[chosen[-1]]) ** 2).sum(axis=1))
+    return points[chosen].copy()
+
+
+def _nearest(points: np.ndarray, centres: np.ndarray) -> np.ndarray:
+    """The index of each point's nearest centre (scipy's vector quantisation, in C)."""
+    return scipy.cluster.vq.vq(points, centres, check_finite=False)[0].astype(np.uint8)

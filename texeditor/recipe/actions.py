@@ -342,6 +342,14 @@ def clip_rect(top, left, height, width, shape) -> tuple[int, int, int, int]:
     return t, l, max(b - t, 0), max(r - l, 0)
 
 
+def drop_plates(doc) -> None:
+    """A step whose result does not depend on the state before it (EFFECT "reset": a new
+    canvas, a synthesis) starts without plates, as the log optimiser and spot deletion,
+    which replay from the last reset, assume."""
+    if doc.plates is not None:
+        doc.set_plates(None, None)
+
+
 def _side(doc="") -> dataclasses.Field:
     return param("int", 1, MAX_CANVAS_SIDE, doc=doc)
 
@@ -372,6 +380,7 @@ class NewCanvas(Action):
 
     def apply(self, doc, prepared=None) -> None:
         palette = grey_ramp(self.levels) if self.palette is None else self.palette
+        drop_plates(doc)
         doc.set_levels(np.zeros((self.height, self.width), np.uint8), palette, copy=False)
 
     def canvas_shape(self, shape):
@@ -423,6 +432,7 @@ class Synthesize(Action):
         if levels.dtype != np.uint8 or levels.shape != (self.height, self.width):
             raise InputError(f"a synthesis result must be a {self.width}x{self.height} uint8 "
                              f"matrix, got {levels.shape} {levels.dtype}")
+        drop_plates(doc)
         doc.set_levels(levels, dpj.palette)
         doc.set_current_dpj(self.dpj)
 
@@ -480,6 +490,7 @@ class SynthesizeScales(Action):
         if levels.dtype != np.uint8 or levels.shape != (self.height, self.width):
             raise InputError(f"a synthesis result must be a {self.width}x{self.height} uint8 "
                              f"matrix, got {levels.shape} {levels.dtype}")
+        drop_plates(doc)
         doc.set_levels(levels, _scales(dpjs).palette)
         doc.set_current_dpj(self.dpjs[-1])
 
@@ -577,7 +588,8 @@ class CropCanvas(Action):
             H, W = doc.shape
             raise InputError(f"the crop {self.width}x{self.height} at ({self.top}, {self.left}) "
                              f"lies outside the {W}x{H} canvas")
-        doc.set_levels(doc.levels[t:t + h, l:l + w].copy(), copy=False)
+        plates = None if doc.plates is None else doc.plates[t:t + h, l:l + w]
+        doc.set_levels(doc.levels[t:t + h, l:l + w].copy(), copy=False, plates=plates)
 
     def canvas_shape(self, shape):
         return clip_rect(self.top, self.left, self.height, self.width, shape)[2:]
@@ -601,7 +613,8 @@ class CropCanvas(Action):
 @register
 @dataclass(frozen=True)
 class ResizeCanvas(Action):
-    """Change the canvas size, anchored top-left; new points get the level ``fill``."""
+    """Change the canvas size, anchored top-left; new points get the level ``fill`` (and the
+    plate of the nearest old point)."""
 
     TYPE: ClassVar[str] = "resize_canvas"
     EFFECT: ClassVar[str] = "canvas"
@@ -617,7 +630,9 @@ class ResizeCanvas(Action):
         new = np.full((self.height, self.width), self.fill, dtype=np.uint8)
         h, w = min(self.height, doc.shape[0]), min(self.width, doc.shape[1])
         new[:h, :w] = doc.levels[:h, :w]
-        doc.set_levels(new, copy=False)
+        plates = None if doc.plates is None else np.pad(
+            doc.plates[:h, :w], ((0, self.height - h), (0, self.width - w)), mode="edge")
+        doc.set_levels(new, copy=False, plates=plates)
 
     def canvas_shape(self, shape):
         return (self.height, self.width)

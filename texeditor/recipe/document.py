@@ -2,9 +2,13 @@
 
 It sits at the end of the data flow (synthesis and every edit arrive here as Actions) and at the
 start of display, files and the bank. Only Actions change it: its edit interface (``set_levels``,
-``write``, ``fill``, ``write_where``, ``set_palette``, ``set_current_dpj``) works only inside a
-``step()`` — which `apply` and History open around an Action — and records what each call
-overwrites, so History can undo a step at the cost of its size.
+``write``, ``fill``, ``write_where``, ``set_palette``, ``set_current_dpj``, ``set_plates``,
+``on_plates``) works only inside a ``step()`` — which `apply` and History open around an Action —
+and records what each call overwrites, so History can undo a step at the cost of its size.
+
+A document may also hold a layer of colour plates (thesis §1.2.3–1.2.4: a colour texture is a grey
+texture laid on a map of coloured plates): a plate index per point and P plate colours, painted by
+the same steps as the levels inside ``on_plates()``.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ from ..errors import InputError
 EMPTY_LEVELS = 2            # the palette of a document no action has touched yet
 REF_LENGTH = 16             # hex characters of a DPJ reference
 HASH_TAG = b"texeditor-levels-v1"
+PLATES_TAG = b"texeditor-plates-v1"
 
 
 def dpj_ref(dpj: DPJ) -> str:
@@ -29,13 +34,19 @@ def dpj_ref(dpj: DPJ) -> str:
     return dpj.ref
 
 
-def result_hash(levels: np.ndarray, palette: np.ndarray) -> str:
-    """SHA-256 of a tag, (H, W, G) as little-endian uint32, the levels (C order), the palette."""
+def result_hash(levels: np.ndarray, palette: np.ndarray, plates=None, plate_colours=None) -> str:
+    """SHA-256 of a tag, (H, W, G) as little-endian uint32, the levels (C order), the palette;
+    then, for a document with plates only (so every older result keeps its hash), a second tag,
+    P as a little-endian uint32, the plates (C order) and their colours."""
     h, w = levels.shape
     digest = hashlib.sha256(HASH_TAG)
     digest.update(struct.pack("<3I", h, w, len(palette)))
     digest.update(np.ascontiguousarray(levels, dtype=np.uint8).tobytes())
     digest.update(np.ascontiguousarray(palette, dtype=np.uint8).tobytes())
+    if plates is not None:
+        digest.update(PLATES_TAG + struct.pack("<I", len(plate_colours)))
+        digest.update(np.ascontiguousarray(plates, dtype=np.uint8).tobytes())
+        digest.update(np.ascontiguousarray(plate_colours, dtype=np.uint8).tobytes())
     return digest.hexdigest()
 
 
@@ -52,6 +63,9 @@ class Document:
         self._palette = grey_ramp(EMPTY_LEVELS)
         self._palette.flags.writeable = False
         self._dpj_ref: str | None = None
+        self._plates: np.ndarray | None = None           # (H, W) uint8 plate of each point
+        self._plate_colours: np.ndarray | None = None    # (P, 3) uint8
+        self._on_plates = False       # inside on_plates(): levels and plates are swapped
         self.dpjs: dict[str, DPJ] = {}
         self._log: list = []
         self._recorder: list | None = None
@@ -100,15 +114,32 @@ class Document:
         return tuple(self._log)
 
     @property
+    def plates(self) -> np.ndarray | None:
+        """The plate of each point (H, W) uint8 as a read-only view, or None: no plates layer.
+        (Inside ``on_plates()`` the layers are swapped: this is then the texture's levels.)"""
+        if self._plates is None:
+            return None
+        view = self._plates.view()
+        view.flags.writeable = False
+        return view
+
+    @property
+    def plate_colours(self) -> np.ndarray | None:
+        """The P plate colours (P, 3) uint8, or None."""
+        return self._plate_colours
+
+    @property
     def nbytes(self) -> int:
-        return self._levels.nbytes + self._palette.nbytes
+        plates = 0 if self._plates is None else self._plates.nbytes
+        return self._levels.nbytes + self._palette.nbytes + plates
 
     def result_hash(self) -> str:
-        return result_hash(self._levels, self._palette)
+        return result_hash(self._levels, self._palette, self._plates, self._plate_colours)
 
     def __repr__(self) -> str:
         h, w = self.shape
-        return f"<Document {w}x{h} G={self.num_levels} actions={len(self._log)}>"
+        plates = "" if self._plates is None else f" P={len(self._plate_colours)}"
+        return f"<Document {w}x{h} G={self.num_levels}{plates} actions={len(self._log)}>"
 
     # -- building -------------------------------------------------------------------------------
     def add_dpj(self, dpj: DPJ, ref: str | None = None) -> str:
@@ -170,15 +201,19 @@ class Document:
         other._levels = self._levels.copy()
         other._palette = self._palette
         other._dpj_ref = self._dpj_ref
+        other._plates = None if self._plates is None else self._plates.copy()
+        other._plate_colours = self._plate_colours
         other.dpjs = dict(self.dpjs)
         other._log = list(self._log)
         return other
 
     # -- the edit interface of Actions (only inside a step) --------------------------------------
-    def set_levels(self, levels, palette=None, *, copy: bool = True) -> None:
+    def set_levels(self, levels, palette=None, *, copy: bool = True, plates=None) -> None:
         """Replace the whole matrix (any new shape), and the palette with it when given.
 
-        ``copy=False`` hands over a fresh array the caller will not touch again.
+        ``copy=False`` hands over a fresh array the caller will not touch again. When the shape
+        changes, plates follow the canvas: ``plates`` (a crop cuts them) or, by default,
+        stretched to the new shape (grain rendering enlarges the canvas).
         """
         self._check_step()
         levels = np.array(levels, dtype=np.uint8, copy=True) if copy else levels
@@ -187,6 +222,11 @@ class Document:
         pal = self._palette if palette is None else check_palette(palette, len(palette))
         if levels.size and int(levels.max()) >= len(pal):
             raise InputError(f"the matrix uses level {int(levels.max())} but G = {len(pal)}")
+        if levels.shape != self.shape and self._plates is not None:
+            if self._on_plates:
+                raise InputError("a step on the plates cannot change the canvas size")
+            new = stretched(self._plates, levels.shape) if plates is None else plates
+            self._set_plates(new, self._plate_colours, levels.shape)
         self._record(_Matrix(self._levels))
         if palette is not None:
             self.set_palette(pal)
@@ -239,6 +279,50 @@ class Document:
         self._record(_Palette(self._palette))
         self._palette = pal
 
+    def set_plates(self, plates, colours) -> None:
+        """Give the document a plates layer — the plate of each point (H, W) uint8 and the P
+        plate colours — or take it away (``None, None``)."""
+        self._check_step()
+        if self._on_plates:
+            raise InputError("a step on the plates cannot replace the plates layer")
+        self._set_plates(plates, colours, self.shape)
+
+    def _set_plates(self, plates, colours, shape) -> None:
+        if plates is not None:
+            plates = np.array(plates, dtype=np.uint8)
+            colours = check_palette(colours, len(colours))
+            if plates.shape != shape:
+                raise InputError(f"plates of shape {plates.shape} do not fit the canvas {shape}")
+            if plates.size and int(plates.max()) >= len(colours):
+                raise InputError(f"plate {int(plates.max())} does not exist: P = {len(colours)}")
+        self._record(_Plates(self._plates, self._plate_colours))
+        self._plates, self._plate_colours = plates, None if plates is None else colours
+
+    @contextmanager
+    def on_plates(self):
+        """Inside, ``levels``, ``palette`` and the edit interface are the plates' (an index per
+        point, P colours), so any level edit paints plates; its undo atoms are kept together."""
+        self._check_step()
+        if self._plates is None:
+            raise InputError("the document has no plates: add a plates layer first")
+        if self._on_plates:
+            raise InputError("a step on the plates cannot hold another one")
+        outer, inner = self._recorder, ([] if self._recorder is not None else None)
+        self._recorder = inner
+        self._swap_layers()
+        try:
+            yield
+        finally:
+            self._swap_layers()
+            self._recorder = outer
+            if inner:
+                self._record(_OnPlates(inner))
+
+    def _swap_layers(self) -> None:
+        self._levels, self._plates = self._plates, self._levels
+        self._palette, self._plate_colours = self._plate_colours, self._palette
+        self._on_plates = not self._on_plates
+
     def set_current_dpj(self, ref: str | None) -> None:
         """Make a DPJ of the document (or none) the current one, as a synthesis does."""
         self._check_step()
@@ -264,28 +348,48 @@ class Document:
 
     # -- snapshots (History) -------------------------------------------------------------------
     def state(self, *, copy: bool = True) -> "State":
-        """What the log made: levels, palette, current DPJ (not the log itself); ``copy=False``
-        for a document about to be dropped (its arrays are handed over)."""
-        return State(self._levels.copy() if copy else self._levels, self._palette, self._dpj_ref)
+        """What the log made: levels, palette, current DPJ, plates (not the log itself);
+        ``copy=False`` for a document about to be dropped (its arrays are handed over)."""
+        plates = self._plates.copy() if copy and self._plates is not None else self._plates
+        return State(self._levels.copy() if copy else self._levels, self._palette, self._dpj_ref,
+                     plates, self._plate_colours)
 
     def restore(self, state: "State", *, copy: bool = True) -> None:
         """Go back to a saved state (``copy=False``: take over its arrays)."""
         self._levels = state.levels.copy() if copy else state.levels
         self._palette = state.palette
         self._dpj_ref = state.dpj_ref
+        plates = state.plates
+        self._plates = plates.copy() if copy and plates is not None else plates
+        self._plate_colours = state.plate_colours
 
 
 class State:
-    """A saved document state (a History snapshot): levels copy, palette, current DPJ."""
+    """A saved document state (a History snapshot): levels copy, palette, current DPJ, plates."""
 
-    __slots__ = ("levels", "palette", "dpj_ref")
+    __slots__ = ("levels", "palette", "dpj_ref", "plates", "plate_colours")
 
-    def __init__(self, levels, palette, dpj_ref):
+    def __init__(self, levels, palette, dpj_ref, plates=None, plate_colours=None):
         self.levels, self.palette, self.dpj_ref = levels, palette, dpj_ref
+        self.plates, self.plate_colours = plates, plate_colours
 
     @property
     def nbytes(self) -> int:
-        return self.levels.nbytes + self.palette.nbytes
+        plates = 0 if self.plates is None else self.plates.nbytes
+        return self.levels.nbytes + self.palette.nbytes + plates
+
+
+def stretched(plates: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """Plates resized to ``shape`` by their nearest point (each new point's centre falls in one
+    old point: integer arithmetic, the same on every machine).
+
+    >>> stretched(np.array([[0, 1], [2, 3]], np.uint8), (4, 3)).tolist()
+    [[0, 1, 1], [0, 1, 1], [2, 3, 3], [2, 3, 3]]
+    """
+    (h, w), (new_h, new_w) = plates.shape, shape
+    rows = (2 * np.arange(new_h) + 1) * h // (2 * new_h)
+    cols = (2 * np.arange(new_w) + 1) * w // (2 * new_w)
+    return plates[np.ix_(rows, cols)]
 
 
 # -- undo atoms: each holds one old value and swaps it with the document's current one ----------
@@ -348,6 +452,57 @@ class _Palette:
     nbytes = 48
 
 
+class _Plates:
+    __slots__ = ("plates", "colours")
+
+    def __init__(self, plates, colours):
+        self.plates, self.colours = plates, colours
+
+    def swap(self, doc: Document) -> None:
+        (self.plates, self.colours), (doc._plates, doc._plate_colours) = \
+            (doc._plates, doc._plate_colours), (self.plates, self.colours)
+
+    def differs(self, doc: Document) -> bool:
+        if self.plates is None or doc._plates is None:
+            return (self.plates is None) != (doc._plates is None)
+        return not (np.array_equal(self.plates, doc._plates)
+                    and np.array_equal(self.colours, doc._plate_colours))
+
+    @property
+    def nbytes(self) -> int:
+        return 48 + (0 if self.plates is None else self.plates.nbytes)
+
+
+class _OnPlates:
+    """The atoms of a step on the plates, swapped with the layers swapped. Undone in reverse
+    order and redone in order, like a step's own atoms: the list turns round at each swap."""
+
+    __slots__ = ("atoms",)
+
+    def __init__(self, atoms):
+        self.atoms = atoms[::-1]
+
+    def swap(self, doc: Document) -> None:
+        doc._swap_layers()
+        try:
+            for atom in self.atoms:
+                atom.swap(doc)
+        finally:
+            doc._swap_layers()
+        self.atoms.reverse()
+
+    def differs(self, doc: Document) -> bool:
+        doc._swap_layers()
+        try:
+            return any(atom.differs(doc) for atom in self.atoms)
+        finally:
+            doc._swap_layers()
+
+    @property
+    def nbytes(self) -> int:
+        return sum(atom.nbytes for atom in self.atoms)
+
+
 class _CurrentDPJ:
     __slots__ = ("ref",)
 
@@ -364,8 +519,8 @@ class _CurrentDPJ:
 
 
 def footprint(atoms) -> tuple[frozenset, tuple | None]:
-    """What a step's undo atoms changed — a subset of levels, palette, dpj — and the box
-    (top, left, height, width) of the levels changed (None: the whole matrix)."""
+    """What a step's undo atoms changed — a subset of levels, palette, dpj, plates — and the
+    box (top, left, height, width) of the levels changed (None: the whole matrix)."""
     what, boxes = set(), []
     for atom in atoms:
         if isinstance(atom, _Patch):
@@ -378,6 +533,8 @@ def footprint(atoms) -> tuple[frozenset, tuple | None]:
             what.add("palette")
         elif isinstance(atom, _CurrentDPJ):
             what.add("dpj")
+        elif isinstance(atom, (_Plates, _OnPlates)):
+            what.add("plates")
     box = boxes[0] if boxes else None
     for other in boxes[1:]:
         box = union_box(box, other)

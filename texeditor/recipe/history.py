@@ -28,7 +28,7 @@ MAX_SNAPSHOTS = 256
 class Change:
     """What one change of a History did, so that a view redraws only that: ``kind`` (apply,
     undo, redo, goto, edit, dpj), the index after it, ``what`` changed (a subset of levels,
-    palette, dpj, log) and ``box``, the (top, left, height, width) of the levels changed
+    palette, dpj, log, plates) and ``box``, the (top, left, height, width) of the levels changed
     (None: the whole canvas, or its shape changed)."""
 
     kind: str
@@ -37,7 +37,7 @@ class Change:
     box: tuple[int, int, int, int] | None = None
 
 
-EVERYTHING = frozenset({"levels", "palette", "dpj", "log"})
+EVERYTHING = frozenset({"levels", "palette", "dpj", "log", "plates"})
 
 
 class History:
