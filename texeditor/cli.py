@@ -83,7 +83,7 @@ def cmd_synth(args) -> int:
 def _acquire_model(image, args):
     from .photo import acquire_model
 
-    options = {"levels": args.levels, "quantizer": args.quantizer or "lloyd",
+    options = {"levels": args.levels, "quantizer": args.quantizer or "lab",
                "tone": not args.no_tone}
     if args.window:
         options["window"] = _pair(args.window, "the window")
@@ -279,7 +279,8 @@ def build_parser() -> argparse.ArgumentParser:
                     "coarsest)")
     rs.add_argument("--window", help="UxV of the finer scales (default 3x2)")
     rs.add_argument("--levels", type=int, default=4, help="G of the finer scales (default 4)")
-    rs.add_argument("--quantizer", choices=("band", "lloyd"), default="lloyd")
+    rs.add_argument("--quantizer", choices=("band", "lloyd", "lab"), default="lab",
+                    help="lab (default): colour classes in CIELAB, Lloyd–Max on a grey photo")
     rs.add_argument("--tileable", action="store_true", help="repeat without a seam")
     _model_options(rs)
     rs.add_argument("-o", "--output", required=True, help="OUT.png, OUT.npy or OUT.texture")

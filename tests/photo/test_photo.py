@@ -166,3 +166,23 @@ def test_cancel_stops_the_synthesis_and_its_tone(model):
         model.synthesize((600, 600), seed=1, progress=calls.append,
                          cancel=lambda: len(calls) >= 3)
     assert model.synthesize((40, 40), seed=1).image.shape == (40, 40)   # nothing left stuck
+
+
+def test_a_colour_photo_gives_colour_classes_at_every_scale():
+    """Red and green of one grey: a grey quantiser cannot tell them apart, the default (CIELAB
+    classes) keeps them as levels of their own, and the texture draws each from its class."""
+    rng = np.random.default_rng(3)
+    blobs = ski.filters.gaussian(rng.random((256, 256)), 6) > 0.5
+    red, green = np.array([200, 60, 60]), np.array([40, 110, 40])     # one luminance, 90
+    noise = rng.integers(-12, 13, (256, 256, 1))
+    photo = np.clip(np.where(blobs[..., None], red, green) + noise, 0, 255).astype(np.uint8)
+    lab = acquire_model(photo, scales=2, levels=2)
+    grey = acquire_model(photo, scales=2, levels=2, quantizer="lloyd")
+    hue = lambda c: int(np.argmax(c[:2]))        # 0: red wins, 1: green wins
+    assert sorted(hue(c) for c in lab.palette) == [0, 1]
+    assert len({hue(c) for c in grey.palette}) == 1 or np.abs(
+        grey.palette[0].astype(int) - grey.palette[1]).max() < 40
+    out = lab.synthesize((96, 96), seed=2)
+    for level in range(2):
+        pixels = out.image[out.levels == level].astype(int)
+        assert np.all(np.argmax(pixels[:, :2], axis=1) == hue(lab.palette[level]))

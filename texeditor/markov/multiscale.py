@@ -22,7 +22,7 @@ import skimage as ski
 from ..errors import InputError
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
-from .levels import quantize, to_grey
+from .levels import has_colour, quantize, to_grey
 from .synthesis import SynthesisResult, synthesize, synthesize_given
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
@@ -99,8 +99,9 @@ def pyramid(grey: np.ndarray, scales: int) -> list[np.ndarray]:
         raise InputError(f"a {grey.shape[1]}x{grey.shape[0]} photo is too small for {scales} "
                          f"scales (its coarsest reduction would have fewer than 8 points a side)")
     out = [grey[:h, :w]]
+    block = (2, 2) + (1,) * (grey.ndim - 2)          # a colour photo: each channel
     for _ in range(scales - 1):
-        out.append(ski.transform.downscale_local_mean(out[-1], (2, 2)))
+        out.append(ski.transform.downscale_local_mean(out[-1], block))
     return out[::-1]
 
 
@@ -126,9 +127,10 @@ def upsample_torus(parents: np.ndarray, shape) -> np.ndarray:
 
 def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
                     window=WINDOW, coarse_levels: int = COARSE_LEVELS,
-                    coarse_window=COARSE_WINDOW, quantizer: str = "lloyd"):
+                    coarse_window=COARSE_WINDOW, quantizer: str = "lab"):
     """Acquire a multi-scale DPJ from a photo. Returns (model, the photo's levels at each scale,
-    coarsest first). Each scale is quantised on its own (a reduced photo has less contrast)."""
+    coarsest first). Each scale is quantised on its own (a reduced photo has less contrast);
+    with the "lab" quantiser a colour photo's levels are colour classes at every scale."""
     grey = to_grey(image)
     scales = default_scales(grey.shape) if scales is None else int(scales)
     if not 1 <= scales <= MAX_SCALES:
@@ -140,8 +142,9 @@ def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
                          f"at most {MAX_LEVELS}")
     check_window(coarse_window, coarse_levels)
     check_window(window, levels * max(levels, coarse_levels))
-    layers = pyramid(grey, scales)
-    h, w = layers[-1].shape
+    colour = quantizer == "lab" and has_colour(image)
+    layers = pyramid(ski.util.img_as_float(np.asarray(image)[..., :3]) if colour else grey, scales)
+    h, w = layers[-1].shape[:2]
     layers[-1] = np.asarray(image)[:h, :w]          # the finest palette keeps the photo's colours
     per_scale = [coarse_levels] + [levels] * (scales - 1)
     quantized = [quantize(p, g, quantizer) for p, g in zip(layers, per_scale)]

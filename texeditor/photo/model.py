@@ -154,7 +154,7 @@ class PhotoModel:
 
 def acquire_model(image, *, scales: int | None = None, levels: int = LEVELS, window=WINDOW,
                   coarse_levels: int = COARSE_LEVELS, coarse_window=COARSE_WINDOW,
-                  quantizer: str = "lloyd", tone: bool = True) -> PhotoModel:
+                  quantizer: str = "lab", tone: bool = True) -> PhotoModel:
     """Acquire a photo model: its multi-scale DPJ and (``tone``) its greys and colours."""
     image = np.asarray(image)
     ms, lv = estimate_scales(image, scales=scales, levels=levels, window=window,
