@@ -904,6 +904,37 @@ def shot_colour_plates(app, window, out: Path) -> None:
 
 MORE_SHOTS.append(shot_colour_plates)
 
+def shot_tileable(app, window, out: Path) -> None:
+    """Tileable synthesis (issue 20): a gravel texture drawn on the torus, in the 3×3 tiled
+    preview at 400 % around a corner where four copies meet; the same with Tileable off."""
+    from texeditor.markov.dpj import DPJ
+    from texeditor.recipe.history import History
+    from texeditor.resources import bundled_dpj
+
+    previous = window.history
+    for tileable, name in ((True, "tileable.png"), (False, "tileable-off.png")):
+        history = History()
+        history.add_dpj(DPJ.load(bundled_dpj("gravel-3x3-g4")))
+        window.set_history(history)
+        window.synthesis_dock.tileable_box.setChecked(tileable)
+        window.synthesise(128, 128, 7)
+        window.runner.wait()
+        settle(app)
+        window.canvas.set_tiled(True)
+        settle(app)
+        view = window.canvas.view                     # a corner of the middle copy, at 400 %
+        width, height = (s / 4 for s in view.screenGeometry().getRect()[2:])
+        view.setRange(xRange=(128 - width / 2, 128 + width / 2),
+                      yRange=(128 - height / 2, 128 + height / 2), padding=0)
+        settle(app, 300)
+        save(window, out / name)
+    window.canvas.set_tiled(False)
+    window.synthesis_dock.tileable_box.setChecked(False)
+    window.set_history(previous)
+
+
+MORE_SHOTS.append(shot_tileable)
+
 
 if __name__ == "__main__":
     sys.exit(main())
