@@ -29,6 +29,20 @@ def settle(app, ms: int = 150) -> None:
     while not deadline.hasExpired():
         app.processEvents(QtCore.QEventLoop.ProcessEventsFlag.AllEvents, 20)
 
+def synthesised(app, window, dpj_name: str, size: int, seed: int) -> None:
+    """The window on a new history: one synthesis of ``size``² points from a bundled DPJ."""
+    from texeditor.markov.dpj import DPJ
+    from texeditor.recipe.history import History
+    from texeditor.resources import bundled_dpj
+
+    history = History()
+    history.add_dpj(DPJ.load(bundled_dpj(dpj_name)))
+    window.set_history(history)
+    window.synthesise(size, size, seed)
+    window.runner.wait()
+    settle(app)
+
+
 
 def save(widget, path: Path) -> None:
     widget.grab().save(str(path))
@@ -418,20 +432,11 @@ def shot_grains(app, window, out: Path) -> None:
     from app.images import qimage_from_rgb
     from texeditor import DPJ
     from texeditor.recipe.actions import SetPalette
-    from texeditor.recipe.history import History
     from texeditor.resources import bundled_dpj
     from texeditor.texture.actions import RenderGrains
 
     previous = window.history
-    history = History()
-    history.add_dpj(DPJ.load(bundled_dpj("gravel-3x3-g4")))
-    window.set_history(history)
-    synth = window.synthesis_dock
-    synth.width_box.setValue(48)
-    synth.height_box.setValue(48)
-    synth.seed.set_value(3)
-    window.synthesise_from_dock()
-    window.runner.wait()
+    synthesised(app, window, "gravel-3x3-g4", 48, 3)
     window.submit(SetPalette(((236, 230, 218), (176, 132, 86), (112, 74, 44), (42, 30, 22))))
     dock = window.density_dock
     dock.show()
@@ -516,11 +521,9 @@ def shot_trees_and_orders(app, window, out: Path) -> None:
     from app.images import qimage_from_rgb
     from app.tools.grain import GrainTool
     from app.tools.tree import TreeTool
-    from texeditor import DPJ
     from texeditor.paint.actions import LayAlongOrder
     from texeditor.recipe.actions import NewCanvas, SetPalette
     from texeditor.recipe.history import History
-    from texeditor.resources import bundled_dpj
     from texeditor.texture.actions import RenderGrains
 
     previous = window.history
@@ -562,15 +565,7 @@ def shot_trees_and_orders(app, window, out: Path) -> None:
     window.set_tool(window.tools[0])
 
     # 2. one synthesis laid along each fill order (a knot of wood from a spiral)
-    history = History()
-    history.add_dpj(DPJ.load(bundled_dpj("grass-2x2-g8")))
-    window.set_history(history)
-    synth = window.synthesis_dock
-    synth.width_box.setValue(160)
-    synth.height_box.setValue(160)
-    synth.seed.set_value(5)
-    window.synthesise_from_dock()
-    window.runner.wait()
+    synthesised(app, window, "grass-2x2-g8", 160, 5)
     panels = [("TV scan (synthesised)", None), ("Spiral", "spiral"), ("Polar", "polar"),
               ("Peano (Hilbert)", "peano")]
     side, caption, gap = 160, 26, 12
@@ -598,14 +593,7 @@ def shot_trees_and_orders(app, window, out: Path) -> None:
     print(path.relative_to(ROOT) if path.is_relative_to(ROOT) else path)
 
     # 3. the Grain rendering dock: squares for most levels, circles and needles for two
-    history = History()
-    history.add_dpj(DPJ.load(bundled_dpj("gravel-3x3-g4")))
-    window.set_history(history)
-    synth.width_box.setValue(48)
-    synth.height_box.setValue(48)
-    synth.seed.set_value(3)
-    window.synthesise_from_dock()
-    window.runner.wait()
+    synthesised(app, window, "gravel-3x3-g4", 48, 3)
     window.submit(SetPalette(((236, 230, 218), (176, 132, 86), (112, 74, 44), (42, 30, 22))))
     dock = window.density_dock
     dock.show()
@@ -653,10 +641,8 @@ def shot_regions21(app, window, out: Path) -> None:
 
     from app.images import qimage_from_rgb
     from app.tools.regions import ExtractTool
-    from texeditor import DPJ
     from texeditor.recipe.actions import NewCanvas, SetLevels, SetPalette
     from texeditor.recipe.history import History
-    from texeditor.resources import bundled_dpj
 
     previous = window.history
     window.set_history(History())
@@ -719,11 +705,7 @@ def shot_regions21(app, window, out: Path) -> None:
     save(window, out / "extract-neighbours.png")
     window.set_tool(window.tools[0])
 
-    history = History()
-    history.add_dpj(DPJ.load(bundled_dpj("gravel-3x3-g4")))
-    window.set_history(history)
-    window.synthesise(128, 128, 5)
-    window.runner.wait()
+    synthesised(app, window, "gravel-3x3-g4", 128, 5)
     window.act_compose.trigger()
     compose = window.composition_dialog
     compose.tabs.setCurrentIndex(2)
@@ -843,17 +825,10 @@ MORE_SHOTS.append(shot_optimise)
 def shot_relief(app, window, out: Path) -> None:
     """Relief (issue 20): a gravel texture in earth colours with the Relief dock open, the
     light dragged to the upper left, the previews on a plane and a sphere."""
-    from texeditor.markov.dpj import DPJ
     from texeditor.recipe.actions import SetPalette
-    from texeditor.recipe.history import History
-    from texeditor.resources import bundled_dpj
 
     previous = window.history
-    history = History()
-    history.add_dpj(DPJ.load(bundled_dpj("gravel-3x3-g4")))
-    window.set_history(history)
-    window.synthesise(256, 256, 1984)
-    window.runner.wait()
+    synthesised(app, window, "gravel-3x3-g4", 256, 1984)
     settle(app)
     window.submit(SetPalette([[62, 48, 36], [118, 92, 66], [166, 138, 102], [214, 194, 160]]))
     dock = window.relief_dock
@@ -907,19 +882,11 @@ MORE_SHOTS.append(shot_colour_plates)
 def shot_tileable(app, window, out: Path) -> None:
     """Tileable synthesis (issue 20): a gravel texture drawn on the torus, in the 3×3 tiled
     preview at 400 % around a corner where four copies meet; the same with Tileable off."""
-    from texeditor.markov.dpj import DPJ
-    from texeditor.recipe.history import History
-    from texeditor.resources import bundled_dpj
 
     previous = window.history
     for tileable, name in ((True, "tileable.png"), (False, "tileable-off.png")):
-        history = History()
-        history.add_dpj(DPJ.load(bundled_dpj("gravel-3x3-g4")))
-        window.set_history(history)
         window.synthesis_dock.tileable_box.setChecked(tileable)
-        window.synthesise(128, 128, 7)
-        window.runner.wait()
-        settle(app)
+        synthesised(app, window, "gravel-3x3-g4", 128, 7)
         window.canvas.set_tiled(True)
         settle(app)
         view = window.canvas.view                     # a corner of the middle copy, at 400 %
