@@ -67,15 +67,20 @@ def chain_advice(report, wrap: bool) -> tuple[str, str, bool]:
 
     The sampler draws a row left to right, each window continuing the columns the previous one
     ended with (its *state*). A *closed class* is a set of states it can go on drawing from for
-    ever; a *transient* state is one it passes through and never sees again, usually a column
-    seen only at the photo's edges. With no closed class every row runs into dead ends, which
-    the synthesis repairs by drawing from a simpler context (thesis §4.5, Massaloux)."""
+    ever; a *transient* state is one it passes through and never sees again, and a *dead end*
+    one no configuration continues — usually a column seen only at the photo's edges, pruned
+    before the classes are counted (thesis §4.5, Massaloux). A *periodic* class makes every
+    row cycle through the same few families of patterns."""
     states, closed, transient = report.states, report.closed_classes, report.transient_states
     detail = (f"Horizontal Markov chain of the DPJ: {states:,} states (column patterns of the "
               f"window), {closed} closed class(es) — sets of patterns the synthesis can keep "
               f"drawing from along a row — and {transient:,} transient state(s), which it passes "
-              "through at most once, mostly patterns seen only at the photo's edges. The DPJ "
-              "editor's Restrict (Massaloux, thesis §4.5) keeps the main closed class.")
+              f"through at most once, mostly patterns seen only at the photo's edges; "
+              f"{report.dead_ends:,} configuration(s) lead to a dead end (a pattern no "
+              f"configuration continues, to the right or below). Main class: "
+              + (f"period {report.period}" if report.period > 1 else "aperiodic")
+              + ". The DPJ editor's Restrict (Massaloux, thesis §4.5) keeps the main closed "
+              "class and drops the rest.")
     fewer = ("tick “Wrap around the edges”, " if not wrap else "") + \
         "choose fewer levels G or a smaller window"
     if states and closed == 0:
@@ -86,6 +91,10 @@ def chain_advice(report, wrap: bool) -> tuple[str, str, bool]:
         return (f"The patterns fall into {closed} separate families: a row keeps the family it "
                 f"starts in, so rows may look unlike each other. To join them, {fewer}, or use "
                 "Restrict in the DPJ editor to keep the main one.", detail, True)
+    if report.period > 1:
+        return (f"Periodic: along a row the patterns cycle through {report.period} families, "
+                "so the texture will show a regular beat. If the photo has none, "
+                f"{fewer}.", detail, True)
     if transient and states and transient * 2 > states:
         return (f"{transient:,} of {states:,} column patterns occur only near the photo's "
                 "edges: a row leaves them within a few points and never comes back. A larger "
