@@ -26,8 +26,6 @@ from dataclasses import dataclass
 import numpy as np
 import scipy        # scipy.sparse loads on first use, not at start-up
 
-from .dpj import encode
-
 # the role of an entry in the horizontal chain
 MAIN, TRANSIENT, MINOR_CLOSED, DEAD_END = 0, 1, 2, 3
 ROLE_NAMES = {MAIN: "main class", TRANSIENT: "transient", MINOR_CLOSED: "small closed class",
@@ -66,7 +64,7 @@ def analyse(dpj) -> Chain:
     n = len(dpj)
     if not n:
         return Chain(0, 0, 0, np.zeros(0, np.int8), 0)
-    (left, right), (top, bottom) = sub_windows(dpj)
+    (left, right), (top, bottom) = dpj.horizontal_states(), dpj.vertical_states()
     live = prune_dead_ends(np.ones(n, bool), [(left, right), (top, bottom)])
     states, ids = np.unique(np.concatenate([left, right]), return_inverse=True)
     ids = ids.ravel()
@@ -84,18 +82,6 @@ def analyse(dpj) -> Chain:
     inside = roles == MAIN
     return Chain(len(states), len(closed), int(np.count_nonzero(~np.isin(label, closed))),
                  roles, period(li[inside], ri[inside]))
-
-
-def sub_windows(dpj) -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
-    """Each entry's (left, right) (u-1)-column and (top, bottom) (v-1)-row sub-window codes.
-
-    With u = 1 (v = 1) every entry's horizontal (vertical) sub-windows are the empty one, code 0:
-    a chain of one state that always goes on."""
-    c, g = dpj.configs, dpj.levels
-    return ((encode(np.ascontiguousarray(c[:, :, :-1]), g),
-             encode(np.ascontiguousarray(c[:, :, 1:]), g)),
-            (encode(np.ascontiguousarray(c[:, :-1, :]), g),
-             encode(np.ascontiguousarray(c[:, 1:, :]), g)))
 
 
 def prune_dead_ends(keep: np.ndarray, chains) -> np.ndarray:

@@ -276,10 +276,17 @@ class DPJ:
                               palette=self._palette, meta=self.meta)
 
     def horizontal_states(self) -> tuple[np.ndarray, np.ndarray]:
-        """Codes of each entry's left and right (u-1)-column sub-windows (the chain's states)."""
+        """Codes of each entry's left and right (u-1)-column sub-windows (the chain's states).
+        With u = 1 every entry's are the empty sub-window, code 0."""
         left = encode(np.ascontiguousarray(self._configs[:, :, :-1]), self._levels)
         right = encode(np.ascontiguousarray(self._configs[:, :, 1:]), self._levels)
         return left, right
+
+    def vertical_states(self) -> tuple[np.ndarray, np.ndarray]:
+        """Codes of each entry's top and bottom (v-1)-row sub-windows (the vertical chain's)."""
+        top = encode(np.ascontiguousarray(self._configs[:, :-1, :]), self._levels)
+        bottom = encode(np.ascontiguousarray(self._configs[:, 1:, :]), self._levels)
+        return top, bottom
 
     @functools.cached_property
     def chain(self):

@@ -145,13 +145,11 @@ def _worst_residual(dpj: DPJ) -> float:
 def _sub_windows(dpj: DPJ) -> list[tuple[np.ndarray, np.ndarray]]:
     """(from, to) codes of each entry for each direction that has a constraint."""
     u, v = dpj.window
-    c, g = dpj.configs, dpj.levels
     pairs = []
     if u > 1:
         pairs.append(dpj.horizontal_states())
     if v > 1:
-        pairs.append((encode(np.ascontiguousarray(c[:, :-1, :]), g),
-                      encode(np.ascontiguousarray(c[:, 1:, :]), g)))
+        pairs.append(dpj.vertical_states())
     return pairs
 
 
