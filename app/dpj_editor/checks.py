@@ -53,13 +53,12 @@ def chain_text(r, unreachable: int) -> str:
     text = (f"{r.states:,} states, {r.closed_classes} closed class"
             f"{'es' if r.closed_classes != 1 else ''}, {r.transient_states:,} transient")
     if r.dead_ends:
-        text += f", {r.dead_ends:,} entr{'ies' if r.dead_ends > 1 else 'y'} to dead ends"
+        text += f", {r.dead_ends:,} dead end{'s' if r.dead_ends > 1 else ''}"
     if r.period > 1:
         text += (f" — periodic, period {r.period}: along a row the patterns cycle through "
                  f"{r.period} families")
     if unreachable:
-        text += f" — {unreachable:,} unreachable entr{'ies' if unreachable > 1 else 'y'} " \
-                "marked in red"
+        text += f" — {unreachable:,} unreachable, marked in red"
     return text
 
 

@@ -162,8 +162,9 @@ class ConfigTableModel(QtCore.QAbstractTableModel):
             if role == QtCore.Qt.ItemDataRole.ToolTipRole:
                 return ("The window's levels, rows top to bottom", "Double-click to edit",
                         "Share of the sum of all probabilities",
-                        "Role in the horizontal chain: entries outside the main class are "
-                        "unreachable in a long synthesis (Restrict removes them)")[section]
+                        "Role in the horizontal chain: dead ends, transient entries and small "
+                        "closed classes are unreachable in a long synthesis (Restrict removes "
+                        "them)")[section]
         return None
 
     def flags(self, index):

@@ -236,7 +236,7 @@ def test_a_photo_dpj_without_wrap_restricts_to_its_closed_class_and_undoes(qtbot
     assert editor.analysis.wait()
     chain, model = editor.checks.chain, editor.table.model
     assert chain.state == WARN and "1 closed class," in chain.text.text()
-    assert "to dead ends" in chain.text.text() and chain.button.isEnabled()
+    assert f", {editor.report.dead_ends} dead end" in chain.text.text() and chain.button.isEnabled()
     marks = [model.data(model.index(r, CHAIN)) for r in range(model.rowCount())]
     dead = marks.count("dead end")
     assert 0 < dead == editor.report.dead_ends and marks.count("") >= 0.99 * len(marks)

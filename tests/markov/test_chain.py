@@ -88,6 +88,38 @@ def test_every_path_to_a_dead_end_is_said_not_hidden():
         d.restrict()
 
 
+def de_bruijn(k: int, n: int) -> list[int]:
+    """A de Bruijn sequence B(k, n) (every n-word over k symbols once, cyclically)."""
+    a, seq = [0] * k * n, []
+
+    def db(t, p):
+        if t > n:
+            if n % p == 0:
+                seq.extend(a[1:p + 1])
+        else:
+            a[t] = a[t - p]
+            db(t + 1, p)
+            for j in range(a[t - p] + 1, k):
+                a[t] = j
+                db(t + 1, t)
+    db(1, 1)
+    return seq
+
+
+def test_a_long_path_that_ends_is_pruned_whole():
+    # B(16, 3) read once, not round: 4,096 distinct triples, each visited once, so its 4,095
+    # windows of four points are a path of the horizontal chain with no cycle: all dead ends
+    seq = de_bruijn(16, 3)
+    seq = np.array(seq + seq[:2], np.uint8)
+    d = estimate_dpj(seq[None], (4, 1), 16)
+    assert len(d) == 4095
+    r = d.report()
+    assert (r.states, r.closed_classes, r.dead_ends, r.period) == (4096, 0, 4095, 0)
+    # closed into a ring (wrap), it is one cycle of length 4,096: closed, period 4,096
+    ring = estimate_dpj(seq[None, :-2], (4, 1), 16, wrap=True).report()
+    assert (ring.closed_classes, ring.dead_ends, ring.period) == (1, 0, 4096)
+
+
 @pytest.mark.parametrize("transitions,expected", [
     ({(0, 1): .5, (1, 0): .5}, 2),                                   # one cycle of length 2
     ({(0, 1): .4, (1, 0): .4, (0, 0): .2}, 1),                       # a loop of length 1 too

@@ -86,18 +86,41 @@ def analyse(dpj) -> Chain:
 
 def prune_dead_ends(keep: np.ndarray, chains) -> np.ndarray:
     """``keep`` without the entries that lead to a dead end of any of the ``chains`` ((from, to)
-    codes per entry): a ``to`` that is no kept entry's ``from``. Repeated until none is left,
-    since pruning an entry can leave the one before it without a successor."""
+    codes per entry): entries after which every path of kept entries ends. Pruning one chain can
+    leave the other a new dead end, so the chains take turns until neither changes."""
     keep = keep.copy()
     changed = True
-    while changed:
+    while changed and keep.any():
         changed = False
         for a, b in chains:
-            dead = keep & ~np.isin(b, a[keep])
-            if dead.any():
-                keep &= ~dead
+            endless = _endless(a[keep], b[keep])
+            if not endless.all():
+                keep[np.flatnonzero(keep)[~endless]] = False
                 changed = True
     return keep
+
+
+def _endless(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """For each transition a → b, whether a path can go on from b for ever: b reaches a cycle.
+    One pass (linear in the transitions), however long the tails that end: the states on a cycle
+    are those of a strongly connected class with a transition inside, and the states that reach
+    them are found by one breadth-first search backwards from a node joined to all of them."""
+    if not len(a):
+        return np.zeros(0, bool)
+    states, ids = np.unique(np.concatenate([a, b]), return_inverse=True)
+    ids = ids.ravel()
+    k, m = len(a), len(states)
+    ai, bi = ids[:k], ids[k:]
+    label, _ = _closed_classes(ai, bi, m)
+    cyclic = np.zeros(label.max() + 1, bool)
+    cyclic[label[ai][label[ai] == label[bi]]] = True
+    roots = np.flatnonzero(cyclic[label])
+    back = scipy.sparse.coo_matrix(                  # b → a, and the extra node m → every root
+        (np.ones(k + len(roots)), (np.r_[bi, np.full(len(roots), m)], np.r_[ai, roots])),
+        shape=(m + 1, m + 1)).tocsr()
+    reach = np.zeros(m + 1, bool)
+    reach[scipy.sparse.csgraph.breadth_first_order(back, m, return_predecessors=False)] = True
+    return reach[bi]
 
 
 def _closed_classes(li: np.ndarray, ri: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
