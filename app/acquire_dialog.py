@@ -21,11 +21,13 @@ from texeditor.errors import Cancelled, TexeditorError
 from texeditor.markov.estimation import estimate_dpj
 from texeditor.markov.levels import load_image, quantize
 from texeditor.markov.multiscale import MAX_SCALES, MultiScaleDPJ, default_scales, estimate_scales
+from texeditor.markov.scan import ROWS, SCAN_NAMES
 from texeditor.photo import PhotoModel, photo_tone
 
 from .canvas import colourize
 from .dpj_editor.preview import LatestWins
 from .images import photo_rgb, qimage_from_rgb
+from .widgets import scan_combo
 
 PREVIEW = 240
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.gif *.webp);;All files (*)"
@@ -68,15 +70,20 @@ def chain_advice(report, wrap: bool) -> tuple[str, str, bool]:
 
     The sampler draws a row left to right, each window continuing the columns the previous one
     ended with (its *state*). A *closed class* is a set of states it can go on drawing from for
-    ever; a *transient* state is one it passes through and never sees again, usually a column
-    seen only at the photo's edges. With no closed class every row runs into dead ends, which
-    the synthesis repairs by drawing from a simpler context (thesis §4.5, Massaloux)."""
+    ever; a *transient* state is one it passes through and never sees again, and a *dead end*
+    one no configuration continues — usually a column seen only at the photo's edges, pruned
+    before the classes are counted (thesis §4.5, Massaloux). A *periodic* class makes every
+    row cycle through the same few families of patterns."""
     states, closed, transient = report.states, report.closed_classes, report.transient_states
     detail = (f"Horizontal Markov chain of the DPJ: {states:,} states (column patterns of the "
               f"window), {closed} closed class(es) — sets of patterns the synthesis can keep "
               f"drawing from along a row — and {transient:,} transient state(s), which it passes "
-              "through at most once, mostly patterns seen only at the photo's edges. The DPJ "
-              "editor's Restrict (Massaloux, thesis §4.5) keeps the main closed class.")
+              f"through at most once, mostly patterns seen only at the photo's edges; "
+              f"{report.dead_ends:,} configuration(s) lead to a dead end (a pattern no "
+              f"configuration continues, to the right or below). Main class: "
+              + (f"period {report.period}" if report.period > 1 else "aperiodic")
+              + ". The DPJ editor's Restrict (Massaloux, thesis §4.5) keeps the main closed "
+              "class and drops the rest.")
     fewer = ("tick “Wrap around the edges”, " if not wrap else "") + \
         "choose fewer levels G or a smaller window"
     if states and closed == 0:
@@ -87,6 +94,10 @@ def chain_advice(report, wrap: bool) -> tuple[str, str, bool]:
         return (f"The patterns fall into {closed} separate families: a row keeps the family it "
                 f"starts in, so rows may look unlike each other. To join them, {fewer}, or use "
                 "Restrict in the DPJ editor to keep the main one.", detail, True)
+    if report.period > 1:
+        return (f"Periodic: along a row the patterns cycle through {report.period} families, "
+                "so the texture will show a regular beat. If the photo has none, "
+                f"{fewer}.", detail, True)
     if transient and states and transient * 2 > states:
         return (f"{transient:,} of {states:,} column patterns occur only near the photo's "
                 "edges: a row leaves them within a few points and never comes back. A larger "
@@ -139,11 +150,13 @@ def acquire_scales(out: Acquired, scales, window, levels: int, method: str, tone
 
 
 def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, cancel,
-            scales: int | None = 1, tone: bool = True) -> Acquired:
+            scales: int | None = 1, tone: bool = True, scan: str = ROWS,
+            stationary: bool = False) -> Acquired:
     """Read the photo (unless ``image`` is given), quantise it and count its windows: all the
     slow part of the dialog, for the worker. Stops between stages when ``cancel()``.
     ``scales``: 1 for one DPJ, more for a photo model (``tone``: with the photo's tone), None
-    for as many as the photo's size suggests (markov.multiscale.default_scales)."""
+    for as many as the photo's size suggests (markov.multiscale.default_scales). One DPJ is
+    counted in the ``scan`` asked for, and made ``stationary`` if asked (§5.2.2)."""
     out = Acquired(path, image)
     try:
         if image is None:
@@ -163,7 +176,8 @@ def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, can
         out.quantization = q = quantize(out.image, levels, method)
         if cancel():
             raise Cancelled("a newer setting was asked for")
-        out.dpj = estimate_dpj(q.levels, window, levels, wrap=wrap, palette=q.palette, meta=meta)
+        out.dpj = estimate_dpj(q.levels, window, levels, wrap=wrap, scan=scan,
+                               stationary=stationary, palette=q.palette, meta=meta, cancel=cancel)
         out.report = out.dpj.report()
     except Cancelled:
         raise
@@ -172,6 +186,16 @@ def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, can
         return out
     out.levels = preview_image(colourize(q.levels, q.palette))
     return out
+
+
+def acquisition_notes(dpj) -> list[str]:
+    """How a DPJ was acquired beyond window and G: its scan (when not rows), stationarity."""
+    notes = []
+    if dpj.meta.get("scan", ROWS) != ROWS:
+        notes.append("scanned by " + SCAN_NAMES[dpj.meta["scan"]].lower())
+    if dpj.meta.get("stationary"):
+        notes.append("made stationary")
+    return notes
 
 
 class AcquireDialog(QtWidgets.QDialog):
@@ -209,6 +233,17 @@ class AcquireDialog(QtWidgets.QDialog):
         self.method.currentIndexChanged.connect(self._schedule)
         self.wrap = QtWidgets.QCheckBox("Wrap around the edges (the photo is periodic)")
         self.wrap.toggled.connect(self._schedule)
+        self.scan = scan_combo("The order the window sweeps the photo (thesis §5.2.1b): the "
+                               "synthesis draws along the same lines, so choose the one that "
+                               "runs along the texture's direction (columns for vertical "
+                               "stripes). The DPJ remembers it and the Synthesis dock proposes it.")
+        self.scan.currentIndexChanged.connect(self._schedule)
+        self.stationary = QtWidgets.QCheckBox("Make stationary")
+        self.stationary.setToolTip("Balance the DPJ so that its left and right (and top and "
+                                   "bottom) sub-windows are equally likely, the thesis's "
+                                   "stationarity condition (§5.2.2), keeping its configurations; "
+                                   "a wrapped count already is. Takes long on large DPJs.")
+        self.stationary.toggled.connect(self._schedule)
         self.scales = self._spin(1, MAX_SCALES, 1, "Scales: 1 acquires one DPJ; more acquire a "
                                  "photo model, the photo reduced by 2, 4… with a DPJ per scale "
                                  "(each finer one given the coarser levels under it), so the "
@@ -290,6 +325,11 @@ class AcquireDialog(QtWidgets.QDialog):
         form.addRow("Levels G", self.levels)
         form.addRow("Quantiser", self.method)
         form.addRow("", self.wrap)
+        scan_row = QtWidgets.QHBoxLayout()
+        scan_row.addWidget(self.scan)
+        scan_row.addWidget(self.stationary)
+        scan_row.addStretch(1)
+        form.addRow("Scan", scan_row)
         scales_row = QtWidgets.QHBoxLayout()
         scales_row.addWidget(self.scales)
         scales_row.addWidget(self.auto_scales)
@@ -334,9 +374,10 @@ class AcquireDialog(QtWidgets.QDialog):
 
     def _follow_scales(self) -> None:
         """Only what the current number of scales uses is enabled: the scales wrap around the
-        photo's edges always, and tone belongs to a photo model."""
+        photo's edges always and are drawn in rows, and tone belongs to a photo model."""
         several = self.auto_scales.isChecked() or self.scales.value() > 1
-        self.wrap.setEnabled(not several)
+        for one_dpj in (self.wrap, self.scan, self.stationary):
+            one_dpj.setEnabled(not several)
         self.tone.setEnabled(several)
 
     def requested_scales(self) -> int | None:
@@ -353,11 +394,12 @@ class AcquireDialog(QtWidgets.QDialog):
         window, levels = (self.u.value(), self.v.value()), self.levels.value()
         method, wrap = self.method.currentData(), self.wrap.isChecked()
         scales, tone = self.requested_scales(), self.tone.isChecked()
+        scan, stationary = self.scan.currentData(), self.stationary.isChecked()
         self.dpj, self.model = None, None
         self.ok_button.setEnabled(False)
         self.busy.show()
-        self.worker.request(lambda _progress, cancel: acquire(path, image, window, levels,
-                                                              method, wrap, cancel, scales, tone))
+        self.worker.request(lambda _progress, cancel: acquire(
+            path, image, window, levels, method, wrap, cancel, scales, tone, scan, stationary))
 
     def wait(self, timeout_ms: int = 30_000) -> bool:
         """Block until the current settings' result is shown (tests and scripts only)."""
@@ -460,9 +502,10 @@ class AcquireDialog(QtWidgets.QDialog):
         self.info.setStyleSheet("")
         advice, detail, warn = chain_advice(report, self.wrap.isChecked())
         colour = "#c07000" if warn else "#308030"
+        how = "".join(f", {note}" for note in acquisition_notes(dpj))
         self.info.setText(
             f"<b>{len(dpj):,} non-zero configurations</b> of {u}×{v} windows with G = {g} "
-            f"(from a {w}×{h} photo).<br><span style='color: {colour}'>{advice}</span>")
+            f"(from a {w}×{h} photo{how}).<br><span style='color: {colour}'>{advice}</span>")
         self.info.setToolTip(detail)
         self.ok_button.setEnabled(True)
 

@@ -642,7 +642,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         if self.runner.busy:
             return
         try:
-            action = Synthesize(doc.dpj_ref, width, height, seed, self.synthesis_dock.tileable())
+            action = Synthesize(doc.dpj_ref, width, height, seed, self.synthesis_dock.tileable(),
+                                self.synthesis_dock.scan())
         except TexeditorError as exc:
             self.show_error("Cannot synthesise", exc)
             return

@@ -10,10 +10,11 @@ from __future__ import annotations
 from PySide6 import QtCore, QtWidgets
 
 from texeditor.markov.multiscale import MultiScaleDPJ
+from texeditor.markov.scan import ROWS, SCANS
 from texeditor.recipe.actions import MAX_CANVAS_SIDE
 
 from .params_form import SeedEdit, dpj_summary
-from .widgets import scrolled
+from .widgets import scan_combo, scrolled
 
 DEFAULT_SIZE = 256
 DEFAULT_SEED = 1984
@@ -65,7 +66,9 @@ class SynthesisDock(QtWidgets.QDockWidget):
         self.tone_box.setChecked(True)
         self.tone_box.setToolTip("Show the texture with the photo's own greys and colours instead "
                                  "of the palette (View ▸ Photographic tone, T)")
-        scales_row = QtWidgets.QHBoxLayout()
+        scales_page = QtWidgets.QWidget()
+        scales_row = QtWidgets.QHBoxLayout(scales_page)
+        scales_row.setContentsMargins(0, 0, 0, 0)
         scales_row.addWidget(self.scales_box)
         scales_row.addWidget(self.tone_box, 1)
         self.tileable_box = QtWidgets.QCheckBox("Tileable")
@@ -74,16 +77,25 @@ class SynthesisDock(QtWidgets.QDockWidget):
         seed_row = QtWidgets.QHBoxLayout()
         seed_row.addWidget(self.seed, 1)
         seed_row.addWidget(self.tileable_box)
+        self.scan_box = scan_combo("The order the texture is drawn in (thesis §5.2.1b): the "
+                                   "DPJ's rows run along it. A DPJ acquired in a scan proposes "
+                                   "that scan; another one turns the texture.")
         self.button = QtWidgets.QPushButton("Synthesise")
         self.button.setToolTip("Draw a new texture from the current DPJ (Ctrl+R)")
         self.button.clicked.connect(self._request)
         form.addRow("DPJ", self.dpj_label)
         form.addRow("Size", size_row)
+        # one DPJ is drawn in a scan, a photo model's scales in rows: the row shows what applies
+        self.scan_or_scales = QtWidgets.QStackedWidget()
+        self.scan_or_scales.addWidget(self.scan_box)
+        self.scan_or_scales.addWidget(scales_page)
         form.addRow("Seed", seed_row)
-        form.addRow("Scales", scales_row)
+        form.addRow("Scan", self.scan_or_scales)
+        self.scan_or_scales_label = form.labelForField(self.scan_or_scales)
         form.addRow(self.button)
         self.setWidget(scrolled(body))
         self.scale_dpjs: list = []
+        self._proposed_for = None        # the DPJ whose recorded scan the box last proposed
         self.set_dpj(None)
         self.set_scales([])
         self.set_tone_available(False)
@@ -104,6 +116,23 @@ class SynthesisDock(QtWidgets.QDockWidget):
             self.dpj_label.setText(f"{name}\n{details}")
         self.dpj_label.setToolTip(dpj_summary(dpj) if dpj is not None else "")
         self.button.setEnabled(self.has_dpj and not getattr(self, "busy", False))
+        self._propose_scan(dpj)
+
+    def _propose_scan(self, dpj) -> None:
+        """A new current DPJ proposes the scan it was acquired in (rows when it says none);
+        the same DPJ keeps the scan the user chose."""
+        ref = dpj.ref if dpj is not None else None
+        if ref != self._proposed_for:
+            self._proposed_for = ref
+            recorded = dpj.meta.get("scan", ROWS) if dpj is not None else ROWS
+            self.set_scan(recorded if recorded in SCANS else ROWS)
+
+    def set_scan(self, scan: str) -> None:
+        self.scan_box.setCurrentIndex(self.scan_box.findData(scan))
+
+    def scan(self) -> str:
+        """The scan of the next synthesis (a photo model's scales are drawn in rows)."""
+        return ROWS if self.scale_dpjs else self.scan_box.currentData()
 
     def set_scales(self, dpjs) -> None:
         """The scales (DPJs, coarsest first) the current DPJ belongs to, or none: a new set
@@ -116,6 +145,8 @@ class SynthesisDock(QtWidgets.QDockWidget):
         if not same:
             self.scales_box.setValue(n)
         self.scales_box.setEnabled(len(dpjs) > 1)
+        self.scan_or_scales.setCurrentIndex(1 if dpjs else 0)
+        self.scan_or_scales_label.setText("Scales" if dpjs else "Scan")
         if dpjs:
             first, second = scales_summary(dpjs)
             self.dpj_label.setText(f"{first}\n{second}")
@@ -141,12 +172,14 @@ class SynthesisDock(QtWidgets.QDockWidget):
         self._shown_step = step
 
     def show_step(self, action) -> None:
-        """Show a Synthesize step's size and seed (a SynthesizeScales step's scales too)."""
+        """Show a Synthesize step's size, seed and scan (a SynthesizeScales step's scales)."""
         self.width_box.setValue(action.width)
         self.height_box.setValue(action.height)
         self.seed.set_value(action.seed)
         self.tileable_box.setChecked(action.tileable)
-        if action.TYPE == "synthesize_scales":
+        if action.TYPE == "synthesize":
+            self.set_scan(action.scan)
+        else:
             self.scales_box.setValue(len(action.dpjs))
 
     def set_busy(self, busy: bool) -> None:

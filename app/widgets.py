@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from PySide6 import QtCore, QtGui, QtWidgets
 
+from texeditor.markov.scan import SCAN_NAMES
+
 # a window manager's frame and title bar, which Qt learns only once the window is shown
 DECORATIONS = QtCore.QSize(16, 40)
 
@@ -45,5 +47,14 @@ def spin_box(lo, hi, value, *, decimals: int = 0, suffix: str = "", prefix: str 
     box.setValue(value)
     box.setSuffix(suffix)
     box.setPrefix(prefix)
+    box.setToolTip(tip)
+    return box
+
+
+def scan_combo(tip: str) -> QtWidgets.QComboBox:
+    """The four scan directions (texeditor.markov.scan) by name; an item's data is its key."""
+    box = QtWidgets.QComboBox()
+    for key, name in SCAN_NAMES.items():
+        box.addItem(name, key)
     box.setToolTip(tip)
     return box

@@ -39,6 +39,8 @@ def cmd_acquire(args) -> int:
     from .markov.levels import load_image, quantize
 
     out = output_path(args.output, (".dpj",))
+    if args.scales is not None and (args.scan or args.stationary):
+        raise InputError("--scan and --stationary acquire one DPJ: leave out --scales")
     image = load_image(args.image)
     if args.scales is not None:
         model = _acquire_model(image, args)
@@ -51,32 +53,38 @@ def cmd_acquire(args) -> int:
     method = args.quantizer or "band"
     q = quantize(image, args.levels, method=method)
     meta = {"source": Path(args.image).name, "quantizer": method}
-    dpj = estimate_dpj(q.levels, (u, v), args.levels, wrap=args.wrap, palette=q.palette, meta=meta)
+    scan = args.scan or "rows"
+    dpj = estimate_dpj(q.levels, (u, v), args.levels, wrap=args.wrap, scan=scan,
+                       stationary=args.stationary, palette=q.palette, meta=meta)
     dpj.save(out)
-    print(f"{out}: {u}x{v} window, G = {args.levels}, {len(dpj)} non-zero configurations")
+    print(f"{out}: {u}x{v} window, G = {args.levels}, {len(dpj)} non-zero configurations, "
+          f"scan {scan}{', made stationary' if args.stationary else ''}")
     return 0
 
 
 def cmd_synth(args) -> int:
     from .export import write_npy, write_png
-    from .markov.synthesis import synthesize
+    from .markov.scan import synthesize
     from .photo import load_model
 
     width, height = _pair(args.size, "the size")
     out = output_path(args.output, SYNTH_OUTPUTS)
     dpj = load_model(args.dpj)
     if hasattr(dpj, "scales"):
+        if args.scan not in (None, "rows"):
+            raise InputError("a photo model is drawn in the rows scan only: leave out --scan")
         return _synth_model(dpj, width, height, args.seed, out, tone=not args.no_tone,
                             tileable=args.tileable)
+    scan = args.scan or dpj.meta.get("scan", "rows")      # the scan it was acquired in
     if out.suffix.lower() == ".texture":
-        return _synth_texture(dpj, width, height, args.seed, out, args.tileable)
-    result = synthesize(dpj, (height, width), seed=args.seed, tileable=args.tileable)
+        return _synth_texture(dpj, width, height, args.seed, out, args.tileable, scan)
+    result = synthesize(dpj, (height, width), seed=args.seed, tileable=args.tileable, scan=scan)
     if out.suffix.lower() == ".png":
         write_png(out, result.levels, dpj.palette)
     else:
         write_npy(out, result.levels)
     print(f"{out}: {width}x{height}, seed {args.seed}{', tileable' if args.tileable else ''}, "
-          f"dead-end repairs {result.repairs} (rows redrawn {result.redraws})")
+          f"scan {scan}, dead-end repairs {result.repairs} (rows redrawn {result.redraws})")
     return 0
 
 
@@ -141,12 +149,12 @@ def cmd_resynth(args) -> int:
     return code
 
 
-def _synth_texture(dpj, width, height, seed, out, tileable=False) -> int:
+def _synth_texture(dpj, width, height, seed, out, tileable=False, scan="rows") -> int:
     from .recipe.texturefile import save_texture, synthesize_texture
 
-    history = synthesize_texture(dpj, width, height, seed=seed, tileable=tileable)
+    history = synthesize_texture(dpj, width, height, seed=seed, tileable=tileable, scan=scan)
     save_texture(out, history)
-    print(f"{out}: {width}x{height}, seed {seed}, one Synthesize action in its log")
+    print(f"{out}: {width}x{height}, seed {seed}, scan {scan}, one Synthesize action in its log")
     return 0
 
 
@@ -240,6 +248,11 @@ def _model_options(p) -> None:
     p.add_argument("--no-tone", action="store_true", help="keep no tone (flat palette colours)")
 
 
+def _scan_option(p, text: str) -> None:
+    from .markov.scan import SCANS
+    p.add_argument("--scan", choices=SCANS, default=None, help=text)
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="texeditor", description="Interactive texture synthesis after Olejnik (1984).",
                 epilog="`texeditor` alone, or `texeditor gui [--open F] [--screenshot OUT.png]`, "
@@ -254,6 +267,10 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--quantizer", choices=("band", "lloyd", "lab"), default=None,
                    help="default: band (lloyd with --scales); lab: colour classes in CIELAB")
     a.add_argument("--wrap", action="store_true", help="count windows on the torus")
+    _scan_option(a, "the order the window sweeps the photo: rows (top to bottom, the default), "
+                    "rows-up, columns (left to right) or columns-left; the DPJ records it")
+    a.add_argument("--stationary", action="store_true", help="make the DPJ stationary (its "
+                   "left/right and top/bottom sub-windows equally likely, thesis §5.2.2)")
     a.add_argument("--scales", help="N or auto: a photo model of N scales with the photo's tone "
                    "(a .dpj of format 2) instead of one DPJ")
     _model_options(a)
@@ -268,6 +285,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="a photo model's PNG in its palette's flat colours, not the photo's tone")
     s.add_argument("--tileable", action="store_true", help="repeat without a seam (the Markov "
                    "process drawn on the torus)")
+    _scan_option(s, "the order the texture is drawn in (default: the scan the DPJ was "
+                    "acquired in, else rows)")
     s.add_argument("-o", "--output", required=True, help="OUT.png, OUT.npy or OUT.texture")
 
     rs = sub.add_parser("resynth", help="photo → texture: a multi-scale DPJ drawn with the "

@@ -43,6 +43,25 @@ class CheckRow:
             self.button.setEnabled(remedy)
 
 
+def chain_is_regular(r) -> bool:
+    """The thesis's regular chain (§4.5): one closed class, aperiodic, nothing else."""
+    return r.closed_classes == 1 and r.transient_states == 0 and r.period == 1
+
+
+def chain_text(r, unreachable: int) -> str:
+    """The Chain row's sentence: classes, dead ends, the period, the entries marked."""
+    text = (f"{r.states:,} states, {r.closed_classes} closed class"
+            f"{'es' if r.closed_classes != 1 else ''}, {r.transient_states:,} transient")
+    if r.dead_ends:
+        text += f", {r.dead_ends:,} dead end{'s' if r.dead_ends > 1 else ''}"
+    if r.period > 1:
+        text += (f" — periodic, period {r.period}: along a row the patterns cycle through "
+                 f"{r.period} families")
+    if unreachable:
+        text += f" — {unreachable:,} unreachable, marked in red"
+    return text
+
+
 class ChecksPanel(QtWidgets.QWidget):
     """Signals: ``normaliseRequested``, ``stationaryRequested``, ``restrictRequested``."""
 
@@ -64,7 +83,8 @@ class ChecksPanel(QtWidgets.QWidget):
             "sub-windows have equal laws, on the same configurations")
         self.chain = CheckRow(grid, 3, "Chain", "Restrict",
                               "Keep only the main closed class of the horizontal chain "
-                              "(Massaloux): drops transient states and small closed classes")
+                              "(Massaloux): drops dead ends, transient states and small "
+                              "closed classes")
         self.verdict = QtWidgets.QLabel()
         grid.addWidget(self.verdict, 4, 0, 1, 4)
         self.sum.button.clicked.connect(self.normaliseRequested)
@@ -101,14 +121,8 @@ class ChecksPanel(QtWidgets.QWidget):
         if not r.entries:
             self.chain.show(OK, "no configurations yet")
         else:
-            single = r.closed_classes == 1 and r.transient_states == 0
-            text = (f"{r.states:,} states, {r.closed_classes} closed class"
-                    f"{'es' if r.closed_classes != 1 else ''}, {r.transient_states:,} transient")
-            if unreachable:
-                text += f" — {unreachable:,} unreachable entr{'ies' if unreachable > 1 else 'y'} " \
-                        "marked in red"
-            self.chain.show(OK if single and not unreachable else WARN, text,
-                            remedy=bool(unreachable))
+            self.chain.show(OK if chain_is_regular(r) and not unreachable else WARN,
+                            chain_text(r, unreachable), remedy=bool(unreachable))
         ready = r.is_valid
         colour = MARKS[OK if ready else BAD][1]
         self.verdict.setText(f"<span style='color:{colour}'>" +

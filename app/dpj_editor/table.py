@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor.markov import dpj_edit
+from texeditor.markov import chain, dpj_edit
 from texeditor.markov.dpj import DPJ
 
 from ..canvas import colourize
@@ -24,6 +24,13 @@ MAX_THUMBS = 4096               # cached thumbnails (a screenful is a few dozen)
 UNREACHABLE = QtGui.QColor("#c0392b")
 DIGITS = "0123456789ABCDEF"
 Order = QtCore.Qt.SortOrder
+ROLE_TIPS = {
+    chain.DEAD_END: "Dead end: it leads (to the right or below) to columns or rows no "
+                    "configuration continues, mostly a pattern seen only at the photo's border",
+    chain.TRANSIENT: "Transient: a row passes through it at most once, then never comes back",
+    chain.MINOR_CLOSED: "A smaller closed class: a row that starts in it never leaves it, and a "
+                        "row outside never enters it",
+}
 
 
 def config_text(config: np.ndarray) -> str:
@@ -155,8 +162,9 @@ class ConfigTableModel(QtCore.QAbstractTableModel):
             if role == QtCore.Qt.ItemDataRole.ToolTipRole:
                 return ("The window's levels, rows top to bottom", "Double-click to edit",
                         "Share of the sum of all probabilities",
-                        "Role in the horizontal chain: entries outside the main class are "
-                        "unreachable in a long synthesis (Restrict removes them)")[section]
+                        "Role in the horizontal chain: dead ends, transient entries and small "
+                        "closed classes are unreachable in a long synthesis (Restrict removes "
+                        "them)")[section]
         return None
 
     def flags(self, index):
@@ -174,12 +182,12 @@ class ConfigTableModel(QtCore.QAbstractTableModel):
             return float(self.dpj.probs[i])
         if role == R.DecorationRole and col == CONFIG:
             return self.thumbnail(i)
-        if role == R.ForegroundRole and self.roles[i] != dpj_edit.MAIN:
+        if role == R.ForegroundRole and self.roles[i] != chain.MAIN:
             return UNREACHABLE
         if role == R.TextAlignmentRole and col in (PROB, SHARE):
             return int(QtCore.Qt.AlignmentFlag.AlignRight | QtCore.Qt.AlignmentFlag.AlignVCenter)
-        if role == R.ToolTipRole and col == CHAIN and self.roles[i] != dpj_edit.MAIN:
-            return "Unreachable: a long synthesis leaves this configuration behind"
+        if role == R.ToolTipRole and col == CHAIN and self.roles[i] != chain.MAIN:
+            return ROLE_TIPS[int(self.roles[i])]
         if role == CODE_ROLE:
             return int(self.dpj.codes[i])
         return None
@@ -194,7 +202,7 @@ class ConfigTableModel(QtCore.QAbstractTableModel):
             total = self.dpj.total
             return f"{100 * p / total:.3g} %" if total > 0 else "–"
         role = int(self.roles[i])
-        return "" if role == dpj_edit.MAIN else dpj_edit.ROLE_NAMES[role]
+        return "" if role == chain.MAIN else chain.ROLE_NAMES[role]
 
     def setData(self, index, value, role=QtCore.Qt.ItemDataRole.EditRole) -> bool:
         if role != QtCore.Qt.ItemDataRole.EditRole or index.column() != PROB:

@@ -9,8 +9,10 @@ from PySide6.QtTest import QTest
 from app.dpj_editor import DPJEditor
 from app.dpj_editor.checks import BAD, OK, WARN
 from app.dpj_editor.table import CHAIN, PROB
-from texeditor import DPJ
+from texeditor import DPJ, resources
 from texeditor.markov import dpj_edit as E
+from texeditor.markov.estimation import estimate_dpj
+from texeditor.markov.levels import load_image, quantize
 
 from .support import choose_level, drag, new_dpj, paint, set_probability
 
@@ -57,8 +59,10 @@ def test_paint_set_normalise_and_undo(qtbot, editor):
     QTest.mouseClick(editor.checks.sum.button, LEFT)               # Normalise
     assert editor.checks.sum.state == OK and editor.report.is_valid
     assert np.allclose(editor.dpj.probs, 0.5) and editor.act_use.isEnabled()
-    assert editor.checks.stationarity.state == OK and editor.checks.chain.state == OK
-    assert "Ready" in editor.checks.verdict.text()
+    assert editor.checks.stationarity.state == OK and "Ready" in editor.checks.verdict.text()
+    # 01 then 10 then 01...: the columns alternate, a chain of period 2 (flagged, nothing to drop)
+    chain = editor.checks.chain
+    assert chain.state == WARN and "period 2" in chain.text.text() and not chain.button.isEnabled()
 
     editor.activateWindow()
     qtbot.keyClick(editor, Key.Key_Z, CTRL)                         # undo the normalisation
@@ -221,6 +225,29 @@ def test_restrict_and_make_stationary_from_the_checks(qtbot, editor):
     r = editor.dpj.report()
     assert max(r.horizontal_residual, r.vertical_residual) < 1e-9
     assert editor.checks.stationarity.state == OK
+
+
+def test_a_photo_dpj_without_wrap_restricts_to_its_closed_class_and_undoes(qtbot, editor):
+    """Issue 21.1: the border's dead ends are marked, not every entry; Restrict keeps the main
+    closed class; Ctrl+Z brings the dead ends back."""
+    q = quantize(load_image(resources.sample_images()[0]), 4, "band")
+    photo = estimate_dpj(q.levels, (3, 3), 4, wrap=False)
+    editor.start(photo, "brick")
+    assert editor.analysis.wait()
+    chain, model = editor.checks.chain, editor.table.model
+    assert chain.state == WARN and "1 closed class," in chain.text.text()
+    assert f", {editor.report.dead_ends} dead end" in chain.text.text() and chain.button.isEnabled()
+    marks = [model.data(model.index(r, CHAIN)) for r in range(model.rowCount())]
+    dead = marks.count("dead end")
+    assert 0 < dead == editor.report.dead_ends and marks.count("") >= 0.99 * len(marks)
+    QTest.mouseClick(chain.button, LEFT)                               # Restrict
+    assert editor.runner.wait() and editor.analysis.wait()
+    assert chain.state == OK and len(editor.dpj) == len(photo.restrict())
+    assert editor.report.closed_classes == 1 and editor.report.dead_ends == 0
+    editor.activateWindow()
+    qtbot.keyClick(editor, Key.Key_Z, CTRL)
+    assert editor.analysis.wait()
+    assert editor.dpj == photo and chain.state == WARN and editor.report.dead_ends == dead
 
 
 def test_save_open_and_a_damaged_file(qtbot, editor, tmp_path, monkeypatch):

@@ -160,17 +160,22 @@ def test_the_acquire_dialog_explains_the_chain_with_a_remedy(laptop, qtbot):
     from types import SimpleNamespace
 
     from app.acquire_dialog import chain_advice
-    dead_ends = SimpleNamespace(states=1570, closed_classes=0, transient_states=1570)
+    dead_ends = SimpleNamespace(states=1570, closed_classes=0, transient_states=1570,
+                                dead_ends=8967, period=0)
     text, detail, warn = chain_advice(dead_ends, wrap=False)
     assert warn and "dead ends" in text and "Wrap around the edges" in text
     assert "fewer levels" in text and "smaller window" in text
     assert "closed class" not in text and "transient" not in text       # the jargon is detail
     assert "closed class" in detail and "transient" in detail and "1,570" in detail
     assert "Wrap" not in chain_advice(dead_ends, wrap=True)[0]            # already on
-    families = SimpleNamespace(states=40, closed_classes=3, transient_states=2)
+    families = SimpleNamespace(states=40, closed_classes=3, transient_states=2, dead_ends=0,
+                               period=1)
     assert "3 separate families" in chain_advice(families, wrap=True)[0]
-    fine = SimpleNamespace(states=40, closed_classes=1, transient_states=2)
+    fine = SimpleNamespace(states=40, closed_classes=1, transient_states=2, dead_ends=3, period=1)
     assert not chain_advice(fine, wrap=True)[2]
+    beat = SimpleNamespace(states=4, closed_classes=1, transient_states=0, dead_ends=0, period=2)
+    text, detail, warn = chain_advice(beat, wrap=True)
+    assert warn and "cycle through 2 families" in text and "period 2" in detail
 
     dialog = laptop.acquire()
     assert dialog.wait()

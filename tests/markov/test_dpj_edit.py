@@ -6,6 +6,7 @@ from hypothesis import given, settings, strategies as st
 
 from texeditor import DPJ
 from texeditor.markov import dpj_edit as E
+from texeditor.markov.chain import MAIN, MINOR_CLOSED, TRANSIENT
 from texeditor.markov.dpj import encode
 from texeditor.errors import InputError
 from texeditor.markov.estimation import estimate_dpj
@@ -133,8 +134,8 @@ def planted_chain() -> DPJ:
 def test_chain_roles_mark_the_planted_states():
     d = planted_chain()
     roles = dict(zip(map(tuple, d.configs[:, 0]), E.chain_roles(d)))
-    assert roles[(0, 1)] == E.TRANSIENT and roles[(3, 3)] == E.MINOR_CLOSED
-    assert roles[(1, 2)] == roles[(2, 1)] == roles[(1, 1)] == E.MAIN
+    assert roles[(0, 1)] == TRANSIENT and roles[(3, 3)] == MINOR_CLOSED
+    assert roles[(1, 2)] == roles[(2, 1)] == roles[(1, 1)] == MAIN
     assert E.unreachable_entries(d).sum() == 2
 
 

@@ -17,7 +17,6 @@ import zlib
 from dataclasses import asdict, dataclass
 
 import numpy as np
-import scipy        # scipy.sparse loads on first use, not at start-up
 
 from ..errors import FormatError, InputError
 from ..fileio import load_json, read_limited, write_file
@@ -117,6 +116,8 @@ class DPJReport:
     states: int
     closed_classes: int
     transient_states: int
+    dead_ends: int        # entries leading where no configuration continues (right or below)
+    period: int           # of the main closed class: 1 aperiodic, 0 none
 
     @property
     def is_valid(self) -> bool:
@@ -138,7 +139,10 @@ class DPJReport:
             f"stationarity     horizontal residual {self.horizontal_residual:.3g}, "
             f"vertical residual {self.vertical_residual:.3g} (L1, 0 = stationary)",
             f"horizontal chain {self.states} states, {self.closed_classes} closed classes, "
-            f"{self.transient_states} transient states",
+            f"{self.transient_states} transient states, {self.dead_ends} entries to dead ends",
+            "main class       " + ("none" if not self.period else "aperiodic" if self.period == 1
+                                   else f"PERIODIC, period {self.period}: along a row the "
+                                        f"patterns cycle through {self.period} families"),
             "valid            " + ("yes" if self.is_valid else "no"),
         ]
 
@@ -272,70 +276,55 @@ class DPJ:
                               palette=self._palette, meta=self.meta)
 
     def horizontal_states(self) -> tuple[np.ndarray, np.ndarray]:
-        """Codes of each entry's left and right (u-1)-column sub-windows (the chain's states)."""
+        """Codes of each entry's left and right (u-1)-column sub-windows (the chain's states).
+        With u = 1 every entry's are the empty sub-window, code 0."""
         left = encode(np.ascontiguousarray(self._configs[:, :, :-1]), self._levels)
         right = encode(np.ascontiguousarray(self._configs[:, :, 1:]), self._levels)
         return left, right
 
-    def chain_classes(self):
-        """Strongly connected classes of the horizontal chain (§4.5, Massaloux).
+    def vertical_states(self) -> tuple[np.ndarray, np.ndarray]:
+        """Codes of each entry's top and bottom (v-1)-row sub-windows (the vertical chain's)."""
+        top = encode(np.ascontiguousarray(self._configs[:, :-1, :]), self._levels)
+        bottom = encode(np.ascontiguousarray(self._configs[:, 1:, :]), self._levels)
+        return top, bottom
 
-        Returns (state codes, class of each state, ids of the closed classes, left, right ids).
-        A class is closed when no transition leaves it and it has at least one transition inside
-        (a state with no way out is a dead end, counted as transient).
-        """
-        left, right = self.horizontal_states()
-        states, ids = np.unique(np.concatenate([left, right]), return_inverse=True)
-        ids = ids.ravel()
-        li, ri = ids[: len(left)], ids[len(left):]
-        m = len(states)
-        graph = scipy.sparse.coo_matrix((np.ones(len(li)), (li, ri)), shape=(m, m)).tocsr()
-        _, label = scipy.sparse.csgraph.connected_components(graph, directed=True, connection="strong")
-        leaves = label[li] != label[ri]
-        inside = np.bincount(label[li][~leaves], minlength=label.max() + 1) > 0
-        leaking = np.bincount(label[li][leaves], minlength=label.max() + 1) > 0
-        closed = np.flatnonzero(inside & ~leaking)
-        return states, label, closed, li, ri
+    @functools.cached_property
+    def chain(self):
+        """The horizontal chain once dead ends are pruned: its classes, each entry's role and the
+        main class's period (:mod:`texeditor.markov.chain`; cached, DPJs are immutable)."""
+        from . import chain
+        return chain.analyse(self)
 
     def report(self) -> DPJReport:
         """The validation report of §5.2.2: range, sum, stationarity, chain structure."""
         p = self._probs
         u, v = self._window
         hres = vres = 0.0
-        states = closed_count = transient = 0
         if len(self):
             if u > 1:
                 hres = _residual(self.marginal(cols=slice(0, u - 1)), self.marginal(cols=slice(1, u)))
-                states_codes, label, closed, _, _ = self.chain_classes()
-                states = len(states_codes)
-                closed_count = len(closed)
-                transient = int(np.count_nonzero(~np.isin(label, closed)))
-            else:
-                states, closed_count = 1, 1
             if v > 1:
                 vres = _residual(self.marginal(rows=slice(0, v - 1)), self.marginal(rows=slice(1, v)))
+        c = self.chain
         return DPJReport(
             window=self._window, levels=self._levels, entries=len(self), total=float(p.sum()),
             negative=int(np.count_nonzero(p < 0)), above_one=int(np.count_nonzero(p > 1)),
             nonfinite=int(np.count_nonzero(~np.isfinite(p))),
-            horizontal_residual=hres, vertical_residual=vres, states=states,
-            closed_classes=closed_count, transient_states=transient)
+            horizontal_residual=hres, vertical_residual=vres, states=c.states,
+            closed_classes=c.closed_classes, transient_states=c.transient_states,
+            dead_ends=c.dead_ends, period=c.period)
 
     def restrict(self) -> "DPJ":
-        """Keep the main closed class of the horizontal chain, drop transient states (Massaloux).
+        """Massaloux's restriction (§4.5): prune the dead ends, keep the main closed class of the
+        horizontal chain (the one carrying the most probability), normalised.
 
-        The main class is the closed class carrying the most probability; the result is
-        normalised. A DPJ whose chain is already one closed class comes back unchanged in law.
-        """
-        if self._window[0] == 1 or not len(self):
-            return self.normalized()
-        _, label, closed, li, _ = self.chain_classes()
-        if len(closed) == 0:
-            raise InputError("the horizontal chain has no closed class: every path ends")
-        mass = np.bincount(label[li], weights=self._probs, minlength=label.max() + 1)
-        main = closed[np.argmax(mass[closed])]
-        keep = label[li] == main
-        return self._with(self._configs[keep], self._probs[keep]).normalized()
+        A DPJ whose chain is already one closed class without dead ends comes back unchanged in
+        law."""
+        kept = self.chain.kept
+        if len(self) and not kept.any():
+            raise InputError("the horizontal chain has no closed class: every path ends in a "
+                             "dead end (a sub-window no configuration continues)")
+        return self._with(self._configs[kept], self._probs[kept]).normalized()
 
     # -- files ----------------------------------------------------------------------------------
     _bytes: bytes | None = None      # this DPJ's file bytes, once read or encoded

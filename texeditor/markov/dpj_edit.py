@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import scipy        # scipy.sparse loads on first use, not at start-up
 
+from .chain import MAIN
 from .dpj import DPJ, check_palette, check_window, decode, encode, grey_ramp
 from ..errors import Cancelled, InputError
 
@@ -18,9 +19,6 @@ STATIONARY_TOL = 1e-11         # L1 residual make_stationary aims below (the che
 FADED = 1e-8                   # an entry make_stationary shrinks by more is fading to 0: dropped
 MAX_PRUNINGS = 8
 
-# the role of an entry in the horizontal chain (Massaloux, §4.5)
-MAIN, TRANSIENT, MINOR_CLOSED = 0, 1, 2
-ROLE_NAMES = {MAIN: "main class", TRANSIENT: "transient", MINOR_CLOSED: "small closed class"}
 
 
 # -- entries ---------------------------------------------------------------------------------------
@@ -147,13 +145,11 @@ def _worst_residual(dpj: DPJ) -> float:
 def _sub_windows(dpj: DPJ) -> list[tuple[np.ndarray, np.ndarray]]:
     """(from, to) codes of each entry for each direction that has a constraint."""
     u, v = dpj.window
-    c, g = dpj.configs, dpj.levels
     pairs = []
     if u > 1:
         pairs.append(dpj.horizontal_states())
     if v > 1:
-        pairs.append((encode(np.ascontiguousarray(c[:, :-1, :]), g),
-                      encode(np.ascontiguousarray(c[:, 1:, :]), g)))
+        pairs.append(dpj.vertical_states())
     return pairs
 
 
@@ -266,37 +262,25 @@ def _objective(a, logp, theta):
 # -- the chain's classes (§4.5, Massaloux) ---------------------------------------------------------
 
 def chain_roles(dpj: DPJ) -> np.ndarray:
-    """Each entry's role in the horizontal chain: MAIN (its left sub-window is in the closed class
-    carrying the most probability), TRANSIENT, or MINOR_CLOSED (in another, smaller closed class).
+    """Each entry's role in the horizontal chain once dead ends are pruned: MAIN (its left
+    sub-window is in the closed class carrying the most probability), DEAD_END, TRANSIENT or
+    MINOR_CLOSED (see :class:`texeditor.markov.chain.Chain`).
 
     Entries that are not MAIN are the ones a long synthesis cannot keep reaching: the editor marks
     them, and :func:`restrict` removes them.
     """
-    roles = np.full(len(dpj), MAIN, np.int8)
-    if dpj.window[0] == 1 or not len(dpj):
-        return roles
-    _, label, closed, li, _ = dpj.chain_classes()
-    if len(closed) == 0:
-        roles[:] = TRANSIENT
-        return roles
-    mass = np.bincount(label[li], weights=dpj.probs, minlength=label.max() + 1)
-    main = closed[np.argmax(mass[closed])]
-    roles[~np.isin(label[li], closed)] = TRANSIENT
-    roles[np.isin(label[li], closed) & (label[li] != main)] = MINOR_CLOSED
-    return roles
+    return dpj.chain.roles
 
 
 def unreachable_entries(dpj: DPJ) -> np.ndarray:
-    """Entries a long synthesis leaves behind: transient states and small closed classes."""
+    """Entries a long synthesis leaves behind: dead ends, transient states, small closed classes."""
     return chain_roles(dpj) != MAIN
 
 
 def restrict(dpj: DPJ) -> DPJ:
-    """Keep only the main closed class of the horizontal chain, normalised (Massaloux, §4.5)."""
-    keep = ~unreachable_entries(dpj)
-    if not keep.any():
-        raise InputError("the horizontal chain has no closed class: every path ends")
-    return _rebuild(dpj, dpj.codes[keep], dpj.probs[keep]).normalized()
+    """Massaloux's restriction (§4.5): the dead ends pruned, the main closed class of the
+    horizontal chain kept, normalised."""
+    return dpj.restrict()
 
 
 # -- generators (§5.2.2) ---------------------------------------------------------------------------

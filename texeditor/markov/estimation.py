@@ -9,7 +9,11 @@ from __future__ import annotations
 import numpy as np
 
 from .dpj import DPJ, check_window
+from .dpj_edit import make_stationary, residuals
+from .scan import ROWS, to_scan
 from ..errors import InputError
+
+STATIONARY_CHECK = 1e-9     # the L1 residual (per unit of mass) the checks call stationary
 
 
 def window_codes(levels: np.ndarray, window: tuple[int, int], num_levels: int,
@@ -38,21 +42,42 @@ def window_codes(levels: np.ndarray, window: tuple[int, int], num_levels: int,
 
 
 def estimate_dpj(matrix: np.ndarray, window: tuple[int, int] = (2, 2), levels: int | None = None,
-                 *, wrap: bool = False, palette=None, meta: dict | None = None) -> DPJ:
+                 *, wrap: bool = False, scan: str = ROWS, stationary: bool = False,
+                 palette=None, meta: dict | None = None, cancel=None) -> DPJ:
     """Estimate the DPJ of a level matrix: the frequency of each u×v configuration.
 
     ``levels`` (G) defaults to the highest level present + 1. The result has at most as many
-    entries as the matrix has windows, and its entries sum to 1.
+    entries as the matrix has windows, and its entries sum to 1. ``scan`` (§5.2.1b): the
+    windows are those of the matrix as that scan sees it (:mod:`texeditor.markov.scan`).
+    ``stationary``: the estimate is then made to satisfy the thesis's stationarity condition
+    (§5.2.2; :func:`texeditor.markov.dpj_edit.make_stationary`, which ``cancel()`` stops); a
+    DPJ estimated with ``wrap`` already does. The meta records a scan other than rows and a
+    stationarity enforced, so a DPJ acquired as before keeps its former bytes.
     """
-    matrix = np.asarray(matrix)
+    matrix = to_scan(matrix, scan)
     if levels is None:
         levels = max(2, int(matrix.max()) + 1) if matrix.size else 2
     codes = window_codes(matrix, window, levels, wrap)
     unique, counts = np.unique(codes, return_counts=True)
     del codes
     meta = {"source": "estimated", "wrap": bool(wrap), **(meta or {})}
-    return DPJ.from_codes(unique, counts / counts.sum(), levels, window,
-                          palette=palette, meta=meta)
+    if scan != ROWS:
+        meta["scan"] = scan
+    if stationary:
+        meta["stationary"] = True
+    dpj = DPJ.from_codes(unique, counts / counts.sum(), levels, window, palette=palette, meta=meta)
+    return _stationary(dpj, cancel) if stationary else dpj
+
+
+def _stationary(dpj: DPJ, cancel) -> DPJ:
+    """The estimate made stationary, or an error saying it could not be (never a DPJ that
+    claims stationarity in its meta without it)."""
+    done = make_stationary(dpj, cancel=cancel)
+    if max(residuals(done)) > STATIONARY_CHECK * done.total:
+        raise InputError("this estimate could not be made stationary (the balance of its "
+                         f"{len(dpj):,} configurations did not converge): tick wrap, or choose "
+                         "fewer levels or a smaller window")
+    return done
 
 
 def _check_matrix(levels: np.ndarray, num_levels: int) -> np.ndarray:

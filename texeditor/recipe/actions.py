@@ -14,6 +14,7 @@ from typing import Any, Callable, ClassVar
 import numpy as np
 
 from ..markov.dpj import MAX_LEVELS, grey_ramp
+from ..markov.scan import ROWS, SCANS, check_scan
 from ..errors import FormatError, InputError, check_unicode
 
 MAX_CANVAS_SIDE = 16384
@@ -410,18 +411,22 @@ class Synthesize(Action):
     height: int = _side("points down")
     seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
     tileable: bool = _tileable()
+    scan: str = param("str", hi=16, default=ROWS,
+                      doc="scan direction (§5.2.1b): " + ", ".join(SCANS) + "; the DPJ's rows "
+                          "run along the scan")
 
     def _validate(self):
         _check_canvas(self.width, self.height)
+        check_scan(self.scan)
 
     def render_result(self, dpj, progress=None, cancel=None):
         """Synthesise (slow; safe in a worker thread): the SynthesisResult, whose ``levels`` are
         what ``apply(doc, prepared=levels)`` then takes as they are."""
-        from ..markov.synthesis import synthesize
+        from ..markov.scan import synthesize
         if not dpj.has_ref(self.dpj):
             raise InputError(f"this DPJ is not {self.dpj}, the one the action refers to")
         return synthesize(dpj, (self.height, self.width), seed=self.seed, progress=progress,
-                          cancel=cancel, tileable=self.tileable)
+                          cancel=cancel, tileable=self.tileable, scan=self.scan)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpj_of(doc), progress, cancel).levels
@@ -452,7 +457,8 @@ class Synthesize(Action):
 
     def label(self) -> str:
         tiles = ", tileable" if self.tileable else ""
-        return f"Synthesise {self.width}×{self.height}, seed {self.seed}{tiles}"
+        scan = f", scan {self.scan}" if self.scan != ROWS else ""
+        return f"Synthesise {self.width}×{self.height}, seed {self.seed}{tiles}{scan}"
 
 
 @register

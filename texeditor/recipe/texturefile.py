@@ -390,11 +390,11 @@ def describe_log(actions) -> list[str]:
 
 
 def synthesize_texture(dpj: DPJ, width: int, height: int, *, seed: int = 0, progress=None,
-                       cancel=None, tileable: bool = False) -> History:
+                       cancel=None, tileable: bool = False, scan: str = "rows") -> History:
     """A History whose log is one synthesis (`texeditor synth ... -o OUT.texture`)."""
     history = History()
     ref = history.add_dpj(dpj)
-    action = Synthesize(ref, width, height, seed, tileable)
+    action = Synthesize(ref, width, height, seed, tileable, scan)
     history.apply(action, prepared=action.render_result(dpj, progress, cancel).levels)
     return history
 
