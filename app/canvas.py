@@ -163,21 +163,14 @@ class PixelGrid(pg.GraphicsObject):
         painter.drawLines(lines)
 
 
-def _write_qimage(qimage: QtGui.QImage, row: int, col: int, patch: np.ndarray) -> bool:
-    """Write ``patch`` (levels for an indexed picture, RGB for a mip) into the picture's own
-    pixels at (row, col); False for a format this does not know."""
-    fmt = qimage.format()
-    depth = {QtGui.QImage.Format.Format_Indexed8: 1, QtGui.QImage.Format.Format_RGB888: 3}.get(fmt)
-    if depth is None or (patch.ndim == 3) != (depth == 3):
+def _drawn_from(qimage: QtGui.QImage | None, array: np.ndarray) -> bool:
+    """Whether the image item's QImage shows ``array``'s own memory: pyqtgraph makes it on the
+    memory of the array it renders where it can (an indexed or RGB picture), so a change of
+    the array shows without a new render."""
+    if qimage is None or qimage.isNull():
         return False
-    h, w = patch.shape[:2]
-    if row + h > qimage.height() or col + w > qimage.width():
-        return False
-    stride = qimage.bytesPerLine()
-    pixels = np.frombuffer(qimage.bits(), np.uint8, count=qimage.sizeInBytes())
-    rows = pixels.reshape(qimage.height(), stride)[row:row + h, col * depth:(col + w) * depth]
-    rows[...] = patch.reshape(h, w * depth)
-    return True
+    pixels = np.frombuffer(qimage.constBits(), np.uint8, count=qimage.sizeInBytes())
+    return np.may_share_memory(pixels, array)
 
 
 class CanvasView(pg.GraphicsView):
@@ -242,9 +235,12 @@ class CanvasView(pg.GraphicsView):
 
     def update_box(self, levels: np.ndarray, box) -> bool:
         """Redraw only ``box`` (top, left, height, width) of a matrix of the shape shown, through
-        the palette shown: the cells (or their mip) in that box are written into the picture on
-        screen, nothing else is uploaded. False (nothing done) when a full ``set_image`` is
-        needed: another shape, no picture yet, or a picture format this does not patch."""
+        the palette shown: the cells (or their mip) in that box are written into the canvas's
+        own picture (a copy of the cells, or the mip), whose memory the QImage on screen is made
+        on; nothing else is uploaded. Never into the QImage itself: until the next paint it may
+        still be made on the matrix shown before, which a History keeps as an undo record.
+        False (nothing done) when a full ``set_image`` is needed: another shape, no picture yet,
+        or a picture not the canvas's own (a photo's tone)."""
         if (self._levels is None or levels.shape != self._levels.shape or box is None
                 or self._picture is not None
                 or self._shown_level is None or self.image.qimage is None
@@ -262,16 +258,13 @@ class CanvasView(pg.GraphicsView):
         else:
             patch = box_average(np.ascontiguousarray(levels[r0 * f:r1 * f, c0 * f:c1 * f]),
                                 self._lut, k)
-        if not _write_qimage(self.image.qimage, r0, c0, patch):
+        shown = self.image.image               # the canvas's own cells or mip, never the matrix
+        if not shown.flags.writeable:
             return False
+        shown[r0:r1, c0:c1] = patch
+        if not _drawn_from(self.image.qimage, shown):
+            self.image.updateImage()           # a QImage of another array (not painted since)
         self._levels = levels
-        shown = self.image.image
-        if k == 0 and shown is not levels:
-            self.image.image = levels          # a later re-render (a new palette) reads these
-        elif k:
-            shown = self._mips[k] = shown if shown.flags.writeable else shown.copy()
-            shown[r0:r1, c0:c1] = patch
-            self.image.image = shown
         for other in [j for j in self._mips if j != k]:
             del self._mips[other]
         self.image.update(QtCore.QRectF(c0 * f, r0 * f, (c1 - c0) * f, (r1 - r0) * f))
@@ -322,8 +315,9 @@ class CanvasView(pg.GraphicsView):
         if k == 0 and self._picture is not None:
             self.image.setImage(self._picture, lut=None, levels=(0, 255), autoLevels=False)
             self.image.setRect(QtCore.QRectF(0, 0, w, h))
-        elif k == 0:
-            self.image.setImage(self._levels, lut=self._lut, levels=(0, 255), autoLevels=False)
+        elif k == 0:                 # a copy: the QImage is made on its memory, and update_box
+            cells = np.array(self._levels)          # writes there, never into the document's
+            self.image.setImage(cells, lut=self._lut, levels=(0, 255), autoLevels=False)
             self.image.setRect(QtCore.QRectF(0, 0, w, h))
         else:
             mip, f = self.mip(k), 1 << k

@@ -117,8 +117,8 @@ class Walk:
         if not isinstance(tool, ExtractTool) or not tool.panel.isEnabled():
             return self.click()
         p = tool.panel
-        button = self.rng.choice([p.recolour, p.delete, p.flip_h, p.flip_v, p.rotate, p.scale,
-                                  p.duplicate])
+        button = self.rng.choice([p.recolour, p.delete, p.flip_h, p.flip_v, p.rotate,
+                                  p.scale_button, p.duplicate])
         self.hand.button(button)
         return f"selection panel {button.text()}"
 

@@ -269,3 +269,55 @@ def test_edits_redraw_only_their_box_and_the_picture_stays_exact(window, qtbot, 
     assert window.submit(ResizeCanvas(70, 30, 0))
     assert len(full) == 1 and window.canvas.levels.shape == (70, 30)
     assert np.array_equal(_shown_pixels(canvas), _fresh_pixels(qtbot, canvas, window.document))
+
+
+def test_a_box_redrawn_before_the_next_paint_leaves_the_matrix_drawn_last_alone(qtbot):
+    """Monkey seed 1: the picture item's QImage is made on the memory of the array it is drawn
+    from. A box redrawn after a new matrix, before the paint that draws it, was written into
+    the QImage of the matrix drawn last — an array a History keeps as an undo record — so undo
+    and redo gave back another document. The canvas writes only into pictures of its own."""
+    canvas, old = make_canvas(qtbot)
+    palette = np.array([[0, 0, 0], [255, 0, 0], [0, 255, 0], [0, 0, 255]], np.uint8)
+    _shown_pixels(canvas)                       # painted: the picture is made from ``old``
+    kept = old.copy()
+    old.flags.writeable = False                 # as the document hands its levels out
+    new = (kept + 1) % 4
+    canvas.set_image(new, palette)              # a new matrix, not painted yet...
+    new[10:20, 5:25] = 3
+    assert canvas.update_box(new, (10, 5, 10, 20))     # ...and a box of it at once
+    assert np.array_equal(old, kept)
+    doc = type("Doc", (), {"levels": new, "palette": palette})
+    assert np.array_equal(_shown_pixels(canvas), _fresh_pixels(qtbot, canvas, doc))
+    new[0:3, 0:3] = 0                           # a box after a paint: drawn where it is
+    assert canvas.update_box(new, (0, 0, 3, 3))
+    assert np.array_equal(_shown_pixels(canvas), _fresh_pixels(qtbot, canvas, doc))
+
+
+def test_undo_and_redo_after_a_box_edit_made_before_a_paint_give_the_replayed_documents(
+        window, qtbot):
+    """The window's side of the test above: a new matrix, then at once a box edit; undo and
+    redo then step through exactly the documents the log replays to."""
+    from texeditor.recipe.actions import NewCanvas, SetLevels
+    from texeditor.recipe.replay import replay
+    canvas, history = window.canvas, window.history
+    canvas.set_zoom(4.0)
+    qtbot.wait(20)
+    assert window.submit(SetLevels(3, 4, 5, 6, 1))
+    _shown_pixels(canvas)
+    assert window.submit(NewCanvas(64, 48, 4))          # drawn whole at the next paint...
+    assert window.submit(SetLevels(3, 4, 5, 6, 2))      # ...and a box edit before that paint
+    assert window.submit(SetLevels(20, 30, 4, 4, 3))
+
+    def replayed():
+        doc = replay(history.applied, history.document.dpjs)
+        return (np.array_equal(doc.levels, history.document.levels)
+                and np.array_equal(doc.palette, history.document.palette))
+
+    for _ in range(4):
+        window.undo()
+        assert replayed(), f"undo to step {history.index}"
+    assert history.index == 1
+    for _ in range(4):
+        window.redo()
+        assert replayed(), f"redo to step {history.index}"
+    assert history.index == 5

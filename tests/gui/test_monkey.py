@@ -14,7 +14,10 @@ from .session_runner import run_child
 DEFAULT_SEEDS: list[int] = []   # the regression seeds below are the default suite's two
 REGRESSION_SEEDS = {             # seed → the bug it found (fixed)
     1: "a grey-scale key step, then Ctrl+Z within 350 ms: the step landed after the undo and "
-       "dropped the redo steps (PaletteDock.flush before MainWindow.undo / goto_step)",
+       "dropped the redo steps (PaletteDock.flush before MainWindow.undo / goto_step); later "
+       "walks: a box edit before the paint of a new matrix was written into the QImage still "
+       "made on the matrix before, an undo record, so redo gave another document (the canvas "
+       "writes only into its own picture)",
     6: "a grey-scale key step, then a click on a later History step: the flush dropped the "
        "step clicked ('Cannot go to this step'); goto_step flushes only when going back",
 }
