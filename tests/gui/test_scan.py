@@ -8,7 +8,7 @@ from PySide6 import QtCore, QtWidgets
 from texeditor.markov.estimation import estimate_dpj
 from texeditor.markov.synthesis import synthesize
 
-from .test_photo_models import synthesise, undo_to_start
+from .support import synthesise, undo_to_start
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 LEFT = QtCore.Qt.MouseButton.LeftButton
