@@ -119,7 +119,7 @@ class TreeTool(Tool):
         self.points: list[tuple[int, int]] = []
         self.parents: list[int] = []
         self.grains: list[GrainType] = []
-        self.parent = -1                  # the current parent: where the next vertex hangs
+        self.current_parent = -1          # where the next vertex hangs
         self.edges: QtWidgets.QGraphicsPathItem | None = None
         self.ring: QtWidgets.QGraphicsPathItem | None = None
         self.rubber: QtWidgets.QGraphicsPathItem | None = None     # where a click would go
@@ -186,7 +186,7 @@ class TreeTool(Tool):
     def click(self, cell, modifiers):
         near = self.vertex_near(cell)
         if near is not None:
-            self.parent = near
+            self.current_parent = near
         else:
             self.add(cell)
         self.show_tree()
@@ -203,8 +203,8 @@ class TreeTool(Tool):
         if near is not None:
             r, c = self.points[near]
             path.addEllipse(QtCore.QPointF(c + 0.5, r + 0.5), radius, radius)
-        elif cell is not None and 0 <= self.parent < len(self.points):
-            r, c = self.points[self.parent]
+        elif cell is not None and 0 <= self.current_parent < len(self.points):
+            r, c = self.points[self.current_parent]
             path.moveTo(c + 0.5, r + 0.5)
             path.lineTo(cell[0] + 0.5, cell[1] + 0.5)
         self.rubber.setPath(path)
@@ -212,10 +212,10 @@ class TreeTool(Tool):
     def add(self, cell) -> None:
         """A new vertex at ``cell`` (x, y), under the current parent, with the current grain."""
         self.points.append((cell[1], cell[0]))
-        self.parents.append(self.parent)
+        self.parents.append(self.current_parent)
         self.grains.append(self.grain_tool.grain)
-        if self.parent < 0:
-            self.parent = 0
+        if self.current_parent < 0:
+            self.current_parent = 0
 
     def drag(self, cell, modifiers):
         """From a vertex: move it; elsewhere: a vertex where the button is released."""
@@ -240,13 +240,13 @@ class TreeTool(Tool):
         self.points.pop()
         self.grains.pop()
         parent = self.parents.pop()
-        if self.parent >= len(self.points):
-            self.parent = parent
+        if self.current_parent >= len(self.points):
+            self.current_parent = parent
         self.show_tree()
 
     def drop(self) -> None:
         """Forget the tree being built (Esc)."""
-        self.points, self.parents, self.grains, self.parent = [], [], [], -1
+        self.points, self.parents, self.grains, self.current_parent = [], [], [], -1
         self.show_tree()
 
     def action(self) -> DominanceTree:
@@ -309,8 +309,8 @@ class TreeTool(Tool):
                 edges.moveTo(centre[p])
                 edges.lineTo(centre[k])
             edges.addEllipse(centre[k], radius, radius)
-        if 0 <= self.parent < len(centre):
-            ring.addEllipse(centre[self.parent], 2 * radius, 2 * radius)
+        if 0 <= self.current_parent < len(centre):
+            ring.addEllipse(centre[self.current_parent], 2 * radius, 2 * radius)
         self.edges.setPath(edges)
         self.ring.setPath(ring)
         if not self.points:
@@ -348,6 +348,6 @@ class TreeTool(Tool):
             return "Click to place the root of a tree."
         n = len(self.points)
         text = (f"{n} vert{'ices' if n > 1 else 'ex'}; the next hangs under vertex "
-                f"{self.parent + 1} (ringed): click near a vertex to choose another. "
+                f"{self.current_parent + 1} (ringed): click near a vertex to choose another. "
                 "Backspace takes back the last one.")
         return text + (f"<br><span style='color:#b00020'>{problem}</span>" if problem else "")

@@ -110,7 +110,7 @@ def test_two_trees_placed_on_screen_then_undo_one_and_redo(window, qtbot):
     assert tree.points == [(30, 40)] and window.history.index == start + 1
     at(window, 50, 30)
     at(window, 50, 30)                                          # near vertex 2: its parent now
-    assert tree.parent == 1 and len(tree.points) == 2
+    assert tree.current_parent == 1 and len(tree.points) == 2
     pick_grain(window, "Point")
     at(window, 56, 36)
     assert tree.parents == [-1, 0, 1]
