@@ -19,7 +19,7 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 # a fresh texture bank holding only the built-ins, so the pictures never show a user's own entries
 os.environ.setdefault("TEXEDITOR_BANK", tempfile.mkdtemp(prefix="texeditor-screenshots-"))
 
-from PySide6 import QtCore, QtWidgets  # noqa: E402
+from PySide6 import QtCore, QtGui, QtWidgets  # noqa: E402
 
 SIZE = (1280, 800)
 
@@ -28,6 +28,17 @@ def settle(app, ms: int = 150) -> None:
     deadline = QtCore.QDeadlineTimer(ms)
     while not deadline.hasExpired():
         app.processEvents(QtCore.QEventLoop.ProcessEventsFlag.AllEvents, 20)
+
+
+def blank_figure(width: int, height: int):
+    """(QImage, QPainter on it): a light-grey figure for captioned panels, 10-point text."""
+    figure = QtGui.QImage(width, height, QtGui.QImage.Format.Format_RGB888)
+    figure.fill(QtGui.QColor(250, 250, 250))
+    painter = QtGui.QPainter(figure)
+    font = painter.font()
+    font.setPointSize(10)
+    painter.setFont(font)
+    return figure, painter
 
 def synthesised(app, window, dpj_name: str, size: int, seed: int) -> None:
     """The window on a new history: one synthesis of ``size``² points from a bundled DPJ."""
@@ -147,7 +158,6 @@ def shot_extract(app, window, out: Path) -> None:
     way so that the ghost shows the result; Esc then cancels it, the document unchanged."""
     import math
 
-    from PySide6 import QtGui
     from skimage.measure import label, regionprops
 
     from app.tools.regions import ExtractTool
@@ -186,7 +196,6 @@ MORE_SHOTS = [shot_extract]
 
 def _mouse_event(widget, kind, pos):
     """A left-button press, move (the button held) or release at ``pos``."""
-    from PySide6 import QtGui
     left, none = QtCore.Qt.MouseButton.LeftButton, QtCore.Qt.MouseButton.NoButton
     button = none if kind == QtCore.QEvent.Type.MouseMove else left
     buttons = none if kind == QtCore.QEvent.Type.MouseButtonRelease else left
@@ -199,7 +208,6 @@ def _send(widget, event) -> None:
 
 
 def _move_event(widget, pos):
-    from PySide6 import QtGui
     none = QtCore.Qt.MouseButton.NoButton
     return QtGui.QMouseEvent(QtCore.QEvent.Type.MouseMove, QtCore.QPointF(pos),
                              QtCore.QPointF(widget.mapToGlobal(pos)), none, none,
@@ -427,7 +435,6 @@ def shot_grains(app, window, out: Path) -> None:
     expanded and compressed (the thesis's Fig. 5.5–5.7), each panel made with the Grain & density
     dock; the dock itself; the composition and doubling dialogs."""
     import numpy as np
-    from PySide6 import QtGui
 
     from app.images import qimage_from_rgb
     from texeditor import DPJ
@@ -450,13 +457,7 @@ def shot_grains(app, window, out: Path) -> None:
               ("Compression 0.5, max level", RenderGrains("circle", 10, compression=0.5,
                                                           overlap="max"))]
     side, caption, gap = 240, 26, 12
-    figure = QtGui.QImage(3 * side + 4 * gap, 2 * (side + caption) + 3 * gap,
-                          QtGui.QImage.Format.Format_RGB888)
-    figure.fill(QtGui.QColor(250, 250, 250))
-    painter = QtGui.QPainter(figure)
-    font = painter.font()
-    font.setPointSize(10)
-    painter.setFont(font)
+    figure, painter = blank_figure(3 * side + 4 * gap, 2 * (side + caption) + 3 * gap)
     for k, (text, action) in enumerate(panels):
         dock.show_action(action)
         dock.commit()                       # as a slider's release does
@@ -516,7 +517,6 @@ def shot_trees_and_orders(app, window, out: Path) -> None:
     synthesis laid along the fill orders (§3.3.1); the Grain rendering dock with a grain per
     level (§5.3)."""
     import numpy as np
-    from PySide6 import QtGui
 
     from app.images import qimage_from_rgb
     from app.tools.grain import GrainTool
@@ -569,13 +569,7 @@ def shot_trees_and_orders(app, window, out: Path) -> None:
     panels = [("TV scan (synthesised)", None), ("Spiral", "spiral"), ("Polar", "polar"),
               ("Peano (Hilbert)", "peano")]
     side, caption, gap = 160, 26, 12
-    figure = QtGui.QImage(4 * side + 5 * gap, side + caption + 2 * gap,
-                          QtGui.QImage.Format.Format_RGB888)
-    figure.fill(QtGui.QColor(250, 250, 250))
-    painter = QtGui.QPainter(figure)
-    font = painter.font()
-    font.setPointSize(10)
-    painter.setFont(font)
+    figure, painter = blank_figure(4 * side + 5 * gap, side + caption + 2 * gap)
     for k, (text, order) in enumerate(panels):
         if order is not None:
             window.submit(LayAlongOrder(order))
@@ -637,7 +631,6 @@ def shot_regions21(app, window, out: Path) -> None:
     the Global operators dialog), one neighbour isolated by the Extract tool, a mix of four
     textures in one expression."""
     import numpy as np
-    from PySide6 import QtGui
 
     from app.images import qimage_from_rgb
     from app.tools.regions import ExtractTool

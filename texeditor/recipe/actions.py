@@ -432,14 +432,7 @@ class Synthesize(Action):
         return self.render_result(self._dpj_of(doc), progress, cancel).levels
 
     def apply(self, doc, prepared=None) -> None:
-        dpj = self._dpj_of(doc)
-        levels = self.prepare(doc) if prepared is None else np.asarray(prepared)
-        if levels.dtype != np.uint8 or levels.shape != (self.height, self.width):
-            raise InputError(f"a synthesis result must be a {self.width}x{self.height} uint8 "
-                             f"matrix, got {levels.shape} {levels.dtype}")
-        drop_plates(doc)
-        doc.set_levels(levels, dpj.palette)
-        doc.set_current_dpj(self.dpj)
+        _apply_synthesis(self, doc, prepared, self._dpj_of(doc).palette, self.dpj)
 
     def _dpj_of(self, doc):
         dpj = doc.dpjs.get(self.dpj)
@@ -491,14 +484,8 @@ class SynthesizeScales(Action):
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
 
     def apply(self, doc, prepared=None) -> None:
-        dpjs = self._dpjs_of(doc)
-        levels = self.prepare(doc) if prepared is None else np.asarray(prepared)
-        if levels.dtype != np.uint8 or levels.shape != (self.height, self.width):
-            raise InputError(f"a synthesis result must be a {self.width}x{self.height} uint8 "
-                             f"matrix, got {levels.shape} {levels.dtype}")
-        drop_plates(doc)
-        doc.set_levels(levels, _scales(dpjs).palette)
-        doc.set_current_dpj(self.dpjs[-1])
+        _apply_synthesis(self, doc, prepared, _scales(self._dpjs_of(doc)).palette,
+                         self.dpjs[-1])
 
     def _dpjs_of(self, doc):
         return [Synthesize(ref, self.width, self.height)._dpj_of(doc) for ref in self.dpjs]
@@ -513,6 +500,18 @@ class SynthesizeScales(Action):
         tiles = ", tileable" if self.tileable else ""
         return (f"Synthesise {self.width}×{self.height} on {len(self.dpjs)} scales, "
                 f"seed {self.seed}{tiles}")
+
+
+def _apply_synthesis(action, doc, prepared, palette, current: str) -> None:
+    """A synthesis step's levels (drawn now, or ``prepared`` by a worker) become a new canvas
+    with ``palette``; its plates go, and ``current`` becomes the current DPJ."""
+    levels = action.prepare(doc) if prepared is None else np.asarray(prepared)
+    if levels.dtype != np.uint8 or levels.shape != (action.height, action.width):
+        raise InputError(f"a synthesis result must be a {action.width}x{action.height} uint8 "
+                         f"matrix, got {levels.shape} {levels.dtype}")
+    drop_plates(doc)
+    doc.set_levels(levels, palette)
+    doc.set_current_dpj(current)
 
 
 def _scales(dpjs):
