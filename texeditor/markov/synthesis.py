@@ -923,30 +923,34 @@ def _first_bad(out, r, below, n0, n1, t):
     width when there is none."""
     for n in range(n0, n1):
         for k in range(below + 1):
-            if not _window_in(out, r + k, n, np.int64(-1), np.int64(0), t):
+            if _window_m(out, r + k, n, np.int64(-1), np.int64(0), t) == 0.0:
                 return np.int64(n + t.u - 1)
     return np.int64(out.shape[1] - t.u + 1)
 
 
 @njit(cache=True, nogil=True)
 def _keep_below(out, r, n, below, tb, toff, lo, hi, bcode, t):
-    """Zero the weight of entries that would take a window ending in one of the ``below``
-    fixed rows under row r out of the DPJ."""
+    """Weigh each entry by how the ``below`` fixed rows under row r continue from it: the
+    horizontal transition m of each window ending in one of them (0: not in the DPJ). The
+    rows below are drawn as chains of such transitions, so this is their likelihood but for
+    its normaliser over the row, which depends on the whole row and is left out."""
     total = 0.0
     for e in range(lo, hi):
-        if tb[toff + e - lo] > 0.0:
-            for k in range(1, below + 1):
-                if not _window_in(out, r + k, n, r, bcode[e], t):
-                    tb[toff + e - lo] = 0.0
-                    break
-        total += tb[toff + e - lo]
+        x = tb[toff + e - lo]
+        for k in range(1, below + 1):
+            if x == 0.0:
+                break
+            x *= _window_m(out, r + k, n, r, bcode[e], t)
+        tb[toff + e - lo] = x
+        total += x
     return total
 
 
 @njit(cache=True, nogil=True)
-def _window_in(out, r, n, sub, sub_code, t):
-    """Whether the window ending in row r at position n is an entry of the DPJ (level 0 of the
-    tables); row ``sub``, if one of its rows, is read as the bottom code ``sub_code``."""
+def _window_m(out, r, n, sub, sub_code, t):
+    """The horizontal transition m of the window ending in row r at position n (level 0 of the
+    tables), 0 when the DPJ lacks it; row ``sub``, if one of its rows, is read as the bottom
+    code ``sub_code``."""
     g, gx, gp, u, v = t.levels, t.gx, t.gp, t.u, t.v
     key = 0
     for i in range(r - v + 1, r):
@@ -966,7 +970,8 @@ def _window_in(out, r, n, sub, sub_code, t):
     else:
         ci = _find(t.ctx[CODE], t.lvl[OFF, 0], t.lvl[LEN, 0], key)
     if ci < 0:
-        return False
+        return 0.0
     gu1 = gx ** (u - 1)
     lo = t.ctx[START, ci]
-    return _find(t.ient[ROT], lo, t.ctx[END, ci] - lo, bottom % gu1 * gx + bottom // gu1) >= 0
+    e = _find(t.ient[ROT], lo, t.ctx[END, ci] - lo, bottom % gu1 * gx + bottom // gu1)
+    return t.fent[M, e] if e >= 0 else 0.0
