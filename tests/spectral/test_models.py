@@ -172,7 +172,7 @@ def test_match_histogram_of_colour_is_per_channel_and_keeps_uint8():
     reference = RNG.integers(0, 256, (20, 20, 3)).astype(np.uint8)
     out = match_histogram(COLOUR, reference)
     assert out.dtype == np.uint8
-    expected = match_histograms(COLOUR, reference, channel_axis=-1)
+    expected = match_histograms(COLOUR.astype(float), reference.astype(float), channel_axis=-1)
     assert np.array_equal(out, np.clip(np.round(expected), 0, 255).astype(np.uint8))
     with pytest.raises(InputError):
         match_histogram(COLOUR, reference[..., 0])

@@ -3,5 +3,7 @@ and the texton of a micro-texture (001), histogram matching (004); their Actions
 from an exemplar photo held by the document."""
 
 from .models import match_histogram, periodic_component, random_phase_noise, texton
+from .actions import MatchHistogram, RandomPhaseNoise, Texton
 
-__all__ = ["match_histogram", "periodic_component", "random_phase_noise", "texton"]
+__all__ = ["match_histogram", "periodic_component", "random_phase_noise", "texton",
+           "MatchHistogram", "RandomPhaseNoise", "Texton"]

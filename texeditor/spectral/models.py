@@ -112,8 +112,8 @@ def match_histogram(picture, reference) -> np.ndarray:
                                           and picture.shape[2] != reference.shape[2]):
         raise InputError(f"a picture of shape {picture.shape} cannot take the histogram of one "
                          f"of shape {reference.shape}: both grey or both colour")
-    _as_float(picture), _as_float(reference)            # validated
-    matched = match_histograms(picture, reference,
+    # as float: on uint8, scikit-image would truncate its interpolated values, not round them
+    matched = match_histograms(_as_float(picture), _as_float(reference),
                                channel_axis=-1 if picture.ndim == 3 else None)
     return _as_kind(matched, picture.dtype)
 
