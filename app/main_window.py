@@ -30,6 +30,7 @@ from .files import FileOps
 from .grain_rendering_dock import GrainRenderingDock
 from .grain_stamps_dock import GrainStampsDock
 from .history_dock import HistoryDock
+from .models_menu import add_model_entries
 from .palette_dock import PaletteDock
 from .photo_ops import PhotoOps
 from .relief_dock import ReliefDock
@@ -112,6 +113,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self._build_status_bar()
         self._build_actions()
         self._build_menus()
+        add_model_entries(self)
         self._build_tools()
         self._add_dock_entries()
         self._connect()

@@ -241,7 +241,10 @@ def load_texture(path, *, progress=None, cancel=None, **history_options) -> tupl
 def _check_members(zf: zipfile.ZipFile, name: str) -> dict[str, zipfile.ZipInfo]:
     """Only known names, no duplicates, no encryption, sizes and ratios within the limits."""
     infos = zf.infolist()
-    if len(infos) > 2 + 1 + MAX_DPJS + MAX_EXEMPLARS:
+    dpj_members = sum(i.filename.endswith(".npz") for i in infos)
+    photo_members = sum(bool(_EXEMPLAR.fullmatch(i.filename)) for i in infos)
+    if len(infos) > 2 + 1 + MAX_DPJS + MAX_EXEMPLARS or dpj_members > 1 + MAX_DPJS \
+            or photo_members > MAX_EXEMPLARS:
         raise FormatError(f"{name}: {len(infos)} members, more than a texture file holds")
     seen: dict[str, zipfile.ZipInfo] = {}
     total = dpj_total = 0
