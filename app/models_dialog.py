@@ -122,6 +122,8 @@ class ModelDialog(QtWidgets.QDialog):
             size.addWidget(self.width_box)
             size.addWidget(QtWidgets.QLabel("×"))
             size.addWidget(self.height_box)
+            size.addWidget(QtWidgets.QLabel("points"))
+            size.addStretch(1)
             form.addRow("Size", size)
             form.addRow("Seed", self.seed)
         if self.model != "match_histogram":

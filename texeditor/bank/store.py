@@ -235,7 +235,7 @@ class Bank:
         try:
             conn.execute("PRAGMA foreign_keys = ON")
             conn.execute("SELECT count(*) FROM sqlite_master").fetchone()
-        except sqlite3.Error as exc:
+        except (sqlite3.Error, UnicodeDecodeError) as exc:
             conn.close()
             raise self._error(exc) from None
         return conn
@@ -257,7 +257,7 @@ class Bank:
                 conn.execute("PRAGMA query_only = ON")
                 conn.execute("SELECT count(*) FROM sqlite_master").fetchone()
                 return conn
-            except sqlite3.Error as exc:
+            except (sqlite3.Error, UnicodeDecodeError) as exc:
                 conn.close()
                 if extra or "unable to open" not in str(exc):
                     raise self._error(exc) from None
@@ -353,7 +353,7 @@ class Bank:
         with self._lock:
             try:
                 return self._conn.execute(sql, params).fetchall()
-            except sqlite3.Error as exc:
+            except (sqlite3.Error, UnicodeDecodeError) as exc:
                 raise self._error(exc) from None
 
     @contextmanager
@@ -373,7 +373,12 @@ class Bank:
                     raise self._error(exc) from None
                 raise
 
-    def _error(self, exc: sqlite3.Error) -> BankError:
+    def _error(self, exc: sqlite3.Error | UnicodeDecodeError) -> BankError:
+        """What went wrong, for the user (a damaged schema's text, not UTF-8, fails to decode
+        in SQLite's own error message)."""
+        if isinstance(exc, UnicodeDecodeError):
+            return BankError(f"{self.path}: not a texture bank, or damaged (text that is not "
+                             "UTF-8 in its schema)")
         text = str(exc)
         if "locked" in text or "busy" in text:
             return BankError(f"{self.path}: the bank is busy (another program is writing to it "
