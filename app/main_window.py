@@ -519,9 +519,10 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
                 reset = True
             if reset:
                 self._journal.reset(self.history.applied, self.history.document.dpjs,
-                                    source=self.path)
+                                    source=self.path, exemplars=self.history.document.exemplars)
             else:
-                self._journal.sync(self.history.applied, self.history.document.dpjs)
+                self._journal.sync(self.history.applied, self.history.document.dpjs,
+                                   self.history.document.exemplars)
         except OSError as exc:
             self._journal = False
             self.statusBar().showMessage(f"Crash protection is off: cannot write the journal "

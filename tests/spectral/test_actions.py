@@ -214,3 +214,19 @@ def test_editing_a_past_model_step_replays_with_its_exemplar():
     expected = quantize(random_phase_noise(grey_photo(), (20, 20), seed=2), 3, "lab").levels
     expected[:2, :2] = 0
     assert np.array_equal(h.document.levels, expected)
+
+
+def test_a_crash_journal_keeps_the_exemplars_and_recovers_the_model_steps(tmp_path):
+    from texeditor.recipe.journal import Journal, recover
+    h = history()
+    journal = Journal(tmp_path)
+    journal.reset(h.applied, h.document.dpjs, exemplars=h.document.exemplars)
+    h.apply(RandomPhaseNoise(COLOUR, 24, 20, seed=6, levels=4))
+    journal.sync(h.applied, h.document.dpjs, h.document.exemplars)
+    h.apply(MatchHistogram(GREY))
+    journal.sync(h.applied, h.document.dpjs, h.document.exemplars)
+    found = recover(journal.path)
+    assert set(found.exemplars) == {COLOUR, GREY}
+    again = History.from_log(found.actions, found.dpjs, exemplars=found.exemplars)
+    assert again.document.result_hash() == h.document.result_hash()
+    journal.discard()
