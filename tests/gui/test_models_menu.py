@@ -3,7 +3,7 @@ previews the step it applies; steps follow one another with tools between, and u
 to the start."""
 
 import numpy as np
-from PySide6 import QtWidgets
+from PySide6 import QtCore
 
 from app.models_dialog import ModelDialog, exemplar_from
 from texeditor.markov.levels import load_image, quantize
@@ -25,7 +25,7 @@ def ok(dialog, qtbot):
     dialog.recompute()            # the preview's pause skipped
     assert dialog.ok.isEnabled(), dialog.info.text()
     assert not dialog.result_view.pixmap().isNull()
-    dialog.findChild(QtWidgets.QDialogButtonBox).accepted.emit()
+    qtbot.mouseClick(dialog.ok, QtCore.Qt.MouseButton.LeftButton)
     qtbot.waitUntil(lambda: not dialog.isVisible())
 
 
