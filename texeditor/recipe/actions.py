@@ -36,7 +36,7 @@ class ParamSpec:
     """What a form needs to edit one parameter: its name, kind, bounds, value and a hint."""
 
     name: str
-    kind: str            # int, float, bool, str, ref, refs, seed, palette, points, texts
+    kind: str            # int, float, bool, str, ref, refs, seed, palette, points, texts, exemplar
     minimum: float | None
     maximum: float | None
     optional: bool
@@ -85,6 +85,13 @@ def _str(name, value, lo, hi):
 def _ref(name, value, lo, hi):
     if not isinstance(value, str) or not _REF.match(value):
         raise InputError(f"{name} must be a DPJ reference (16 hex digits), got {value!r}")
+    return value
+
+
+def _exemplar(name, value, lo, hi):
+    """The reference of an exemplar photo the document holds (`exemplars.exemplar_ref`)."""
+    if not isinstance(value, str) or not _REF.match(value):
+        raise InputError(f"{name} must be an exemplar reference (16 hex digits), got {value!r}")
     return value
 
 
@@ -152,7 +159,7 @@ def _points(name, value, lo, hi):
 _KINDS: dict[str, Callable] = {
     "int": _int, "seed": lambda n, v, lo, hi: _int(n, v, 0, MAX_SEED), "float": _float,
     "bool": _bool, "str": _str, "ref": _ref, "refs": _refs, "palette": palette_param,
-    "points": _points, "texts": _texts,
+    "points": _points, "texts": _texts, "exemplar": _exemplar,
 }
 
 
@@ -318,6 +325,16 @@ def dpj_refs(actions) -> list[str]:
             elif kind == "refs":
                 for ref in value or ():
                     seen.setdefault(ref)
+    return list(seen)
+
+
+def exemplar_refs(actions) -> list[str]:
+    """The exemplar photos a log uses (parameters of kind "exemplar"), in order of first use."""
+    seen: dict[str, None] = {}
+    for a in actions:
+        for f in dataclasses.fields(a):
+            if f.metadata.get("kind") == "exemplar" and getattr(a, f.name) is not None:
+                seen.setdefault(getattr(a, f.name))
     return list(seen)
 
 
