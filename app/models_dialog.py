@@ -59,7 +59,7 @@ class ModelDialog(QtWidgets.QDialog):
         self.main_window, self.model = window, model
         self.setWindowTitle(TITLES[model])
         self.exemplar: np.ndarray | None = None
-        self.result = None                     # (action, prepared) the preview shows
+        self.preview_step = None                     # (action, prepared) the preview shows
         self.photo = QtWidgets.QComboBox()
         for path in resources.sample_images():
             self.photo.addItem(path.stem, str(path))
@@ -155,7 +155,7 @@ class ModelDialog(QtWidgets.QDialog):
         self.load_photo()
 
     def load_photo(self) -> None:
-        self.exemplar, self.note, self.result = None, "", None
+        self.exemplar, self.note, self.preview_step = None, "", None
         self.ok.setEnabled(False)
         path = self.photo.currentData()
         try:
@@ -179,7 +179,7 @@ class ModelDialog(QtWidgets.QDialog):
     def recompute(self) -> None:
         """Run the step on a scratch copy of the document (the exemplar added): the preview is
         exactly what OK applies."""
-        self.result = None
+        self.preview_step = None
         self.ok.setEnabled(False)
         if self.exemplar is None:
             return
@@ -199,7 +199,7 @@ class ModelDialog(QtWidgets.QDialog):
         self.info.setText(f"Photo {w}×{h}, {kind}{self.note}. Result {scratch.shape[1]}×"
                           f"{scratch.shape[0]}, G = {scratch.num_levels}. OK adds one step "
                           "(undo takes it back).")
-        self.result = (action, prepared)
+        self.preview_step = (action, prepared)
         self.ok.setEnabled(True)
 
     def _failed(self, exc) -> None:
@@ -207,9 +207,9 @@ class ModelDialog(QtWidgets.QDialog):
         self.info.setText(f"<span style='color:#b00020'>{exc}</span>")
 
     def apply(self) -> None:
-        if self.result is None:
+        if self.preview_step is None:
             return
-        action, prepared = self.result
+        action, prepared = self.preview_step
         self.main_window.history.add_exemplar(self.exemplar)
         if self.main_window.submit(action, prepared=prepared):
             self.accept()
