@@ -30,6 +30,7 @@ from .files import FileOps
 from .grain_rendering_dock import GrainRenderingDock
 from .grain_stamps_dock import GrainStampsDock
 from .history_dock import HistoryDock
+from .models_menu import add_model_entries
 from .palette_dock import PaletteDock
 from .photo_ops import PhotoOps
 from .relief_dock import ReliefDock
@@ -112,6 +113,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self._build_status_bar()
         self._build_actions()
         self._build_menus()
+        add_model_entries(self)
         self._build_tools()
         self._add_dock_entries()
         self._connect()
@@ -517,9 +519,10 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
                 reset = True
             if reset:
                 self._journal.reset(self.history.applied, self.history.document.dpjs,
-                                    source=self.path)
+                                    source=self.path, exemplars=self.history.document.exemplars)
             else:
-                self._journal.sync(self.history.applied, self.history.document.dpjs)
+                self._journal.sync(self.history.applied, self.history.document.dpjs,
+                                   self.history.document.exemplars)
         except OSError as exc:
             self._journal = False
             self.statusBar().showMessage(f"Crash protection is off: cannot write the journal "

@@ -50,7 +50,7 @@ def offer_recovery(window, make_window=None, problems: list | None = None) -> in
             path.unlink(missing_ok=True)
             continue
         try:
-            history = History.from_log(found.actions, found.dpjs)
+            history = History.from_log(found.actions, found.dpjs, exemplars=found.exemplars)
         except (TexeditorError, ValueError, TypeError, KeyError, ArithmeticError,
                 MemoryError) as exc:
             problems.append(set_aside_line(path, f"the unsaved work cannot be restored "

@@ -3,7 +3,8 @@ Resynthesizer, and the photo's own two halves as the yardstick of "same texture"
 
 Run: python benchmarks/bench_quality.py [--photos brick grass gravel] [--size 512] [--seeds 1]
                                          [--large 2048] [--montage-dir docs/img]
-Photos are scikit-image data names or picture files. Metrics (benchmarks/quality.py) compare each
+Photos are scikit-image data names or picture files; random-phase noise is timed and scored
+too (a row, not in the montage). Metrics (benchmarks/quality.py) compare each
 output with the photo in grey; lower is closer. Time: the whole photo → picture call, warmed on
 64² first (numba), best of --seeds; the metrics are those of the first seed's output.
 Montage per photo, <montage-dir>/quality-<photo>.png, panels left to right without captions:
@@ -37,6 +38,7 @@ DRIFT_SEEDS = 4             # the level-frequency drift: the worst of this many 
 MULTI = "texeditor multi-scale + tone"
 OLD = "texeditor 1984 (3x3, G=4, single scale)"
 HEEGER_BERGEN = "Heeger-Bergen pyramid (5 iterations)"
+RPN = "random-phase noise (doc. 001)"
 
 
 def load_photo(name: str) -> tuple[str, np.ndarray]:
@@ -57,6 +59,13 @@ def single_scale(photo, shape, seed):
 
 def quilting(photo, shape, seed):
     return quality.quilt(photo, shape, seed=seed), None
+
+
+def random_phase(photo, shape, seed):
+    """The photo's Fourier modulus with random phases (texeditor.random_phase_noise)."""
+    image = np.asarray(photo)
+    return texeditor.random_phase_noise(image[..., :3] if image.ndim == 3 else image, shape,
+                                        seed=seed), None
 
 
 def multi_scale(photo, shape, seed):
@@ -111,7 +120,7 @@ def bench_photo(name: str, size: int, seeds: int, large: int) -> tuple[str, list
     print(f"{'method':<42} {'time s':>7} {'GLCM':>6} {'spectrum':>8} {'3x3 TV':>7} {'copied%':>7}")
     print(row("photo bottom vs top half", None, scores(grey[half:], grey[:half])))
     panels = [photo]
-    methods = [(OLD, single_scale), ("image quilting (baseline)", quilting)]
+    methods = [(OLD, single_scale), ("image quilting (baseline)", quilting), (RPN, random_phase)]
     resynthesize = getattr(texeditor, "resynthesize", None)
     if resynthesize is not None:
         methods.append((MULTI, multi_scale))
@@ -119,7 +128,7 @@ def bench_photo(name: str, size: int, seeds: int, large: int) -> tuple[str, list
     for title, method in methods:
         seconds, image, result = timed(method, photo, shape, seeds)
         print(row(title, seconds, scores(image, grey)))
-        if title not in ("image quilting (baseline)", HEEGER_BERGEN):
+        if title not in ("image quilting (baseline)", RPN, HEEGER_BERGEN):
             panels.append(image)
         if title == MULTI and (drift := level_drift(result)) is not None:
             drifts = [drift] + [level_drift(multi_scale(photo, shape, seed)[1])
@@ -135,6 +144,9 @@ def bench_photo(name: str, size: int, seeds: int, large: int) -> tuple[str, list
     elif large:
         seconds, *_ = timed(multi_scale, photo, (large, large), seeds)
         print(f"{MULTI} at {large}x{large}: {seconds:.2f} s")
+    if large:
+        seconds, *_ = timed(random_phase, photo, (large, large), seeds)
+        print(f"{RPN} at {large}x{large}: {seconds:.2f} s")
     return label, panels
 
 

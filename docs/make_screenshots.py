@@ -879,7 +879,7 @@ def shot_tileable(app, window, out: Path) -> None:
     previous = window.history
     for tileable, name in ((True, "tileable.png"), (False, "tileable-off.png")):
         window.synthesis_dock.tileable_box.setChecked(tileable)
-        synthesised(app, window, "gravel-3x3-g4", 128, 7)
+        synthesised(app, window, "gravel-3x3-g4", 128, 3)
         window.canvas.set_tiled(True)
         settle(app)
         view = window.canvas.view                     # a corner of the middle copy, at 400 %

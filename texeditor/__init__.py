@@ -5,7 +5,9 @@ documents edited by replayable Actions (`History`), kept as recipes in files and
 `resynthesize` is photo → texture in one call (a multi-scale DPJ shown with the photo's tone);
 `heeger_bergen` is the same from a steerable pyramid's sub-band histograms (companion 004).
 One subpackage per idea of the thesis: `markov`, `regions`, `paint`, `spots`, `texture`,
-`photo`, `pyramid`, `recipe`, `bank`. This package never imports Qt; the GUI lives in `app`.
+`photo`, `recipe`, `bank`; beyond it, `spectral` (random-phase noise, texton, histogram
+matching) and `pyramid` (Heeger–Bergen synthesis). This package never imports Qt; the GUI
+lives in `app`.
 """
 
 from .version import __version__
@@ -14,7 +16,8 @@ from .markov import (DPJ, DPJReport, Quantization, SynthesisResult, estimate_dpj
                      quantize, synthesize)
 # Every operator package registers its Actions: importing them here makes the registry (and so
 # every log reader) complete whatever module of the engine a program imports first.
-from . import paint, regions, spots, texture  # noqa: F401
+from . import paint, regions, spectral, spots, texture  # noqa: F401
+from .spectral import match_histogram, random_phase_noise, texton
 from .recipe import Document, History, load_texture, replay, save_texture
 from .bank import Bank
 from .photo import PhotoModel, acquire_model, load_model, resynthesize
@@ -24,4 +27,4 @@ __all__ = ["__version__", "DPJ", "DPJReport", "synthesize", "SynthesisResult", "
            "quantize", "load_image", "Quantization", "Document", "History", "replay",
            "load_texture", "save_texture", "Bank", "TexeditorError", "InputError", "ImageError",
            "FormatError", "ReplayError", "Cancelled", "resynthesize", "acquire_model", "load_model",
-           "PhotoModel", "heeger_bergen"]
+           "PhotoModel", "random_phase_noise", "texton", "match_histogram", "heeger_bergen"]

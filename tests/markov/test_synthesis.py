@@ -87,7 +87,8 @@ def test_one_row_follows_the_exact_conditional_law_given_the_rows_above():
     out, counts, draws = np.zeros((2, w), np.uint8), {}, 20000
     for _ in range(draws):
         out[0] = above
-        synthesis._sample_rows(out, 1, 2, tables, state, 0, np.int64(0), np.int64(0))
+        synthesis._sample_rows(out, 1, 2, tables, state, 0, np.int64(0), np.int64(0),
+                               np.int64(1))
         counts[tuple(out[1])] = counts.get(tuple(out[1]), 0) + 1
     keys = [b for b in exact if exact[b] > 0]
     assert set(counts) <= set(keys)
@@ -120,7 +121,8 @@ def test_a_redrawn_segment_follows_its_exact_law_given_everything_around_it():
     out, counts, draws = np.zeros((2, w), np.uint8), {}, 20000
     for _ in range(draws):
         out[0], out[1] = above, row
-        assert synthesis._redraw_segment(out, 1, c0, c1, np.int64(0), tables, work, state)
+        assert synthesis._redraw_segment(out, 1, c0, c1, np.int64(0), tables, work, state,
+                                         False, np.int64(0)) < 0
         assert np.array_equal(out[1, :c0], row[:c0]) and np.array_equal(out[1, c1:], row[c1:])
         key = tuple(out[1, c0:c1])
         counts[key] = counts.get(key, 0) + 1

@@ -10,8 +10,8 @@ from skimage import data, exposure
 
 import texeditor
 from texeditor.errors import Cancelled, InputError
-from texeditor.pyramid import (SteerablePyramid, heeger_bergen, match_histogram, pyramid_levels,
-                               quantiles, steerable_pyramid)
+from texeditor.pyramid import (SteerablePyramid, heeger_bergen, match_quantiles,
+                               pyramid_levels, quantiles, steerable_pyramid)
 
 SHAPES = [(64, 64), (37, 50), (33, 17), (16, 16), (100, 23), (96, 128)]
 
@@ -75,7 +75,7 @@ def test_levels_fit_the_smaller_picture_and_tiny_pictures_are_refused():
 def test_matching_gives_scikit_images_match_histograms():
     rng = np.random.default_rng(3)
     source, reference = rng.standard_normal((30, 40)), rng.gamma(2.0, size=(17, 23))
-    ours = match_histogram(source, quantiles(np.sort(reference, axis=None), source.size))
+    ours = match_quantiles(source, quantiles(np.sort(reference, axis=None), source.size))
     assert np.array_equal(ours, exposure.match_histograms(source, reference))
 
 
@@ -83,7 +83,7 @@ def test_matching_to_a_picture_of_the_same_size_copies_its_values_in_rank_order(
     """φ = c_f⁻¹ ∘ c_g: the smallest value becomes the reference's smallest, and so on."""
     source = np.array([[0.3, -2.0, 7.0], [1.0, 0.0, 5.0]])
     reference = np.array([10.0, 40.0, 20.0, 60.0, 50.0, 30.0])
-    out = match_histogram(source, quantiles(np.sort(reference), 6))
+    out = match_quantiles(source, quantiles(np.sort(reference), 6))
     assert out.tolist() == [[30.0, 10.0, 60.0], [40.0, 20.0, 50.0]]
 
 

@@ -37,7 +37,7 @@ def one_of_each() -> list:
     from texeditor.recipe.actions import SynthesizeScales
     from texeditor.texture.actions import DoubleLevels
 
-    from . import paint, plates, spots as spot, texture
+    from . import paint, plates, spectral, spots as spot, texture
     from .regions import EXAMPLES, T, history_of
 
     histories = []
@@ -79,5 +79,9 @@ def one_of_each() -> list:
     for action in plates.EXAMPLES:                      # each plate step, the last removes them
         h.apply(action)
         histories.append((action.TYPE, History.from_log(h.applied, {})))
+    for action in {type(a): a for a in spectral.EXAMPLES}.values():     # an exemplar photo each
+        h = spectral.history()
+        h.apply(action)
+        histories.append((action.TYPE, h))
     return histories
 

@@ -24,9 +24,10 @@ from pathlib import Path
 import numpy as np
 
 from . import attributes as attrs
-from ..recipe.actions import Synthesize, dpj_refs
+from ..recipe.actions import Synthesize, dpj_refs, exemplar_refs
 from ..recipe.codec import log_text, read_log
 from ..recipe.document import Document, result_hash
+from ..recipe.exemplars import exemplar_png, read_exemplar_png
 from ..markov.dpj import DPJ
 from ..errors import (Cancelled, FormatError, InputError, ReplayError, TexeditorError,
                      check_unicode)
@@ -42,7 +43,7 @@ from ..recipe.texturefile import (MAX_ACTIONS, MAX_DESCRIPTION_CHARS, TextureFil
 
 BANK_ENV, DATA_ENV = "TEXEDITOR_BANK", "TEXEDITOR_DATA"
 FILENAME = "bank.sqlite"
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 THUMB = 128                       # thumbnail side in pixels: a central crop shown 1:1 (or enlarged)
 MAX_NAME_CHARS, MAX_TAGS, MAX_TAG_CHARS = 200, 64, 64
 BUILTIN_DIR = RESOURCES / "bank"
@@ -76,6 +77,7 @@ class Record:
     sha256: str
     thumbnail: bytes | None = None
     attributes: attrs.Attributes | None = None
+    exemplars: dict = field(default_factory=dict)     # ref → uint8 photo (the model steps')
 
 
 @dataclass(frozen=True)
@@ -159,7 +161,14 @@ _V2 = [   # the trash, versions, two more attributes and a recomputation mark
     "ALTER TABLE entries ADD COLUMN trashed REAL",
     "CREATE INDEX entries_live ON entries (trashed, builtin, modified)",
 ]
-MIGRATIONS = [_V1, _V2]
+_V3 = [   # the exemplar photos of the model steps (random-phase noise, texton, histogram)
+    "CREATE TABLE exemplars (ref TEXT PRIMARY KEY, png BLOB NOT NULL) WITHOUT ROWID",
+    """CREATE TABLE entry_exemplars (
+        entry INTEGER NOT NULL REFERENCES entries(id) ON DELETE CASCADE,
+        ref TEXT NOT NULL REFERENCES exemplars(ref),
+        PRIMARY KEY (entry, ref)) WITHOUT ROWID""",
+]
+MIGRATIONS = [_V1, _V2, _V3]
 _ATTR_COLUMNS = attrs.NAMES
 # the user's entries newest first, then the built-ins in the order they were installed
 _NEWEST_FIRST = "e.builtin, CASE WHEN e.builtin THEN -e.id ELSE e.modified END DESC, e.id DESC"
@@ -226,7 +235,7 @@ class Bank:
         try:
             conn.execute("PRAGMA foreign_keys = ON")
             conn.execute("SELECT count(*) FROM sqlite_master").fetchone()
-        except sqlite3.Error as exc:
+        except (sqlite3.Error, UnicodeDecodeError) as exc:
             conn.close()
             raise self._error(exc) from None
         return conn
@@ -248,7 +257,7 @@ class Bank:
                 conn.execute("PRAGMA query_only = ON")
                 conn.execute("SELECT count(*) FROM sqlite_master").fetchone()
                 return conn
-            except sqlite3.Error as exc:
+            except (sqlite3.Error, UnicodeDecodeError) as exc:
                 conn.close()
                 if extra or "unable to open" not in str(exc):
                     raise self._error(exc) from None
@@ -344,7 +353,7 @@ class Bank:
         with self._lock:
             try:
                 return self._conn.execute(sql, params).fetchall()
-            except sqlite3.Error as exc:
+            except (sqlite3.Error, UnicodeDecodeError) as exc:
                 raise self._error(exc) from None
 
     @contextmanager
@@ -364,7 +373,12 @@ class Bank:
                     raise self._error(exc) from None
                 raise
 
-    def _error(self, exc: sqlite3.Error) -> BankError:
+    def _error(self, exc: sqlite3.Error | UnicodeDecodeError) -> BankError:
+        """What went wrong, for the user (a damaged schema's text, not UTF-8, fails to decode
+        in SQLite's own error message)."""
+        if isinstance(exc, UnicodeDecodeError):
+            return BankError(f"{self.path}: not a texture bank, or damaged (text that is not "
+                             "UTF-8 in its schema)")
         text = str(exc)
         if "locked" in text or "busy" in text:
             return BankError(f"{self.path}: the bank is busy (another program is writing to it "
@@ -416,6 +430,9 @@ class Bank:
         for ref, dpj in r.dpjs.items():
             self._store_dpj(conn, ref, dpj)
             conn.execute("INSERT INTO entry_dpjs (entry, ref) VALUES (?, ?)", (entry, ref))
+        for ref, image in r.exemplars.items():
+            self._store_exemplar(conn, ref, image)
+            conn.execute("INSERT INTO entry_exemplars (entry, ref) VALUES (?, ?)", (entry, ref))
         conn.executemany("INSERT INTO tags (entry, tag) VALUES (?, ?)",
                          [(entry, t) for t in r.tags])
         return entry
@@ -432,6 +449,14 @@ class Bank:
         elif bytes(row[0]) != dpj.to_bytes() and DPJ.from_bytes(bytes(row[0])) != dpj:
             raise FormatError(f"DPJ reference {ref} already names another DPJ in the bank: "
                               "refused (a forged or damaged recipe)")
+
+    @staticmethod
+    def _store_exemplar(conn, ref: str, image) -> None:
+        """Exemplars are shared by reference too; the PNG stored must give the reference back."""
+        png = exemplar_png(image)
+        read_exemplar_png(png, f"exemplar {ref}", ref)       # the reference names these pixels
+        if conn.execute("SELECT 1 FROM exemplars WHERE ref = ?", (ref,)).fetchone() is None:
+            conn.execute("INSERT INTO exemplars (ref, png) VALUES (?, ?)", (ref, png))
 
     def import_texture(self, path, *, name: str | None = None, tags=None,
                        description: str | None = None, progress=None, cancel=None) -> int:
@@ -634,7 +659,17 @@ class Bank:
             raise FormatError(f"{what}: its current DPJ is damaged (not a TEXT)")
         if main is not None and main not in dpjs:
             raise FormatError(f"{what}: its current DPJ {main} is missing")
-        return Recipe(actions, dpjs, main, sha256, what)
+        return Recipe(actions, dpjs, main, sha256, what, self._exemplars(entry_id, what))
+
+    def _exemplars(self, entry_id: int, what: str) -> dict:
+        photos = {}
+        for ref, png in self._read("SELECT p.ref, p.png FROM entry_exemplars x JOIN exemplars p "
+                                   "ON p.ref = x.ref WHERE x.entry = ?", (entry_id,)):
+            if not isinstance(ref, str) or not isinstance(png, bytes):
+                raise FormatError(f"{what}: an exemplar row is damaged (its reference must be "
+                                  "a TEXT and its picture a BLOB)")
+            photos[ref] = read_exemplar_png(png, f"{what}: exemplar {ref}", ref)  # hash checked
+        return photos
 
     def open(self, entry_id: int, *, progress=None, cancel=None, **history_options) -> History:
         """Replay an entry into a History and check its hash: a texture that is not the one
@@ -801,8 +836,8 @@ class Bank:
                 f"INSERT INTO entries (name, builtin, created, modified, {', '.join(columns)}) "
                 f"SELECT ?, 0, ?, ?, {', '.join(columns)} FROM entries WHERE id = ?",
                 (check_name(name or f"{old} (copy)"), now, now, entry_id)).lastrowid
-            for table, column in (("entry_dpjs", "ref"), ("logs", "actions"),
-                                  ("thumbnails", "png")):
+            for table, column in (("entry_dpjs", "ref"), ("entry_exemplars", "ref"),
+                                  ("logs", "actions"), ("thumbnails", "png")):
                 conn.execute(f"INSERT INTO {table} (entry, {column}) SELECT ?, {column} "
                              f"FROM {table} WHERE entry = ?", (new, entry_id))
             conn.execute("INSERT INTO tags (entry, tag) SELECT ?, tag FROM tags WHERE entry = ?",
@@ -836,6 +871,8 @@ class Bank:
                 if self.fts:
                     conn.execute("DELETE FROM search WHERE rowid = ?", (entry_id,))
             conn.execute("DELETE FROM dpjs WHERE ref NOT IN (SELECT ref FROM entry_dpjs)")
+            conn.execute("DELETE FROM exemplars WHERE ref NOT IN "
+                         "(SELECT ref FROM entry_exemplars)")
             _features_changed(conn)
             if not self.fts:
                 self._mark_fts_stale(conn)
@@ -889,7 +926,8 @@ def make_record(source, name: str, *, tags=(), description: str = "", progress=N
                   levels=doc.num_levels, actions=actions, dpjs={r: doc.dpjs[r] for r in refs},
                   main_dpj=main, grain=grain_parameters(actions), sha256=doc.result_hash(),
                   thumbnail=document_thumbnail(doc),
-                  attributes=attrs.compute(doc.levels, doc.palette))
+                  attributes=attrs.compute(doc.levels, doc.palette),
+                  exemplars=_exemplars(actions, doc.exemplars))
 
 
 def _shortest(actions: tuple, doc: Document, progress, cancel) -> tuple:
@@ -899,7 +937,8 @@ def _shortest(actions: tuple, doc: Document, progress, cancel) -> tuple:
     if len(shorter) == len(actions):
         return actions
     try:
-        again = replay(shorter, doc.dpjs, progress=progress, cancel=cancel)
+        again = replay(shorter, doc.dpjs, progress=progress, cancel=cancel,
+                       exemplars=doc.exemplars)
     except ReplayError:
         return actions
     return shorter if again.result_hash() == doc.result_hash() else actions
@@ -913,7 +952,13 @@ def pending_record(tex: TextureFile, name: str) -> Record:
     return Record(name=check_name(name), description=check_description(m.description),
                   tags=normalize_tags(m.tags), width=m.width, height=m.height, levels=m.levels,
                   actions=tex.actions, dpjs={r: tex.dpjs[r] for r in dict.fromkeys(refs)},
-                  main_dpj=m.dpj, grain=grain_parameters(tex.actions), sha256=m.result_sha256)
+                  main_dpj=m.dpj, grain=grain_parameters(tex.actions), sha256=m.result_sha256,
+                  exemplars=_exemplars(tex.actions, tex.exemplars))
+
+
+def _exemplars(actions, photos: dict) -> dict:
+    """The exemplar photos the log uses (one it needs but lacks shows up at replay)."""
+    return {r: photos[r] for r in exemplar_refs(actions) if r in photos}
 
 
 def _dpj_refs(actions, dpjs: dict) -> list:

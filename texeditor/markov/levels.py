@@ -352,19 +352,16 @@ def _lab_quantize(image: np.ndarray, levels: int) -> Quantization:
     levels on every machine.
     """
     codes = _colour_codes(image)
-    counts = np.bincount(codes.ravel(), minlength=1 << 24)
-    colours = np.flatnonzero(counts)
+    colours, inverse, counts = np.unique(codes.ravel(), return_inverse=True, return_counts=True)
     if colours.size < levels:
         raise ImageError(f"the photo has only {colours.size} colours: choose G ≤ {colours.size} "
                          "colour classes")
-    lab, weights = _lab_of_codes(colours), counts[colours].astype(np.float64)
+    lab, weights = _lab_of_codes(colours), counts.astype(np.float64)
     points, mass = _fit_bins(colours, lab, weights)
     if len(points) < levels:        # a few close colours: fit on the colours themselves
         points, mass = lab, weights
     centres = _lab_centres(points, mass, levels)
-    lut = np.zeros(1 << 24, np.uint8)
-    lut[colours] = _nearest(lab, centres)
-    index = lut[codes]
+    index = _nearest(lab, centres).astype(np.uint8)[inverse].reshape(codes.shape)
     empty = ski.color.lab2rgb(centres[None])[0]
     return Quantization(index, _palette(image, None, index, empty), np.empty(0))
 

@@ -23,7 +23,7 @@ from ..errors import InputError
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import has_colour, quantize, to_grey
-from .synthesis import SynthesisResult, synthesize, synthesize_given
+from .synthesis import CLOSURE, SynthesisResult, synthesize, synthesize_given
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
 MAX_SCALES = 6
@@ -170,10 +170,10 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       progress: Callable[[float], None] | None = None,
                       cancel: Callable[[], bool] | None = None,
                       rows_final: Callable[[np.ndarray, int], None] | None = None,
-                      tileable: bool = False) -> SynthesisResult:
+                      tileable: bool = False, closure: int = CLOSURE) -> SynthesisResult:
     """Draw the coarsest scale, then each finer one given the one under it; the finest levels
     (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
-    ``tileable``: every scale is drawn on the torus.
+    ``tileable``: every scale is drawn on the torus (``closure``: which seam closure).
 
     A coarse scale's field has long-range correlations: one draw of it can hold a level's share
     a tenth off the model's, and every finer scale inherits it. So a coarse scale is drawn again
@@ -193,7 +193,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                 lambda f, k=k, t=t: progress(done[k] + (t + f) / tries * (done[k + 1] - done[k])))
             final = rows_final if k == model.scales - 1 else None
             r = _draw_scale(model, k, shapes[k], levels, _try_seed(seed, k, t), report, cancel,
-                            final, bool(tileable))
+                            final, bool(tileable), closure)
             off = _frequency_error(r.levels, model.frequencies(k))
             if best is None or off < best[0]:
                 best = (off, r)
@@ -210,15 +210,16 @@ def _tries(k: int, scales: int) -> int:
     return 1 if k == scales - 1 else 2 if k == scales - 2 else COARSE_TRIES
 
 
-def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final, tileable):
+def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final, tileable,
+                closure):
     dpj = model.dpjs[k]
     if k == 0:
         return synthesize(dpj, shape, seed=seed, progress=progress, cancel=cancel,
-                          rows_final=rows_final, tileable=tileable)
+                          rows_final=rows_final, tileable=tileable, closure=closure)
     up = upsample_torus(parents, shape) if tileable else upsample(parents, shape)
     return synthesize_given(dpj, up, parent_levels(model.dpjs, k), seed=seed,
                             progress=progress, cancel=cancel, rows_final=rows_final,
-                            tileable=tileable)
+                            tileable=tileable, closure=closure)
 
 
 def _frequency_error(levels: np.ndarray, expected: np.ndarray) -> float:

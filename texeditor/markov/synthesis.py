@@ -31,6 +31,11 @@ MAX_PIXELS = 2**28
 ROWS_PER_CALL_PIXELS = 2**16   # work per kernel call: how often progress and cancel are checked
 DIRECT_INDEX_MAX = 2**20       # context spaces up to this size get a direct look-up table
 MAX_REDRAW_DEPTH = 4           # rows above a dead end that may be redrawn together
+CLOSE_TRIES = 8                # closure 2 of a seam: tries, redrawing the rows above, before it
+                               # falls back on closure 1's widening and back-off
+SPAN_TRIES = 4                 # ... and tries at one stretch before it doubles
+CLOSE_SPAN = 4                 # closure 2: the shortest stretch redrawn, in windows
+CLOSURE = 2                    # the seam closure tileable synthesis uses (1: the first one)
 
 
 @dataclass(frozen=True)
@@ -45,7 +50,7 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
                progress: Callable[[float], None] | None = None,
                cancel: Callable[[], bool] | None = None, max_redraws: int = 16,
                rows_final: Callable[[np.ndarray, int], None] | None = None,
-               tileable: bool = False) -> SynthesisResult:
+               tileable: bool = False, closure: int = CLOSURE) -> SynthesisResult:
     """Draw an (H, W) level matrix from ``dpj``; same DPJ and seed → same matrix.
 
     ``progress(fraction)`` is called between bands of rows; ``cancel()`` returning True stops the
@@ -55,12 +60,15 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
 
     ``tileable``: drawn on the torus, so the texture repeats without a seam: each row's last
     points are redrawn from their law given its first ones, then each column's last points
-    given its first ones (the same with the DPJ transposed); nothing is blended.
+    given its first ones (the same with the DPJ transposed); nothing is blended. ``closure``
+    picks the seam closure: 2 (the current one) or 1 (the first, which left a few windows
+    across the seams outside the DPJ; kept so older recipes replay the same).
     """
     h, w = _check_request(dpj, shape)
     out = np.zeros((h, w), dtype=np.uint8)
     across = _tables(_transposed(dpj)) if tileable else None
-    return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws, rows_final, across)
+    return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws, rows_final, across,
+                 _check_closure(closure))
 
 
 def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed: int = 0,
@@ -68,7 +76,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
                      cancel: Callable[[], bool] | None = None,
                      max_redraws: int = 16,
                      rows_final: Callable[[np.ndarray, int], None] | None = None,
-                     tileable: bool = False) -> SynthesisResult:
+                     tileable: bool = False, closure: int = CLOSURE) -> SynthesisResult:
     """Draw a level matrix given a parent level at every point (a finer scale given the coarser
     one under it, markov.multiscale): ``dpj``'s levels are composite, parent · G + level, with
     G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
@@ -77,6 +85,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     gp = int(parent_levels)
     if gp < 2 or dpj.levels % gp:
         raise InputError(f"a DPJ of {dpj.levels} composite levels cannot have {gp} parent levels")
+    closure = _check_closure(closure)
     parents = np.asarray(parents)
     if parents.ndim != 2 or parents.dtype.kind not in "ui" or parents.size == 0:
         raise InputError("the parents must be a non-empty 2-D matrix of levels")
@@ -87,7 +96,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     out = (parents.astype(np.uint8) * np.uint8(gx))
     across = _tables(_transposed(dpj), gp) if tileable else None
     result = _draw(out, _tables(dpj, gp), seed, progress, cancel, max_redraws,
-                   rows_final and _own_levels(out, gx, rows_final), across)
+                   rows_final and _own_levels(out, gx, rows_final), across, closure)
     np.remainder(result.levels, gx, out=result.levels)
     return result
 
@@ -104,7 +113,7 @@ def _own_levels(out, gx, rows_final):
 
 
 def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
-          across=None) -> SynthesisResult:
+          across=None, closure=CLOSURE) -> SynthesisResult:
     """Fill ``out`` band by band (progress, cancel and the rows now final between bands).
 
     Tileable (``across``: the tables of the DPJ transposed): drawn on the torus — in a copy of
@@ -121,7 +130,7 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
         if cancel is not None and cancel():
             raise Cancelled("synthesis cancelled")
         rep, red = _sample_rows(work, r0, min(h, r0 + band), t, state, max_redraws, tile_h,
-                                tile_w)
+                                tile_w, np.int64(closure))
         repairs += rep
         redraws += red
         if progress is not None:
@@ -130,7 +139,7 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
             rows_final(out, h if r0 + band >= h else max(0, r0 + band - MAX_REDRAW_DEPTH))
     if tileable:
         turned = np.ascontiguousarray(work.T)
-        repairs += _close_columns(turned, across, state, tile_w, tile_h)
+        repairs += _close_columns(turned, across, state, tile_w, tile_h, np.int64(closure))
         out[:] = turned.T[:h, :w]
         if rows_final is not None:
             rows_final(out, h)
@@ -153,6 +162,12 @@ def _transposed(dpj: DPJ) -> DPJ:
     with _cache_lock:
         _turned[id(dpj)] = (weakref.ref(dpj), turned)
     return turned
+
+
+def _check_closure(closure) -> int:
+    if closure not in (1, 2) or isinstance(closure, bool):
+        raise InputError(f"seam closure {closure!r} does not exist: choose 1 or 2")
+    return int(closure)
 
 
 def _check_seed(seed) -> int:
@@ -537,14 +552,16 @@ def _clear(big_r, tail, lo, hi):
 
 
 @njit(cache=True, nogil=True)
-def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work):
+def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below):
     """The forward filter over row r from position n to the last window touching [c0, c1).
 
     Positions before n must already be in ``work`` (a resumed pass). Returns (status, n,
     repairs): OK, or DEAD_END / GROW at position n. Only at ``lenient_at`` may a position back
     off to the DPJ marginal with fewer rows above, and at worst restart the bottom-row chain.
     ``kmin`` rows of context are left out everywhere (a conditional scale's first rows).
-    Windows lie in columns 0..width-1.
+    Windows lie in columns 0..width-1. ``below`` > 0: the rows under row r are fixed too (the
+    first rows of a torus, after its last), and so are the windows they end (but for the
+    position backing off).
     """
     g, u, v, direct, lvl = t.levels, t.u, t.v, t.direct, t.lvl
     gx, gp = t.gx, t.gp
@@ -580,6 +597,8 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work):
                 total = _chain_weights(tb, toff, lo, hi, big_r, head, m)
             if n < c0 or n + u > c1:
                 total = _keep_fixed(out, r, n, c0, c1, gx, u, tb, toff, lo, hi, bcode)
+            if below > 0 and n != lenient_at:
+                total = _keep_below(out, r, n, below, tb, toff, lo, hi, bcode, t)
             if total > 0.0:
                 repairs += k > kmin
                 break
@@ -662,11 +681,11 @@ def _new_work(g, u, w, depth):
 
 
 @njit(cache=True, nogil=True)
-def _run(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work):
+def _run(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below):
     """_forward, growing the T buffer as often as it asks."""
     while True:
         status, n, repairs = _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t,
-                                      work)
+                                      work, below)
         if status != GROW:
             return status, n, repairs
         pos = work.pos
@@ -674,27 +693,28 @@ def _run(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work):
 
 
 @njit(cache=True, nogil=True)
-def _redraw_segment(out, r, c0, c1, kmin, t, work, state, lenient=False):
+def _redraw_segment(out, r, c0, c1, kmin, t, work, state, lenient, below):
     """Redraw row r on columns [c0, c1) from its exact law given everything around it
-    (``lenient``: a position that meets a dead end backs off, as _draw_row's last resort).
+    (``lenient``: a position that meets a dead end backs off, as _draw_row's last resort;
+    ``below``: the rows fixed under it, see _forward).
 
-    Returns ok; on a dead end the row is left untouched.
+    Returns -1, or the position of the dead end that left the row untouched.
     """
     n_first = max(0, c0 - t.u + 1)
     work.pos[TOFF, n_first] = 0
     n, lenient_at = n_first, np.int64(-1)
     while True:
         status, n, _ = _run(out, r, n, n_first, c0, c1, lenient_at, kmin,
-                            np.int64(out.shape[1]), t, work)
+                            np.int64(out.shape[1]), t, work, below)
         if status != DEAD_END:
             break
         if not lenient or lenient_at == n:
             if n > n_first:
                 _clear(work.big_r, t.ient[TAIL], work.pos[LO, n - 1], work.pos[HI, n - 1])
-            return False
+            return n
         lenient_at = n
     _backward(out, r, n, max(c0, n_first), t, work, state)
-    return True
+    return np.int64(-1)
 
 
 @njit(cache=True, nogil=True)
@@ -720,7 +740,8 @@ def _redraw_above(out, r, n, tries, col0, col1, t, seg, state):
         return -1
     _copy_rows(out, r - depth, seg.saved, 0, depth, c0, c1)
     for ra in range(r - depth, r):
-        if not _redraw_segment(out, ra, c0, c1, np.int64(0), t, seg, state):
+        if _redraw_segment(out, ra, c0, c1, np.int64(0), t, seg, state, False,
+                           np.int64(0)) >= 0:
             _copy_rows(seg.saved, 0, out, r - depth, depth, c0, c1)
             return -1
     return c0
@@ -742,7 +763,7 @@ def _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws):
     n, lenient_at, frontier = np.int64(0), np.int64(-1), np.int64(-1)
     pos[TOFF, 0] = 0
     while True:
-        status, n, rep = _run(out, r, n, 0, 0, w, lenient_at, kmin, w, t, work)  # 0: folded
+        status, n, rep = _run(out, r, n, 0, 0, w, lenient_at, kmin, w, t, work, 0)  # 0: folded
         repairs += rep
         if status == OK:
             break
@@ -767,13 +788,13 @@ def _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws):
 
 
 @njit(cache=True, nogil=True)
-def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w):
+def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w, closure):
     """Rows r0..r1-1. Without parents the first call (r0 = 0) draws the first v rows as the
     chain of column states; with parents each of them is drawn with the rows above it.
 
     Tileable (tile_h > 0): ``out`` is the (tile_h, tile_w) torus with its first v-1 rows and
     u-1 columns copied after its last (see _draw); each row is drawn, then closed across the
-    side seam (_close_row)."""
+    side seam (_close_row, by the seam closure of version ``closure``)."""
     w = out.shape[1]
     work = _new_work(t.gx, t.u, w, np.int64(1))
     seg = _new_work(t.gx, t.u, w, np.int64(MAX_REDRAW_DEPTH))
@@ -789,7 +810,7 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w):
             c0 = tile_w
             for r in range(t.v):
                 c0 = _close_row(out, r, np.int64(max(0, t.v - 1 - r)), tile_w, c0, t, seg,
-                                state)
+                                state, closure, np.int64(0))
                 repairs += c0 < 0
                 c0 = -1 - c0 if c0 < 0 else c0
     for r in range(start, r1):
@@ -798,44 +819,159 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w):
         repairs += rep
         redraws += red
         if tile_h > 0:
-            repairs += _close_row(out, r, kmin, tile_w, tile_w, t, seg, state) < 0
+            repairs += _close_row(out, r, kmin, tile_w, tile_w, t, seg, state, closure,
+                                  np.int64(0)) < 0
     return repairs, redraws
 
 
 @njit(cache=True, nogil=True)
-def _close_columns(across, t, state, tile_w, tile_h):
+def _close_columns(across, t, state, tile_w, tile_h, closure):
     """The bottom seam, closed as the side one: ``across`` is the torus transposed (a row of
     it is a column of the texture) and ``t`` the transposed DPJ's tables, so each column's
-    last points are redrawn given its first ones and the columns before it."""
+    last points are redrawn given its first ones and the columns before it.
+
+    Closure 2 also keeps every window whole that an earlier column's redraw changed (a column's
+    redrawn stretch reaches back to the first window that left the DPJ), and draws the last
+    column given the first ones after it too (the corner, where the two seams cross)."""
     seg = _new_work(t.gx, t.u, across.shape[1], np.int64(MAX_REDRAW_DEPTH))
+    u, v = t.u, t.v
     repairs = 0
+    recent = np.full(max(v - 1, 1), tile_h, np.int64)   # the last v-1 columns' first change
     for j in range(tile_w):
-        kmin = np.int64(max(0, t.v - 1 - j))
-        repairs += _close_row(across, j, kmin, tile_h, tile_h, t, seg, state) < 0
-        if j < t.v - 1:                # a first column, as it is now, after the last
+        kmin = np.int64(max(0, v - 1 - j))
+        reach, below = tile_h, np.int64(0)
+        if closure > 1 and j >= v - 1:
+            last = j == tile_w - 1
+            below = np.int64(v - 1 if last else 0)
+            n0 = 0 if last else max(0, recent.min() - u + 1)
+            reach = _first_bad(across, j, below, n0, tile_h - (CLOSE_SPAN + 1) * u + 1, t)
+        c0 = _close_row(across, j, kmin, tile_h, reach, t, seg, state, closure, below)
+        repairs += c0 < 0
+        recent[j % len(recent)] = -1 - c0 if c0 < 0 else c0
+        if j < v - 1:                # a first column, as it is now, after the last
             _copy_rows(across, j, across, tile_w + j, 1, 0, across.shape[1])
     return repairs
 
 
 @njit(cache=True, nogil=True)
-def _close_row(out, r, kmin, tile_w, reach, t, seg, state):
+def _close_row(out, r, kmin, tile_w, reach, t, seg, state, closure, below):
     """Close row r across the side seam: copy its first u-1 points after its last column, then
-    redraw its end, from column ``reach`` - (u-1) or before, from the exact law given both
-    sides, over a wider stretch while that meets a dead end. Returns the first column redrawn
-    c0, or -1 - c0 when only a back-off closed the row (-1 - width: nothing did; a window
-    across the seam the DPJ lacks)."""
+    redraw its end from the exact law given both sides (and the ``below`` rows under it), from
+    column ``reach`` - (u-1) or before (closure 2: ``reach``), over a wider stretch while that
+    meets a dead end — closure 2 redraws the rows above around a dead end instead. Returns
+    the first column redrawn c0, or -1 - c0 when only a back-off closed the row (-1 - width:
+    nothing did; a window across the seam the DPJ lacks)."""
     u = t.u
     for j in range(u - 1):
         out[r, tile_w + j] = out[r, j]
     if u == 1:
         return tile_w
+    if closure > 1:
+        c0 = _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below)
+        if c0 >= 0:
+            return c0
+        c0 = -1 - c0                   # back off where needed, over what the tries changed
+        if _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, True, below) < 0:
+            return -1 - c0
+        return -1 - tile_w
     for lenient in (False, True):      # a back-off at a dead end only when no stretch closes
         span = max(4 * u, tile_w - reach + u - 1)
         while True:
             c0 = max(u - 1, tile_w - span)
-            if _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, lenient):
+            if _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, lenient, below) < 0:
                 return c0 if not lenient else -1 - c0
             if c0 == u - 1:
                 break
             span *= 2
     return -1 - tile_w
+
+
+@njit(cache=True, nogil=True)
+def _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below):
+    """Closure 2 of row r: at a dead end, the rows above are redrawn around it too (as a dead
+    end inside the texture does, see _redraw_above, but within the stretch), deeper and wider
+    as tries fail, then the row's stretch again, longer every fourth try. Returns the first
+    column redrawn c0, or -1 - c0 when no try closed the row (the rows above may have
+    changed from c0 on)."""
+    u = t.u
+    span = max(CLOSE_SPAN * u, tile_w - reach)
+    c0 = max(u - 1, tile_w - span)
+    for tries in range(CLOSE_TRIES):
+        c0 = max(u - 1, tile_w - span)
+        n = _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, False, below)
+        if n < 0:
+            return c0
+        depth = min(1 + tries % 3, MAX_REDRAW_DEPTH, r - t.v + 1)
+        half = u * (2 + tries // 3)
+        a, b = max(c0, n - half), min(tile_w, n + u + half)
+        if depth > 0 and a < b:
+            _copy_rows(out, r - depth, seg.saved, 0, depth, a, b)
+            for ra in range(r - depth, r):
+                if _redraw_segment(out, ra, a, b, np.int64(0), t, seg, state, False,
+                                   np.int64(0)) >= 0:
+                    _copy_rows(seg.saved, 0, out, r - depth, depth, a, b)
+                    break
+        if tries % SPAN_TRIES == SPAN_TRIES - 1:
+            span *= 2
+    return -1 - c0
+
+
+@njit(cache=True, nogil=True)
+def _first_bad(out, r, below, n0, n1, t):
+    """Where a redraw of row r must start to reach the first window position in [n0, n1)
+    whose window ending in row r..r+below is not a DPJ entry (its last point), or the torus
+    width when there is none."""
+    for n in range(n0, n1):
+        for k in range(below + 1):
+            if _window_m(out, r + k, n, np.int64(-1), np.int64(0), t) == 0.0:
+                return np.int64(n + t.u - 1)
+    return np.int64(out.shape[1] - t.u + 1)
+
+
+@njit(cache=True, nogil=True)
+def _keep_below(out, r, n, below, tb, toff, lo, hi, bcode, t):
+    """Weigh each entry by how the ``below`` fixed rows under row r continue from it: the
+    horizontal transition m of each window ending in one of them (0: not in the DPJ). The
+    rows below are drawn as chains of such transitions, so this is their likelihood but for
+    its normaliser over the row, which depends on the whole row and is left out."""
+    total = 0.0
+    for e in range(lo, hi):
+        x = tb[toff + e - lo]
+        for k in range(1, below + 1):
+            if x == 0.0:
+                break
+            x *= _window_m(out, r + k, n, r, bcode[e], t)
+        tb[toff + e - lo] = x
+        total += x
+    return total
+
+
+@njit(cache=True, nogil=True)
+def _window_m(out, r, n, sub, sub_code, t):
+    """The horizontal transition m of the window ending in row r at position n (level 0 of the
+    tables), 0 when the DPJ lacks it; row ``sub``, if one of its rows, is read as the bottom
+    code ``sub_code``."""
+    g, gx, gp, u, v = t.levels, t.gx, t.gp, t.u, t.v
+    key = 0
+    for i in range(r - v + 1, r):
+        for j in range(u):
+            if i == sub:
+                x = sub_code // gx ** (u - 1 - j) % gx
+            else:
+                x = out[i, n + j] % t.amod
+            key = key * g + x
+    bottom = 0
+    for j in range(u):
+        if gp > 1:
+            key = key * gp + out[r, n + j] // gx
+        bottom = bottom * gx + out[r, n + j] % gx
+    if len(t.direct):
+        ci = t.direct[key]
+    else:
+        ci = _find(t.ctx[CODE], t.lvl[OFF, 0], t.lvl[LEN, 0], key)
+    if ci < 0:
+        return 0.0
+    gu1 = gx ** (u - 1)
+    lo = t.ctx[START, ci]
+    e = _find(t.ient[ROT], lo, t.ctx[END, ci] - lo, bottom % gu1 * gx + bottom // gu1)
+    return t.fent[M, e] if e >= 0 else 0.0

@@ -22,6 +22,7 @@ from ..errors import FormatError, InputError
 from ..fileio import load_json, read_limited, write_file
 from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers
 from ..markov.levels import to_grey
+from ..markov.synthesis import CLOSURE
 from ..markov.multiscale import (COARSE_LEVELS, COARSE_WINDOW, LEVELS, WINDOW, MultiScaleDPJ,
                                  estimate_scales, synthesize_scales)
 from .tone import Renderer, ToneIndex, render, tone_index
@@ -72,21 +73,23 @@ class PhotoModel:
         return self.scales.frequencies(self.scales.scales - 1)
 
     def synthesize(self, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
-                   progress: Callable[[float], None] | None = None,
+                   closure: int = CLOSURE, progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
         drawn on a second thread as the finest rows come out (the same picture as
         ``render(levels)`` afterwards, in about half the time on two cores). ``tileable``: the
-        levels and the picture repeat without a seam."""
+        levels and the picture repeat without a seam (``closure``: which seam closure, see
+        markov.synthesize)."""
         if not tone or self.tone is None:
             result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
-                                       cancel=cancel, tileable=tileable)
+                                       cancel=cancel, tileable=tileable, closure=closure)
             image = self.render(result.levels, seed=seed, tone=False)
         else:
-            result, image = self._synthesize_with_tone(shape, seed, progress, cancel, tileable)
+            result, image = self._synthesize_with_tone(shape, seed, progress, cancel, tileable,
+                                                       closure)
         return Resynthesis(image, result.levels, self.frequencies(), result.repairs, int(seed))
 
-    def _synthesize_with_tone(self, shape, seed, progress, cancel, tileable):
+    def _synthesize_with_tone(self, shape, seed, progress, cancel, tileable, closure):
         renderer = []
         with ThreadPoolExecutor(1, thread_name_prefix="tone") as worker:
             jobs = []
@@ -102,7 +105,7 @@ class PhotoModel:
             try:
                 result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
                                            cancel=cancel, rows_final=rows_final,
-                                           tileable=tileable)
+                                           tileable=tileable, closure=closure)
             except BaseException:
                 for job in jobs:
                     job.cancel()

@@ -6,7 +6,7 @@ transform it works in, exact and periodic (the texture tiles).
 """
 
 from .steerable import SteerablePyramid, pyramid_levels, steerable_pyramid
-from .synthesis import heeger_bergen, match_histogram, quantiles
+from .synthesis import heeger_bergen, match_quantiles, quantiles
 
 __all__ = ["SteerablePyramid", "steerable_pyramid", "pyramid_levels", "heeger_bergen",
-           "match_histogram", "quantiles"]
+           "match_quantiles", "quantiles"]

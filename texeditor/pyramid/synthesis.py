@@ -34,7 +34,7 @@ def quantiles(reference_sorted: np.ndarray, n: int) -> np.ndarray:
                      reference_sorted).astype(reference_sorted.dtype)
 
 
-def match_histogram(values: np.ndarray, target: np.ndarray) -> np.ndarray:
+def match_quantiles(values: np.ndarray, target: np.ndarray) -> np.ndarray:
     """``values`` with the histogram of ``target`` (its :func:`quantiles` at values.size): the
     value of rank i becomes target[i], so the result's sorted values are exactly ``target``."""
     out = np.empty(values.size, target.dtype)
@@ -63,7 +63,7 @@ def heeger_bergen(image, shape, *, seed: int, iterations: int = ITERATIONS,
     sizes = [h * w for h, w in pyramid.band_shapes()]
     targets = [_targets(analysis, c, sizes, height * width) for c in channels]
     rng = np.random.default_rng(seed)
-    outs = [match_histogram(rng.standard_normal((height, width), WORK_TYPE), picture)
+    outs = [match_quantiles(rng.standard_normal((height, width), WORK_TYPE), picture)
             for _, picture in targets]
     for done in range(iterations):
         if cancel is not None and cancel():
@@ -77,8 +77,8 @@ def heeger_bergen(image, shape, *, seed: int, iterations: int = ITERATIONS,
 
 def _iterate(pyramid, picture, band_targets, picture_target):
     """One Heeger–Bergen iteration: sub-band histograms, rebuild, picture histogram."""
-    bands = [match_histogram(b, t) for b, t in zip(pyramid.decompose(picture), band_targets)]
-    return match_histogram(pyramid.reconstruct(bands), picture_target)
+    bands = [match_quantiles(b, t) for b, t in zip(pyramid.decompose(picture), band_targets)]
+    return match_quantiles(pyramid.reconstruct(bands), picture_target)
 
 
 def _targets(analysis, channel, band_sizes, size):

@@ -15,6 +15,7 @@ import numpy as np
 
 from ..markov.dpj import MAX_LEVELS, grey_ramp
 from ..markov.scan import ROWS, SCANS, check_scan
+from ..markov.synthesis import CLOSURE
 from ..errors import FormatError, InputError, check_unicode
 
 MAX_CANVAS_SIDE = 16384
@@ -35,7 +36,7 @@ class ParamSpec:
     """What a form needs to edit one parameter: its name, kind, bounds, value and a hint."""
 
     name: str
-    kind: str            # int, float, bool, str, ref, refs, seed, palette, points, texts
+    kind: str            # int, float, bool, str, ref, refs, seed, palette, points, texts, exemplar
     minimum: float | None
     maximum: float | None
     optional: bool
@@ -84,6 +85,13 @@ def _str(name, value, lo, hi):
 def _ref(name, value, lo, hi):
     if not isinstance(value, str) or not _REF.match(value):
         raise InputError(f"{name} must be a DPJ reference (16 hex digits), got {value!r}")
+    return value
+
+
+def _exemplar(name, value, lo, hi):
+    """The reference of an exemplar photo the document holds (`exemplars.exemplar_ref`)."""
+    if not isinstance(value, str) or not _REF.match(value):
+        raise InputError(f"{name} must be an exemplar reference (16 hex digits), got {value!r}")
     return value
 
 
@@ -151,7 +159,7 @@ def _points(name, value, lo, hi):
 _KINDS: dict[str, Callable] = {
     "int": _int, "seed": lambda n, v, lo, hi: _int(n, v, 0, MAX_SEED), "float": _float,
     "bool": _bool, "str": _str, "ref": _ref, "refs": _refs, "palette": palette_param,
-    "points": _points, "texts": _texts,
+    "points": _points, "texts": _texts, "exemplar": _exemplar,
 }
 
 
@@ -320,6 +328,16 @@ def dpj_refs(actions) -> list[str]:
     return list(seen)
 
 
+def exemplar_refs(actions) -> list[str]:
+    """The exemplar photos a log uses (parameters of kind "exemplar"), in order of first use."""
+    seen: dict[str, None] = {}
+    for a in actions:
+        for f in dataclasses.fields(a):
+            if f.metadata.get("kind") == "exemplar" and getattr(a, f.name) is not None:
+                seen.setdefault(getattr(a, f.name))
+    return list(seen)
+
+
 def replace_params(action: Action, **changes) -> Action:
     """A copy with some parameters changed, validated like a new action (for "edit step k")."""
     try:
@@ -399,12 +417,28 @@ def _tileable():
                                             "seam (windows across the seams are DPJ windows)")
 
 
+def _closure():
+    return param("int", 1, CLOSURE, default=CLOSURE,
+                 doc="how a tileable texture's seams are closed: 2 (current: every window "
+                     "an earlier redraw changed and the corner kept in the DPJ), 1 (the first "
+                     "way, kept so older recipes replay the same)")
+
+
+def _closure_of_version_1(cls, version: int, params: dict) -> dict:
+    """Version 1 had no ``closure``: its tileable textures were closed the first way."""
+    if version != 1 or "closure" in params:
+        raise FormatError(f"action {cls.TYPE!r} version {version} is not supported "
+                          f"(this program reads versions 1 to {cls.VERSION})")
+    return {**params, "closure": 1}
+
+
 @register
 @dataclass(frozen=True)
 class Synthesize(Action):
     """A new canvas drawn from a DPJ by the 2-D Markov process (thesis ch. 4); palette = DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize"
+    VERSION: ClassVar[int] = 2
     EFFECT: ClassVar[str] = "reset"
     dpj: str = param("ref", doc="reference of a DPJ of the document")
     width: int = _side("points across")
@@ -414,6 +448,9 @@ class Synthesize(Action):
     scan: str = param("str", hi=16, default=ROWS,
                       doc="scan direction (§5.2.1b): " + ", ".join(SCANS) + "; the DPJ's rows "
                           "run along the scan")
+    closure: int = _closure()
+
+    upgrade = classmethod(_closure_of_version_1)
 
     def _validate(self):
         _check_canvas(self.width, self.height)
@@ -426,7 +463,8 @@ class Synthesize(Action):
         if not dpj.has_ref(self.dpj):
             raise InputError(f"this DPJ is not {self.dpj}, the one the action refers to")
         return synthesize(dpj, (self.height, self.width), seed=self.seed, progress=progress,
-                          cancel=cancel, tileable=self.tileable, scan=self.scan)
+                          cancel=cancel, tileable=self.tileable, scan=self.scan,
+                          closure=self.closure)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpj_of(doc), progress, cancel).levels
@@ -461,12 +499,16 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
+    VERSION: ClassVar[int] = 2
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
     height: int = _side("points down")
     seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
     tileable: bool = _tileable()
+    closure: int = _closure()
+
+    upgrade = classmethod(_closure_of_version_1)
 
     def _validate(self):
         _check_canvas(self.width, self.height)
@@ -478,7 +520,7 @@ class SynthesizeScales(Action):
         from ..markov.multiscale import synthesize_scales
         return synthesize_scales(_scales(dpjs), (self.height, self.width),
                                  seed=self.seed, progress=progress, cancel=cancel,
-                                 tileable=self.tileable)
+                                 tileable=self.tileable, closure=self.closure)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels

@@ -1,4 +1,5 @@
-"""The Document: the level matrix, its palette, the DPJs it was made from and the log that made it.
+"""The Document: the level matrix, its palette, the DPJs and exemplar photos it was made from and
+the log that made it.
 
 It sits at the end of the data flow (synthesis and every edit arrive here as Actions) and at the
 start of display, files and the bank. Only Actions change it: its edit interface (``set_levels``,
@@ -21,6 +22,7 @@ import numpy as np
 
 from ..markov.dpj import DPJ, check_palette, grey_ramp
 from ..errors import InputError
+from .exemplars import check_exemplar, exemplar_ref
 
 EMPTY_LEVELS = 2            # the palette of a document no action has touched yet
 REF_LENGTH = 16             # hex characters of a DPJ reference
@@ -67,6 +69,7 @@ class Document:
         self._plate_colours: np.ndarray | None = None    # (P, 3) uint8
         self._on_plates = False       # inside on_plates(): levels and plates are swapped
         self.dpjs: dict[str, DPJ] = {}
+        self.exemplars: dict[str, np.ndarray] = {}       # ref → read-only uint8 photo
         self._log: list = []
         self._recorder: list | None = None
         self._in_step = False
@@ -166,6 +169,17 @@ class Document:
         self.dpjs.setdefault(dpj.ref, dpj)
         return dpj.ref
 
+    def add_exemplar(self, image, ref: str | None = None) -> str:
+        """Keep a photo (uint8 grey or colour, at most 1024²) so model steps can refer to it;
+        returns its reference. ``ref``, a file's name for it, must be the one its pixels give."""
+        image = check_exemplar(image)
+        own = exemplar_ref(image)
+        if ref is not None and ref != own:
+            raise InputError(f"exemplar reference {ref!r:.20} does not name this picture (its "
+                             f"reference is {own})")
+        self.exemplars.setdefault(own, image)
+        return own
+
     def apply(self, action) -> "Document":
         """Apply an action and append it to the log (the logged way to change a document)."""
         with self.step():
@@ -204,6 +218,7 @@ class Document:
         other._plates = None if self._plates is None else self._plates.copy()
         other._plate_colours = self._plate_colours
         other.dpjs = dict(self.dpjs)
+        other.exemplars = dict(self.exemplars)
         other._log = list(self._log)
         return other
 

@@ -88,13 +88,14 @@ class History:
     @classmethod
     def from_log(cls, actions: Iterable[Action], dpjs: dict, *, current: str | None = None,
                  prepared: dict | None = None, progress: Progress = None, cancel: Cancel = None,
-                 **options) -> "History":
-        """Replay a log (ref → DPJ for its syntheses) into a new History, step by step, as
-        `replay.replay` does (``current``, ``prepared``: see there); a failing step is a
-        ReplayError naming it."""
+                 exemplars: dict | None = None, **options) -> "History":
+        """Replay a log (ref → DPJ for its syntheses, ref → photo for its model steps) into a
+        new History, step by step, as `replay.replay` does (``current``, ``prepared``: see
+        there); a failing step is a ReplayError naming it."""
         from .replay import make_current
         history = cls(**options)
         history._doc.dpjs.update(dpjs)
+        history._doc.exemplars.update(exemplars or {})
         actions, given = list(actions), prepared or {}
         replay_log(actions, lambda k, a, sub: history._advance(a, k, given.get(k), sub, cancel),
                    progress=progress, cancel=cancel, failure=replay_failure)
@@ -158,6 +159,10 @@ class History:
         self._dirty.add("dpj")
         self._notify("dpj")
         return ref
+
+    def add_exemplar(self, image) -> str:
+        """Keep a photo in the document for the model steps (not a step: nothing changes)."""
+        return self._doc.add_exemplar(image)
 
     def apply(self, action: Action, *, if_changed: bool = False, prepared=None) -> bool:
         """Apply a new step after the current one; the redo tail is dropped. ``if_changed``: a
@@ -535,6 +540,7 @@ class PendingEdit:
         self.start = history._snap_keys[bisect_right(history._snap_keys, min(i, new_index)) - 1]
         self._base = history._snaps[self.start]
         self._dpjs = dict(history._doc.dpjs)
+        self._exemplars = dict(history._doc.exemplars)
         self._keys = [s for s in history._snap_keys if s <= i]
         self._snap_budget = history.snapshot_memory - sum(history._snaps[s].nbytes
                                                           for s in self._keys)
@@ -555,6 +561,7 @@ class PendingEdit:
             return self
         scratch = Document()
         scratch.dpjs = self._dpjs
+        scratch.exemplars = self._exemplars
         scratch.restore(self._base)
         scratch.set_log(self.actions[:self.start])   # actions may read the log before them
         costs = ChainMap(self.costs, self._old_costs)

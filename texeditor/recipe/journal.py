@@ -6,7 +6,8 @@ It sits beside History: the GUI calls ``sync`` after every change, ``reset`` aft
 that died, and ``recover`` rebuilds their logs. One window, one file: a live journal is locked.
 
 A journal is JSON Lines. ``start`` (format, the document's file if any, time), then ``dpj`` records
-(a DPJ the log refers to, base64 of its `.dpj` bytes) and ``log`` records: keep the first ``keep``
+(a DPJ the log refers to, base64 of its `.dpj` bytes), ``exemplar`` records (a model step's photo,
+base64 of its PNG) and ``log`` records: keep the first ``keep``
 actions of the log as it was and append ``append`` (undo keeps n-1 and appends nothing; an edit of
 step k keeps k-1 and appends the rest). A line cut short by the crash is ignored.
 """
@@ -14,6 +15,7 @@ step k keeps k-1 and appends the rest). A line cut short by the crash is ignored
 from __future__ import annotations
 
 import base64
+import dataclasses
 import io
 import json
 import os
@@ -23,6 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .codec import action_from_json
+from .exemplars import exemplar_png, read_exemplar_png
 from ..markov.dpj import DPJ
 from ..errors import FormatError, TexeditorError
 from ..fileio import load_json, read_limited
@@ -57,17 +60,18 @@ class Journal:
         self._logged: tuple = ()
         self._refs: set[str] = set()
 
-    def reset(self, actions, dpjs: dict, *, source=None) -> None:
+    def reset(self, actions, dpjs: dict, *, source=None, exemplars=None) -> None:
         """Start afresh from this log (a new or just-saved document): the old records go."""
         self._file.seek(0)
         self._file.truncate()
         self._logged, self._refs = (), set()
         self._write({"kind": "start", "format": FORMAT, "time": time.time(),
                      "source": None if source is None else str(source)}, flush=False)
-        self.sync(actions, dpjs)
+        self.sync(actions, dpjs, exemplars)
 
-    def sync(self, actions, dpjs: dict) -> None:
-        """Record how the log changed since the last call (nothing if it did not)."""
+    def sync(self, actions, dpjs: dict, exemplars=None) -> None:
+        """Record how the log changed since the last call (nothing if it did not), with the
+        DPJs and exemplar photos (ref → picture) not recorded yet."""
         actions = tuple(actions)
         if actions == self._logged:
             return
@@ -80,6 +84,12 @@ class Journal:
             if ref not in self._refs:
                 self._write({"kind": "dpj", "ref": ref,
                              "data": base64.b64encode(dpj.to_bytes()).decode("ascii")},
+                            flush=False)
+                self._refs.add(ref)
+        for ref, image in (exemplars or {}).items():
+            if ref not in self._refs:
+                self._write({"kind": "exemplar", "ref": ref,
+                             "png": base64.b64encode(exemplar_png(image)).decode("ascii")},
                             flush=False)
                 self._refs.add(ref)
         self._write({"kind": "log", "keep": keep,
@@ -101,7 +111,8 @@ class Journal:
 
 @dataclass(frozen=True)
 class Recovered:
-    """What a dead process's journal holds: its log, the DPJs it needs, where it came from."""
+    """What a dead process's journal holds: its log, the DPJs and exemplar photos it needs,
+    where it came from."""
 
     path: Path
     actions: tuple
@@ -109,6 +120,7 @@ class Recovered:
     source: str | None
     started: float
     changes: int          # changes of the log since the document was opened or saved
+    exemplars: dict = dataclasses.field(default_factory=dict)
 
 
 def orphans(folder: Path | None = None) -> list[Path]:
@@ -163,20 +175,20 @@ def recover(path: Path) -> Recovered:
     start = _record(next(lines, b""))
     if not isinstance(start, dict) or start.get("kind") != "start" or start.get("format") != FORMAT:
         raise FormatError(f"{path}: not a texeditor journal")
-    actions, dpjs, logs = [], {}, 0
+    actions, dpjs, photos, logs = [], {}, {}, 0
     for line in lines:
         record = _record(line)
         try:
             if record is None:
                 break        # the line the crash cut short (and anything after it)
-            _apply(record, actions, dpjs)
+            _apply(record, actions, dpjs, photos)
         except (TexeditorError, KeyError, TypeError, ValueError, AttributeError,
                 ArithmeticError):
             break            # keep what was complete before a damaged record
         logs += record.get("kind") == "log"
     source = start.get("source") if isinstance(start.get("source"), str) else None
     return Recovered(path, tuple(actions), dpjs, source, _start_time(start.get("time")),
-                     max(0, logs - 1))
+                     max(0, logs - 1), photos)
 
 
 def _record(line: bytes):
@@ -198,7 +210,7 @@ def _start_time(value) -> float:
     return value if 0.0 <= value <= MAX_START_TIME else 0.0     # False for NaN
 
 
-def _apply(record, actions: list, dpjs: dict) -> None:
+def _apply(record, actions: list, dpjs: dict, photos: dict) -> None:
     kind = record["kind"] if isinstance(record, dict) else None
     if kind == "dpj":
         # the reference is the DPJ's name in the log (as in .texture files); its bytes must hash
@@ -208,6 +220,12 @@ def _apply(record, actions: list, dpjs: dict) -> None:
             raise FormatError("a journal DPJ has no valid reference")
         dpjs[ref] = DPJ.from_bytes(base64.b64decode(record["data"], validate=True),
                                    f"journal DPJ {ref}", ref=ref)      # the bytes must be ref
+    elif kind == "exemplar":
+        ref = record["ref"]                       # the pixels must hash to it
+        if not isinstance(ref, str) or len(ref) > 64:
+            raise FormatError("a journal exemplar has no valid reference")
+        photos[ref] = read_exemplar_png(base64.b64decode(record["png"], validate=True),
+                                        f"journal exemplar {ref}", ref)
     elif kind == "log":
         keep = record["keep"]
         if isinstance(keep, bool) or not isinstance(keep, int) or not 0 <= keep <= len(actions):

@@ -58,14 +58,17 @@ def replay_log(actions, run: Callable, *, start: int = 0, stop: int | None = Non
 
 
 def replay(actions, dpjs: dict, *, current: str | None = None, prepared: dict | None = None,
-           progress: Progress = None, cancel: Cancel = None) -> Document:
-    """Rebuild a document from its log and DPJs (ref → DPJ). ``current``: the DPJ that was
+           progress: Progress = None, cancel: Cancel = None,
+           exemplars: dict | None = None) -> Document:
+    """Rebuild a document from its log, DPJs (ref → DPJ) and exemplars (ref → photo, for the
+    model steps). ``current``: the DPJ that was
     current when it was stored (recorded state: a DPJ loaded after the last synthesis);
     ``prepared``: step → its result given (a stored picture standing for a synthesis). A step
     that fails is a ReplayError naming it."""
     actions = list(actions)
     doc = Document()
     doc.dpjs.update(dpjs)
+    doc.exemplars.update(exemplars or {})
     given = prepared or {}
 
     def run(k, action, sub):

@@ -18,13 +18,15 @@ from .replay import Cancel, Progress, replay
 @dataclass(frozen=True)
 class Recipe:
     """What rebuilds a stored texture: its log, the DPJs it needs (ref → DPJ), the DPJ that was
-    current, the SHA-256 of the result recorded (None: not checked) and a name for messages."""
+    current, the SHA-256 of the result recorded (None: not checked), a name for messages and
+    the exemplar photos its model steps need (ref → uint8 picture)."""
 
     actions: tuple
     dpjs: dict = field(default_factory=dict)
     current: str | None = None
     sha256: str | None = None
     name: str = "the texture"
+    exemplars: dict = field(default_factory=dict)
 
 
 def open_recipe(recipe: Recipe, *, history: bool = False, prepared: dict | None = None,
@@ -36,11 +38,12 @@ def open_recipe(recipe: Recipe, *, history: bool = False, prepared: dict | None 
         if history:
             opened = History.from_log(recipe.actions, recipe.dpjs, current=recipe.current,
                                       prepared=prepared, progress=progress, cancel=cancel,
-                                      **history_options)
+                                      exemplars=recipe.exemplars, **history_options)
             doc = opened.document
         else:
             opened = doc = replay(recipe.actions, recipe.dpjs, current=recipe.current,
-                                  prepared=prepared, progress=progress, cancel=cancel)
+                                  prepared=prepared, progress=progress, cancel=cancel,
+                                  exemplars=recipe.exemplars)
     except ReplayError as exc:
         raise ReplayError(f"{recipe.name}: {exc}") from None
     verify(doc, recipe)

@@ -18,9 +18,10 @@ from dataclasses import dataclass
 
 from ..version import __version__
 from .actions import (MAX_CANVAS_SIDE, Action, Synthesize, SynthesizeScales, dpj_refs,
-                      palette_param)
+                      exemplar_refs, palette_param)
 from .codec import MAX_ACTIONS, MAX_LOG_BYTES, log_json, read_log
 from .document import Document, REF_LENGTH
+from .exemplars import MAX_EXEMPLARS, MAX_PNG_BYTES, exemplar_png, read_exemplar_png
 from ..markov.dpj import DPJ, MAX_FILE_BYTES as MAX_DPJ_BYTES, MAX_LEVELS
 from ..errors import FormatError, InputError, check_unicode
 from ..fileio import load_json, read_limited, write_file
@@ -35,7 +36,9 @@ FORMAT_VERSION = 1
 MAX_MANIFEST_BYTES = 2**20
 MAX_ACTIONS_BYTES = MAX_LOG_BYTES
 MAX_DPJ_CONTENT = 128 * 2**20           # the DPJ members together (two of the largest DPJs)
-MAX_TOTAL_BYTES = MAX_MANIFEST_BYTES + MAX_ACTIONS_BYTES + MAX_DPJ_CONTENT   # declared sizes
+MAX_EXEMPLAR_CONTENT = MAX_EXEMPLARS * MAX_PNG_BYTES
+MAX_TOTAL_BYTES = (MAX_MANIFEST_BYTES + MAX_ACTIONS_BYTES + MAX_DPJ_CONTENT      # declared sizes
+                   + MAX_EXEMPLAR_CONTENT)
 MAX_FILE_BYTES = MAX_TOTAL_BYTES + 2**20
 MAX_DPJS = 64
 MAX_RATIO = 200                         # uncompressed / compressed, above RATIO_FLOOR bytes
@@ -44,6 +47,7 @@ MAX_TAGS, MAX_TAG_CHARS, MAX_DESCRIPTION_CHARS = 256, 128, 100_000
 _FIXED_TIME = (1980, 1, 1, 0, 0, 0)
 _OTHER_DPJ = re.compile(rf"^dpjs/([0-9a-f]{{{REF_LENGTH}}})\.npz$")
 _REF = re.compile(rf"^[0-9a-f]{{{REF_LENGTH}}}$")
+_EXEMPLAR = re.compile(rf"^exemplars/([0-9a-f]{{{REF_LENGTH}}})\.png$")
 
 
 @dataclass(frozen=True)
@@ -63,11 +67,17 @@ class Manifest:
     software: str = f"texeditor {__version__}"
     format: str = FORMAT_NAME
     format_version: int = FORMAT_VERSION
+    exemplars: tuple = ()           # the exemplar photos the log uses (since 0.2)
 
     def to_json(self) -> dict:
+        """The JSON object; ``exemplars`` only when there are some, so a file without them is
+        byte for byte what earlier versions wrote and read."""
         d = dataclasses.asdict(self)
         d["palette"] = [list(c) for c in self.palette]
         d["dpjs"], d["tags"] = list(self.dpjs), list(self.tags)
+        d["exemplars"] = list(self.exemplars)
+        if not self.exemplars:
+            del d["exemplars"]
         return d
 
 
@@ -79,12 +89,13 @@ class TextureFile:
     actions: tuple[Action, ...]
     dpjs: dict[str, DPJ]
     name: str = "texture"
+    exemplars: dict = dataclasses.field(default_factory=dict)    # ref → uint8 photo
 
     @property
     def recipe(self) -> Recipe:
-        """The log, DPJs, current DPJ and recorded result, for `stored.open_recipe`."""
+        """The log, DPJs, current DPJ, recorded result and exemplars, for `stored.open_recipe`."""
         return Recipe(self.actions, self.dpjs, self.manifest.dpj, self.manifest.result_sha256,
-                      self.name)
+                      self.name, self.exemplars)
 
 
 # -- writing ---------------------------------------------------------------------------------------
@@ -108,6 +119,10 @@ def texture_bytes(doc: Document, actions, *, tags=(), description="") -> tuple[b
     missing = sorted(r for r in refs if r not in doc.dpjs)
     if missing:
         raise InputError(f"the log refers to DPJs {missing} that the document does not hold")
+    photos = tuple(sorted(exemplar_refs(actions)))
+    missing = [r for r in photos if r not in doc.exemplars]
+    if missing:
+        raise InputError(f"the log refers to exemplars {missing} that the document does not hold")
     main = doc.dpj_ref if doc.dpj_ref in doc.dpjs else None     # the current DPJ, as it is
     others = tuple(sorted(r for r in set(refs) if r != main))
     tags = (tags,) if isinstance(tags, str) else tuple(tags)
@@ -115,12 +130,13 @@ def texture_bytes(doc: Document, actions, *, tags=(), description="") -> tuple[b
         width=doc.shape[1], height=doc.shape[0], levels=doc.num_levels,
         palette=tuple(tuple(int(c) for c in rgb) for rgb in doc.palette),
         result_sha256=doc.result_hash(), actions=len(actions), dpj=main, dpjs=others,
-        tags=tags, description=description))
+        tags=tags, description=description, exemplars=photos))
     members = [("manifest.json", _json_bytes(manifest.to_json())),
                ("actions.json", _json_bytes(log_json(actions)))]
     if main is not None:
         members.append(("dpj.npz", doc.dpjs[main].to_bytes()))
     members += [(f"dpjs/{ref}.npz", doc.dpjs[ref].to_bytes()) for ref in others]
+    members += [(f"exemplars/{ref}.png", exemplar_png(doc.exemplars[ref])) for ref in photos]
     return _archive(members), manifest
 
 
@@ -173,8 +189,9 @@ def _zip(members, stored=frozenset()) -> bytes:
             info = zipfile.ZipInfo(name, date_time=_FIXED_TIME)
             info.create_system = 3
             info.external_attr = 0o644 << 16
-            # .npz members are compressed already
-            info.compress_type = (zipfile.ZIP_STORED if name.endswith(".npz") or name in stored
+            # .npz and .png members are compressed already
+            info.compress_type = (zipfile.ZIP_STORED if name.endswith((".npz", ".png"))
+                                  or name in stored
                                   else zipfile.ZIP_DEFLATED)
             zf.writestr(info, data)
     return buf.getvalue()
@@ -198,13 +215,16 @@ def parse_texture(data: bytes, name: str = "texture") -> TextureFile:
         manifest = _check_manifest(_read_json(zf, infos["manifest.json"], name), name)
         actions = _read_actions(_read_json(zf, infos["actions.json"], name), name)
         dpjs = _read_dpjs(zf, infos, manifest, name)
+        exemplars = _read_exemplars(zf, infos, manifest, name)
     if len(actions) != manifest.actions:
         raise FormatError(f"{name}: the manifest announces {manifest.actions} actions, "
                           f"actions.json holds {len(actions)}")
     missing = sorted(set(dpj_refs(actions)) - set(dpjs))
     if missing:
         raise FormatError(f"{name}: the log uses DPJs {missing} that the file does not hold")
-    return TextureFile(manifest, actions, dpjs, name)
+    if set(exemplar_refs(actions)) != set(exemplars):
+        raise FormatError(f"{name}: the exemplar photos held are not the ones the log uses")
+    return TextureFile(manifest, actions, dpjs, name, exemplars)
 
 
 def load_texture(path, *, progress=None, cancel=None, **history_options) -> tuple[History, Manifest]:
@@ -221,7 +241,10 @@ def load_texture(path, *, progress=None, cancel=None, **history_options) -> tupl
 def _check_members(zf: zipfile.ZipFile, name: str) -> dict[str, zipfile.ZipInfo]:
     """Only known names, no duplicates, no encryption, sizes and ratios within the limits."""
     infos = zf.infolist()
-    if len(infos) > 2 + 1 + MAX_DPJS:
+    dpj_members = sum(i.filename.endswith(".npz") for i in infos)
+    photo_members = sum(bool(_EXEMPLAR.fullmatch(i.filename)) for i in infos)
+    if len(infos) > 2 + 1 + MAX_DPJS + MAX_EXEMPLARS or dpj_members > 1 + MAX_DPJS \
+            or photo_members > MAX_EXEMPLARS:
         raise FormatError(f"{name}: {len(infos)} members, more than a texture file holds")
     seen: dict[str, zipfile.ZipInfo] = {}
     total = dpj_total = 0
@@ -231,7 +254,7 @@ def _check_members(zf: zipfile.ZipFile, name: str) -> dict[str, zipfile.ZipInfo]
                 or ":" in member or "\\" in member):
             raise FormatError(f"{name}: unsafe member name {member!r} (path traversal)")
         if member not in ("manifest.json", "actions.json", "dpj.npz") \
-                and not _OTHER_DPJ.fullmatch(member):
+                and not _OTHER_DPJ.fullmatch(member) and not _EXEMPLAR.fullmatch(member):
             raise FormatError(f"{name}: unexpected member {member!r}")
         if member in seen:
             raise FormatError(f"{name}: member {member!r} appears twice")
@@ -261,6 +284,8 @@ def _check_members(zf: zipfile.ZipFile, name: str) -> dict[str, zipfile.ZipInfo]
 
 
 def _member_limit(member: str) -> int:
+    if _EXEMPLAR.fullmatch(member):
+        return MAX_PNG_BYTES
     return {"manifest.json": MAX_MANIFEST_BYTES,
             "actions.json": MAX_ACTIONS_BYTES}.get(member, min(MAX_DPJ_BYTES, MAX_DPJ_CONTENT))
 
@@ -319,6 +344,7 @@ def _check_manifest(obj, name: str = "texture") -> Manifest:
             dpj=None if m.dpj is None else _text(m.dpj, "dpj", REF_LENGTH, _REF.pattern),
             dpjs=_texts(m.dpjs, "dpjs", MAX_DPJS, REF_LENGTH, _REF.pattern),
             tags=_texts(m.tags, "tags", MAX_TAGS, MAX_TAG_CHARS),
+            exemplars=_texts(m.exemplars, "exemplars", MAX_EXEMPLARS, REF_LENGTH, _REF.pattern),
             description=_text(m.description, "description", MAX_DESCRIPTION_CHARS),
             software=_text(m.software, "software", 200))
     except InputError as exc:
@@ -328,6 +354,8 @@ def _check_manifest(obj, name: str = "texture") -> Manifest:
                           f"G = {checked.levels}")
     if checked.dpj in checked.dpjs or len(set(checked.dpjs)) != len(checked.dpjs):
         raise FormatError(f"{name}: manifest.json: a DPJ reference is listed twice")
+    if len(set(checked.exemplars)) != len(checked.exemplars):
+        raise FormatError(f"{name}: manifest.json: an exemplar reference is listed twice")
     return checked
 
 
@@ -364,6 +392,16 @@ def _read_dpjs(zf, infos, manifest: Manifest, name: str) -> dict[str, DPJ]:
     members.update({ref: f"dpjs/{ref}.npz" for ref in manifest.dpjs})
     return {ref: _parse_dpj(_read_member(zf, infos[m], name), f"{name}: {m}", ref)
             for ref, m in members.items()}
+
+
+def _read_exemplars(zf, infos, manifest: Manifest, name: str) -> dict:
+    """exemplars/<ref>.png, exactly the manifest's ``exemplars``, each hashing to its ref."""
+    stored = {_EXEMPLAR.fullmatch(m).group(1) for m in infos if _EXEMPLAR.fullmatch(m)}
+    if stored != set(manifest.exemplars):
+        raise FormatError(f"{name}: the exemplar members do not match the manifest's exemplars")
+    return {ref: read_exemplar_png(_read_member(zf, infos[f"exemplars/{ref}.png"], name),
+                                   f"{name}: exemplars/{ref}.png", ref)
+            for ref in manifest.exemplars}
 
 
 def _parse_dpj(data: bytes, name: str, ref: str) -> DPJ:

@@ -1,0 +1,101 @@
+"""Models ▸ Random-phase noise / Texton / Match histogram (issue 22) as a session: each dialog
+previews the step it applies; steps follow one another with tools between, and undo goes back
+to the start."""
+
+import numpy as np
+from PySide6 import QtCore
+
+from app.models_dialog import ModelDialog, exemplar_from
+from texeditor.markov.levels import load_image, quantize
+from texeditor.spectral import random_phase_noise, texton
+from texeditor.spectral.actions import matched_palette
+
+from .support import fill_a_cell, undo_to_start
+
+
+def open_dialog(window, qtbot, model: str) -> ModelDialog:
+    [entry] = [a for a in window.menu("ModelsMenu").actions() if a.objectName() == f"act_{model}"]
+    entry.trigger()
+    dialog = [d for d in window.findChildren(ModelDialog) if d.isVisible()][-1]
+    qtbot.waitExposed(dialog)
+    return dialog
+
+
+def ok(dialog, qtbot):
+    dialog.recompute()            # the preview's pause skipped
+    assert dialog.ok.isEnabled(), dialog.info.text()
+    assert not dialog.result_view.pixmap().isNull()
+    qtbot.mouseClick(dialog.ok, QtCore.Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: not dialog.isVisible())
+
+
+def test_models_session(window, qtbot, photo_path):
+    start = (window.document.levels.copy(), window.document.palette.copy())
+    photo, _ = exemplar_from(load_image(photo_path))
+    names = [a.text() for a in window.menu("ModelsMenu").actions()]
+    assert names == ["Random-phase &noise from a photo…", "&Texton of a photo…",
+                     "&Match histogram to a photo…"]
+
+    dialog = open_dialog(window, qtbot, "random_phase_noise")
+    dialog.width_box.setValue(40)
+    dialog.height_box.setValue(30)
+    dialog.levels.setValue(5)
+    dialog.seed.set_value(3)
+    ok(dialog, qtbot)
+    doc = window.document
+    expected = quantize(random_phase_noise(photo, (30, 40), seed=3), 5, "lab")
+    assert doc.shape == (30, 40) and doc.num_levels == 5
+    assert np.array_equal(doc.levels, expected.levels)
+    assert np.array_equal(doc.palette, expected.palette)
+    first = doc.levels.copy()
+
+    dialog = open_dialog(window, qtbot, "random_phase_noise")      # again, another seed
+    dialog.seed.set_value(4)
+    ok(dialog, qtbot)
+    assert doc.shape == (30, 40) and not np.array_equal(doc.levels, first)
+    fill_a_cell(qtbot, window)                                     # a tool works on it
+    assert window.history.actions[-1].TYPE == "fill"
+
+    levels, palette = doc.levels.copy(), doc.palette.copy()
+    dialog = open_dialog(window, qtbot, "match_histogram")
+    ok(dialog, qtbot)
+    assert np.array_equal(doc.levels, levels)
+    assert np.array_equal(doc.palette, matched_palette(levels, palette, photo))
+
+    dialog = open_dialog(window, qtbot, "texton")
+    dialog.levels.setValue(4)
+    ok(dialog, qtbot)
+    assert doc.shape == photo.shape[:2] and doc.num_levels == 4
+    assert np.array_equal(doc.levels, quantize(texton(photo), 4, "lab").levels)
+    assert [a.TYPE for a in window.history.actions[-5:]] == [
+        "random_phase_noise", "random_phase_noise", "fill", "match_histogram", "texton"]
+    assert not window.errors
+
+    undo_to_start(qtbot, window)
+    assert np.array_equal(window.document.levels, start[0])
+    assert np.array_equal(window.document.palette, start[1])
+
+
+def test_match_histogram_previews_then_applies_the_photos_distribution(window, qtbot, photo_path):
+    photo, _ = exemplar_from(load_image(photo_path))
+    doc = window.document
+    levels, palette = doc.levels.copy(), doc.palette.copy()
+    dialog = open_dialog(window, qtbot, "match_histogram")
+    dialog.recompute()
+    ok(dialog, qtbot)
+    assert np.array_equal(doc.levels, levels)
+    assert np.array_equal(doc.palette, matched_palette(levels, palette, photo))
+    window.act_undo.trigger()
+    assert np.array_equal(doc.palette, palette)
+
+
+def test_a_bad_photo_says_why_and_ok_stays_off(window, qtbot, tmp_path):
+    bad = tmp_path / "bad.png"
+    bad.write_bytes(b"not a picture")
+    dialog = open_dialog(window, qtbot, "texton")
+    dialog.set_photo(bad)
+    assert not dialog.ok.isEnabled() and dialog.info.text()
+    steps = len(window.history.actions)
+    dialog.apply()
+    assert len(window.history.actions) == steps
+    dialog.reject()
