@@ -9,6 +9,8 @@ output with the photo in grey; lower is closer. Time: the whole photo → pictur
 64² first (numba), best of --seeds; the metrics are those of the first seed's output.
 Montage per photo, <montage-dir>/quality-<photo>.png, panels left to right without captions:
 photo | texeditor 1984 single scale | texeditor multi-scale + tone (when it exists).
+The Heeger–Bergen row (steerable-pyramid histograms, companion 004) is timed and scored like the
+others but left out of the montage (docs/make_heeger_bergen_pictures.py draws its own).
 The 1984 row is the issue's (seed 0 gives 0.526 / 0.950 / 0.952 GLCM, 0.153 / 0.107 / 0.081 TV
 there: 0.53 / 0.95 / 0.95, 0.150 / 0.108 / 0.075); "band" levels give a worse TV than reported.
 """
@@ -35,6 +37,7 @@ WARM_SHAPE = (64, 64)
 DRIFT_SEEDS = 4             # the level-frequency drift: the worst of this many seeds
 MULTI = "texeditor multi-scale + tone"
 OLD = "texeditor 1984 (3x3, G=4, single scale)"
+HEEGER_BERGEN = "Heeger-Bergen pyramid (5 iterations)"
 RPN = "random-phase noise (doc. 001)"
 
 
@@ -68,6 +71,10 @@ def random_phase(photo, shape, seed):
 def multi_scale(photo, shape, seed):
     result = texeditor.resynthesize(photo, shape, seed=seed)
     return result.image, result
+
+
+def heeger_bergen(photo, shape, seed):
+    return texeditor.heeger_bergen(photo, shape, seed=seed), None
 
 
 def timed(method, photo, shape, seeds: int):
@@ -117,10 +124,11 @@ def bench_photo(name: str, size: int, seeds: int, large: int) -> tuple[str, list
     resynthesize = getattr(texeditor, "resynthesize", None)
     if resynthesize is not None:
         methods.append((MULTI, multi_scale))
+    methods.append((HEEGER_BERGEN, heeger_bergen))
     for title, method in methods:
         seconds, image, result = timed(method, photo, shape, seeds)
         print(row(title, seconds, scores(image, grey)))
-        if title not in ("image quilting (baseline)", RPN):
+        if title not in ("image quilting (baseline)", RPN, HEEGER_BERGEN):
             panels.append(image)
         if title == MULTI and (drift := level_drift(result)) is not None:
             drifts = [drift] + [level_drift(multi_scale(photo, shape, seed)[1])

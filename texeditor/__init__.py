@@ -2,9 +2,12 @@
 
 Photo → levels (`quantize`) → DPJ (`estimate_dpj`) → 2-D Markov synthesis (`synthesize`) →
 documents edited by replayable Actions (`History`), kept as recipes in files and the `Bank`.
-`resynthesize` is photo → texture in one call (a multi-scale DPJ shown with the photo's tone).
+`resynthesize` is photo → texture in one call (a multi-scale DPJ shown with the photo's tone);
+`heeger_bergen` is the same from a steerable pyramid's sub-band histograms (companion 004).
 One subpackage per idea of the thesis: `markov`, `regions`, `paint`, `spots`, `texture`,
-`photo`, `recipe`, `bank`; beyond it, `spectral` (random-phase noise, texton, histogram matching). This package never imports Qt; the GUI lives in `app`.
+`photo`, `recipe`, `bank`; beyond it, `spectral` (random-phase noise, texton, histogram
+matching) and `pyramid` (Heeger–Bergen synthesis). This package never imports Qt; the GUI
+lives in `app`.
 """
 
 from .version import __version__
@@ -18,9 +21,10 @@ from .spectral import match_histogram, random_phase_noise, texton
 from .recipe import Document, History, load_texture, replay, save_texture
 from .bank import Bank
 from .photo import PhotoModel, acquire_model, load_model, resynthesize
+from .pyramid import heeger_bergen
 
 __all__ = ["__version__", "DPJ", "DPJReport", "synthesize", "SynthesisResult", "estimate_dpj",
            "quantize", "load_image", "Quantization", "Document", "History", "replay",
            "load_texture", "save_texture", "Bank", "TexeditorError", "InputError", "ImageError",
            "FormatError", "ReplayError", "Cancelled", "resynthesize", "acquire_model", "load_model",
-           "PhotoModel", "random_phase_noise", "texton", "match_histogram"]
+           "PhotoModel", "random_phase_noise", "texton", "match_histogram", "heeger_bergen"]
