@@ -27,7 +27,7 @@ from texeditor.photo import PhotoModel, photo_tone
 from .canvas import colourize
 from .dpj_editor.preview import LatestWins
 from .images import photo_rgb, qimage_from_rgb
-from .widgets import scan_combo
+from .widgets import row, scan_combo
 
 PREVIEW = 240
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.gif *.webp);;All files (*)"
@@ -310,31 +310,14 @@ class AcquireDialog(QtWidgets.QDialog):
         return label
 
     def _layout(self) -> None:
-        source_row = QtWidgets.QHBoxLayout()
-        source_row.addWidget(self.source, 1)
-        source_row.addWidget(self.browse)
-        window_row = QtWidgets.QHBoxLayout()
-        window_row.addWidget(self.u)
-        window_row.addWidget(QtWidgets.QLabel("columns ×"))
-        window_row.addWidget(self.v)
-        window_row.addWidget(QtWidgets.QLabel("rows"))
-        window_row.addStretch(1)
         form = QtWidgets.QFormLayout()
-        form.addRow("Photo", source_row)
-        form.addRow("Window", window_row)
+        form.addRow("Photo", row(self.source, self.browse, stretch=False))
+        form.addRow("Window", row(self.u, "columns ×", self.v, "rows"))
         form.addRow("Levels G", self.levels)
         form.addRow("Quantiser", self.method)
         form.addRow("", self.wrap)
-        scan_row = QtWidgets.QHBoxLayout()
-        scan_row.addWidget(self.scan)
-        scan_row.addWidget(self.stationary)
-        scan_row.addStretch(1)
-        form.addRow("Scan", scan_row)
-        scales_row = QtWidgets.QHBoxLayout()
-        scales_row.addWidget(self.scales)
-        scales_row.addWidget(self.auto_scales)
-        scales_row.addStretch(1)
-        form.addRow("Scales", scales_row)
+        form.addRow("Scan", row(self.scan, self.stationary))
+        form.addRow("Scales", row(self.scales, self.auto_scales))
         form.addRow("", self.tone)
 
         previews = QtWidgets.QGridLayout()

@@ -79,7 +79,7 @@ DOCKS = (
 
 # (objectName, title), in menu bar order
 MENUS = (("FileMenu", "&File"), ("EditMenu", "&Edit"), ("ImageMenu", "&Image"),
-         ("ViewMenu", "&View"), ("ToolsMenu", "&Tools"), ("GrainStampsMenu", "Grain &stamps"))
+         ("ModelsMenu", "&Models"), ("ViewMenu", "&View"), ("ToolsMenu", "&Tools"), ("GrainStampsMenu", "Grain &stamps"))
 
 
 class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):

@@ -1,14 +1,14 @@
-"""Models ▸ Random-phase noise / Texton / Match histogram…: a model of a photo as one step.
+"""Models ▸ Random-phase noise / Texton / Match histogram / Heeger–Bergen…: a model of a photo
+as one step.
 
 The photo becomes an exemplar of the document (`recipe.exemplars`: kept by reference, saved in
 the `.texture` and the bank), and the step names it, so it replays like any other. The preview
-is the step itself run on a scratch document — a 256² random-phase noise takes milliseconds,
-so it runs here on the GUI thread — and OK applies what the preview shows (undoable).
+is the step itself run on a scratch document in the background (a 2048² colour model or a
+Heeger–Bergen synthesis takes seconds), the latest change winning, with its progress shown; OK
+applies what the preview shows (undoable).
 """
 
 from __future__ import annotations
-
-from pathlib import Path
 
 import numpy as np
 from PySide6 import QtCore, QtWidgets
@@ -17,16 +17,22 @@ from texeditor.errors import TexeditorError
 from texeditor.markov.levels import load_image, to_grey, to_rgb, has_colour
 from texeditor.recipe.document import Document
 from texeditor.recipe.exemplars import MAX_SIDE
+from texeditor.pyramid.actions import HeegerBergen
+from texeditor.pyramid.synthesis import ITERATIONS, MAX_ITERATIONS
 from texeditor.spectral.actions import MatchHistogram, RandomPhaseNoise, Texton, MAX_MODEL_SIDE
 
 from . import resources
 from .acquire_dialog import IMAGE_FILTER
+from .dpj_editor.preview import LatestWins
 from .images import photo_rgb, pixmap
 from .params_form import SeedEdit
+from .widgets import row, select_path, spin_box
 
 PREVIEW = 240
 TITLES = {"random_phase_noise": "Random-phase noise from a photo",
-          "texton": "Texton of a photo", "match_histogram": "Match histogram to a photo"}
+          "texton": "Texton of a photo", "match_histogram": "Match histogram to a photo",
+          "heeger_bergen": "Heeger–Bergen texture from a photo"}
+SIZED = ("random_phase_noise", "heeger_bergen")          # models drawn at any size from a seed
 ABOUT = {
     "random_phase_noise": "The photo's Fourier modulus with random phases (Desolneux, Moisan, "
                           "Ronsin): a new sample of its micro-texture, of any size, tileable. "
@@ -36,6 +42,10 @@ ABOUT = {
               "micro-texture (its size, direction, anisotropy), centred.",
     "match_histogram": "The texture's colours mapped so that the picture has the photo's grey or "
                        "colour distribution (φ = c_f⁻¹ ∘ c_g, per channel); the levels stay.",
+    "heeger_bergen": "Noise given the histograms of the photo's steerable-pyramid sub-bands and "
+                     "of its greys (Heeger and Bergen): a new sample of a continuous-tone "
+                     "texture, of any size, tileable. Best on stochastic textures (stone, "
+                     "bark, clouds); regular patterns lose their order.",
 }
 
 
@@ -65,39 +75,42 @@ class ModelDialog(QtWidgets.QDialog):
             self.photo.addItem(path.stem, str(path))
         self.browse = QtWidgets.QPushButton("Browse…")
         h, w = window.document.shape
-        self.width_box = self._spin(w or 256, "Points across")
-        self.height_box = self._spin(h or 256, "Points down")
+        self.width_box = spin_box(16, MAX_MODEL_SIDE, w or 256, tip="Points across")
+        self.height_box = spin_box(16, MAX_MODEL_SIDE, h or 256, tip="Points down")
         self.seed = SeedEdit(1)
-        self.levels = QtWidgets.QSpinBox()
-        self.levels.setRange(2, 16)
-        self.levels.setValue(window.document.num_levels if window.document.levels.size else 8)
-        self.levels.setToolTip("Number of levels G the model's output is cut into (Lloyd on "
-                               "greys, colour classes in CIELAB on colours)")
+        self.iterations = spin_box(0, MAX_ITERATIONS, ITERATIONS,
+                                   tip="Rounds of histogram matching: about five suffice")
+        self.levels = spin_box(2, 16, window.document.num_levels
+                               if window.document.levels.size else 8,
+                               tip="Number of levels G the model's output is cut into (Lloyd "
+                                   "on greys, colour classes in CIELAB on colours)")
         self.photo_view, self.result_view = self._view(), self._view()
+        self.busy = QtWidgets.QProgressBar()
+        self.busy.setRange(0, 100)
+        self.busy.setTextVisible(False)
+        self.busy.setMaximumHeight(8)
+        self.busy.hide()
         self.info = QtWidgets.QLabel()
         self.info.setWordWrap(True)
+        self.info.setMinimumHeight(3 * self.info.fontMetrics().lineSpacing())   # never over the views
         buttons = QtWidgets.QDialogButtonBox(QtWidgets.QDialogButtonBox.StandardButton.Ok
                                              | QtWidgets.QDialogButtonBox.StandardButton.Cancel)
         self.ok = buttons.button(QtWidgets.QDialogButtonBox.StandardButton.Ok)
         buttons.accepted.connect(self.apply)
         buttons.rejected.connect(self.reject)
         self._layout(buttons)
-        self._timer = QtCore.QTimer(self, singleShot=True, interval=120)
-        self._timer.timeout.connect(self.recompute)
+        self.previews = LatestWins(self, delay_ms=120)
+        self.previews.done.connect(self._shown)
+        self.previews.failed.connect(self._failed)
+        self.previews.progress.connect(lambda f: self.busy.setValue(round(100 * f)))
+        self.finished.connect(lambda _result: self.previews.stop())     # closed either way
+        self.setMinimumHeight(self.sizeHint().height())     # wrapped labels never squeezed
         self.photo.currentIndexChanged.connect(self.load_photo)
         self.browse.clicked.connect(self.choose_file)
-        for box in (self.width_box, self.height_box, self.levels):
-            box.valueChanged.connect(self._timer.start)
-        self.seed.changed.connect(self._timer.start)
+        for box in (self.width_box, self.height_box, self.levels, self.iterations):
+            box.valueChanged.connect(self.recompute)
+        self.seed.changed.connect(self.recompute)
         self.load_photo()
-
-    @staticmethod
-    def _spin(value: int, tip: str) -> QtWidgets.QSpinBox:
-        box = QtWidgets.QSpinBox()
-        box.setRange(1, MAX_MODEL_SIDE)
-        box.setValue(min(max(value, 1), MAX_MODEL_SIDE))
-        box.setToolTip(tip)
-        return box
 
     @staticmethod
     def _view() -> QtWidgets.QLabel:
@@ -113,21 +126,14 @@ class ModelDialog(QtWidgets.QDialog):
         about.setWordWrap(True)
         layout.addWidget(about)
         form = QtWidgets.QFormLayout()
-        row = QtWidgets.QHBoxLayout()
-        row.addWidget(self.photo, 1)
-        row.addWidget(self.browse)
-        form.addRow("Photo", row)
-        if self.model == "random_phase_noise":
-            size = QtWidgets.QHBoxLayout()
-            size.addWidget(self.width_box)
-            size.addWidget(QtWidgets.QLabel("×"))
-            size.addWidget(self.height_box)
-            size.addWidget(QtWidgets.QLabel("points"))
-            size.addStretch(1)
-            form.addRow("Size", size)
+        form.addRow("Photo", row(self.photo, self.browse, stretch=False))
+        if self.model in SIZED:
+            form.addRow("Size", row(self.width_box, "×", self.height_box, "points"))
             form.addRow("Seed", self.seed)
+        if self.model == "heeger_bergen":
+            form.addRow("Iterations", row(self.iterations))
         if self.model != "match_histogram":
-            form.addRow("Levels G", self.levels)
+            form.addRow("Levels G", row(self.levels))
         layout.addLayout(form)
         views = QtWidgets.QGridLayout()
         after = "Texture with the photo's histogram" if self.model == "match_histogram" \
@@ -137,6 +143,7 @@ class ModelDialog(QtWidgets.QDialog):
             views.addWidget(QtWidgets.QLabel(text), 0, k)
             views.addWidget(view, 1, k)
         layout.addLayout(views)
+        layout.addWidget(self.busy)
         layout.addWidget(self.info)
         layout.addWidget(buttons)
 
@@ -146,23 +153,19 @@ class ModelDialog(QtWidgets.QDialog):
             self.set_photo(path)
 
     def set_photo(self, path) -> None:
-        path = Path(path)
-        index = self.photo.findData(str(path))
-        if index < 0:
-            self.photo.addItem(path.name, str(path))
-            index = self.photo.count() - 1
-        self.photo.setCurrentIndex(index)
+        select_path(self.photo, path)
         self.load_photo()
 
     def load_photo(self) -> None:
-        self.exemplar, self.note, self.preview_step = None, "", None
-        self.ok.setEnabled(False)
+        self.exemplar, self.note = None, ""
+        self._waiting()
         path = self.photo.currentData()
         try:
             if path is None:
                 raise TexeditorError("choose a photo with Browse…")
             self.exemplar, self.note = exemplar_from(load_image(path))
         except TexeditorError as exc:
+            self.photo_view.clear()
             self._failed(exc)
             return
         self.photo_view.setPixmap(pixmap(photo_rgb(self.exemplar), PREVIEW))
@@ -172,27 +175,39 @@ class ModelDialog(QtWidgets.QDialog):
         if self.model == "random_phase_noise":
             return RandomPhaseNoise(ref, self.width_box.value(), self.height_box.value(),
                                     self.seed.value(), self.levels.value())
+        if self.model == "heeger_bergen":
+            return HeegerBergen(ref, self.width_box.value(), self.height_box.value(),
+                                self.seed.value(), self.iterations.value(), self.levels.value())
         if self.model == "texton":
             return Texton(ref, self.levels.value())
         return MatchHistogram(ref)
 
     def recompute(self) -> None:
-        """Run the step on a scratch copy of the document (the exemplar added): the preview is
-        exactly what OK applies."""
-        self.preview_step = None
-        self.ok.setEnabled(False)
+        """Run the step on a scratch copy of the document (the exemplar added) in the
+        background: the preview is exactly what OK applies."""
+        self._waiting()
         if self.exemplar is None:
             return
+        scratch = self.main_window.document.copy() if self.model == "match_histogram" \
+            else Document()
         try:
-            scratch = self.main_window.document.copy() if self.model == "match_histogram" \
-                else Document()
             action = self.action(scratch.add_exemplar(self.exemplar))
-            prepared = action.prepare(scratch)
-            with scratch.step():
-                action.apply(scratch, prepared)
         except TexeditorError as exc:
             self._failed(exc)
             return
+        self.busy.setValue(0)
+        self.busy.show()
+        self.previews.request(lambda progress, cancel: _run(action, scratch, progress, cancel))
+
+    def _waiting(self) -> None:
+        """The settings changed: the preview on show (or coming) is no longer OK's."""
+        self.previews.drop()
+        self.preview_step = None
+        self.ok.setEnabled(False)
+
+    def _shown(self, outcome) -> None:
+        action, prepared, scratch = outcome
+        self.busy.hide()
         self.result_view.setPixmap(pixmap(np.asarray(scratch.palette)[scratch.levels], PREVIEW))
         h, w = self.exemplar.shape[:2]
         kind = "colour" if self.exemplar.ndim == 3 else "grey"
@@ -203,8 +218,16 @@ class ModelDialog(QtWidgets.QDialog):
         self.ok.setEnabled(True)
 
     def _failed(self, exc) -> None:
+        self.busy.hide()
         self.result_view.clear()
         self.info.setText(f"<span style='color:#b00020'>{exc}</span>")
+
+    def wait(self, timeout_ms: int = 60_000) -> bool:
+        """Until the preview of the latest settings is shown (tests and scripts only); at once
+        when none is asked for (no photo)."""
+        if self.previews.job is None and self.previews.pending is None:
+            return True
+        return self.previews.wait(timeout_ms)
 
     def apply(self) -> None:
         if self.preview_step is None:
@@ -213,6 +236,15 @@ class ModelDialog(QtWidgets.QDialog):
         self.main_window.history.add_exemplar(self.exemplar)
         if self.main_window.submit(action, prepared=prepared):
             self.accept()
+
+
+def _run(action, scratch, progress, cancel):
+    """The worker's part: the step's slow preparation, then the step on the scratch document
+    (which nothing else holds), so the GUI thread only shows it."""
+    prepared = action.prepare(scratch, progress, cancel)
+    with scratch.step():
+        action.apply(scratch, prepared)
+    return action, prepared, scratch
 
 
 def open_model(window, model: str) -> ModelDialog | None:

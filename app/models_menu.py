@@ -1,24 +1,24 @@
 """The Models menu: texture models beyond the 1984 thesis (digest §11), one entry each.
 
-``add_model_entries(window)`` makes the menu (objectName "ModelsMenu") and adds its entries;
+``add_model_entries(window)`` fills the window's menu "ModelsMenu" (declared in MENUS);
 a new model adds its own with one line there.
 """
 
 from __future__ import annotations
 
-from PySide6 import QtGui, QtWidgets
+from PySide6 import QtGui
 
 
 def add_model_entries(window) -> None:
-    menu = QtWidgets.QMenu("&Models", window.menuBar())
-    menu.setObjectName("ModelsMenu")
-    window.menuBar().insertMenu(window.menu("ViewMenu").menuAction(), menu)   # after Image
+    menu = window.menu("ModelsMenu")
     _entry(window, menu, "Random-phase &noise from a photo…", "random_phase_noise",
            "A new texture: a photo's Fourier modulus with random phases (micro-textures)")
     _entry(window, menu, "&Texton of a photo…", "texton",
            "A new texture: a photo's Fourier modulus with zero phases, its elementary shape")
     _entry(window, menu, "&Match histogram to a photo…", "match_histogram",
            "New colours giving the texture a photo's grey or colour distribution")
+    _entry(window, menu, "&Heeger–Bergen texture from a photo…", "heeger_bergen",
+           "A new texture: noise given a photo's pyramid sub-band histograms (stone, bark)")
 
 
 def _entry(window, menu, text: str, model: str, tip: str) -> QtGui.QAction:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.markov.scan import SCAN_NAMES
@@ -58,3 +60,25 @@ def scan_combo(tip: str) -> QtWidgets.QComboBox:
         box.addItem(name, key)
     box.setToolTip(tip)
     return box
+
+
+def select_path(combo: QtWidgets.QComboBox, path) -> None:
+    """Select the item of ``path`` in a combo of files (its data the path), added if new."""
+    path = Path(path)
+    index = combo.findData(str(path))
+    if index < 0:
+        combo.addItem(path.name, str(path))
+        index = combo.count() - 1
+    combo.setCurrentIndex(index)
+
+
+def row(*items, stretch: bool = True) -> QtWidgets.QHBoxLayout:
+    """A form row of widgets and words ("columns ×"), left-aligned; without ``stretch`` the
+    first widget takes the room instead (a file combo before its Browse button)."""
+    layout = QtWidgets.QHBoxLayout()
+    for k, item in enumerate(items):
+        widget = QtWidgets.QLabel(item) if isinstance(item, str) else item
+        layout.addWidget(widget, 0 if stretch or k else 1)
+    if stretch:
+        layout.addStretch(1)
+    return layout

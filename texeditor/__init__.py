@@ -16,7 +16,7 @@ from .markov import (DPJ, DPJReport, Quantization, SynthesisResult, estimate_dpj
                      quantize, synthesize)
 # Every operator package registers its Actions: importing them here makes the registry (and so
 # every log reader) complete whatever module of the engine a program imports first.
-from . import paint, regions, spectral, spots, texture  # noqa: F401
+from . import paint, pyramid, regions, spectral, spots, texture  # noqa: F401
 from .spectral import match_histogram, random_phase_noise, texton
 from .recipe import Document, History, load_texture, replay, save_texture
 from .bank import Bank

@@ -30,10 +30,12 @@ class LatestWins(QtCore.QObject):
     """Background work where only the latest request matters: ``request(work)`` restarts a short
     timer, a running job is told to stop, only the newest waiting request is kept (no queue),
     and a result older than the latest request is dropped. ``done(result)`` / ``failed(exc)``
-    carry the newest outcome; ``work(progress, cancel)`` runs in a one-thread pool."""
+    carry the newest outcome, ``progress(fraction)`` the newest job's progress;
+    ``work(progress, cancel)`` runs in a one-thread pool."""
 
     done = QtCore.Signal(object)
     failed = QtCore.Signal(object)
+    progress = QtCore.Signal(float)
 
     def __init__(self, parent=None, delay_ms: int = DEBOUNCE_MS):
         super().__init__(parent)
@@ -54,6 +56,14 @@ class LatestWins(QtCore.QObject):
             self.job.cancel()         # the latest change wins
         self.timer.start()
 
+    def drop(self) -> None:
+        """Forget every request: a result still coming is not delivered."""
+        self.generation += 1
+        self.pending = None
+        self.timer.stop()
+        if self.job is not None:
+            self.job.cancel()
+
     def _start(self) -> None:
         if self.job is not None or self.pending is None:
             return                    # started again when the running job ends
@@ -63,8 +73,13 @@ class LatestWins(QtCore.QObject):
         job.signals.done.connect(lambda out: self._finished(job, generation, out, False))
         job.signals.failed.connect(lambda exc: self._finished(job, generation, exc, True))
         job.signals.cancelled.connect(lambda: self._finished(job, generation, None, False))
+        job.signals.progress.connect(lambda f: self._progressed(generation, f))
         self.started += 1
         self.pool.start(job)
+
+    def _progressed(self, generation, fraction: float) -> None:
+        if shiboken6.isValid(self) and generation == self.generation:
+            self.progress.emit(fraction)
 
     def _finished(self, job, generation, outcome, failed: bool) -> None:
         if not shiboken6.isValid(self):

@@ -7,6 +7,7 @@ from PySide6 import QtCore
 
 from app.models_dialog import ModelDialog, exemplar_from
 from texeditor.markov.levels import load_image, quantize
+from texeditor.pyramid import heeger_bergen
 from texeditor.spectral import random_phase_noise, texton
 from texeditor.spectral.actions import matched_palette
 
@@ -22,11 +23,13 @@ def open_dialog(window, qtbot, model: str) -> ModelDialog:
 
 
 def ok(dialog, qtbot):
-    dialog.recompute()            # the preview's pause skipped
+    assert dialog.wait()          # the preview is computed in the background
     assert dialog.ok.isEnabled(), dialog.info.text()
     assert not dialog.result_view.pixmap().isNull()
     qtbot.mouseClick(dialog.ok, QtCore.Qt.MouseButton.LeftButton)
     qtbot.waitUntil(lambda: not dialog.isVisible())
+    dialog.main_window.activateWindow()      # the window manager's part, offscreen
+    qtbot.waitUntil(lambda: dialog.main_window.isActiveWindow())
 
 
 def test_models_session(window, qtbot, photo_path):
@@ -34,7 +37,7 @@ def test_models_session(window, qtbot, photo_path):
     photo, _ = exemplar_from(load_image(photo_path))
     names = [a.text() for a in window.menu("ModelsMenu").actions()]
     assert names == ["Random-phase &noise from a photo…", "&Texton of a photo…",
-                     "&Match histogram to a photo…"]
+                     "&Match histogram to a photo…", "&Heeger–Bergen texture from a photo…"]
 
     dialog = open_dialog(window, qtbot, "random_phase_noise")
     dialog.width_box.setValue(40)
@@ -81,7 +84,6 @@ def test_match_histogram_previews_then_applies_the_photos_distribution(window, q
     doc = window.document
     levels, palette = doc.levels.copy(), doc.palette.copy()
     dialog = open_dialog(window, qtbot, "match_histogram")
-    dialog.recompute()
     ok(dialog, qtbot)
     assert np.array_equal(doc.levels, levels)
     assert np.array_equal(doc.palette, matched_palette(levels, palette, photo))
@@ -94,8 +96,40 @@ def test_a_bad_photo_says_why_and_ok_stays_off(window, qtbot, tmp_path):
     bad.write_bytes(b"not a picture")
     dialog = open_dialog(window, qtbot, "texton")
     dialog.set_photo(bad)
-    assert not dialog.ok.isEnabled() and dialog.info.text()
+    assert dialog.wait() and not dialog.ok.isEnabled() and dialog.info.text()
     steps = len(window.history.actions)
     dialog.apply()
     assert len(window.history.actions) == steps
     dialog.reject()
+
+
+def test_heeger_bergen_previews_in_the_background_the_latest_settings_winning(window, qtbot,
+                                                                              photo_path):
+    photo, _ = exemplar_from(load_image(photo_path))
+    start = window.document.levels.copy()
+    dialog = open_dialog(window, qtbot, "heeger_bergen")
+    dialog.width_box.setValue(64)
+    dialog.height_box.setValue(48)
+    dialog.iterations.setValue(2)
+    dialog.levels.setValue(6)
+    for seed in (5, 6, 7):                      # typed one after the other: only 7 is shown
+        dialog.seed.set_value(seed)
+    assert not dialog.ok.isEnabled()            # nothing to apply until the preview is there
+    ok(dialog, qtbot)
+    expected = quantize(heeger_bergen(photo, (48, 64), seed=7, iterations=2), 6, "lab")
+    doc = window.document
+    assert doc.shape == (48, 64) and np.array_equal(doc.levels, expected.levels)
+    assert window.history.actions[-1].seed == 7
+
+    dialog = open_dialog(window, qtbot, "heeger_bergen")     # again: Cancel while it computes
+    dialog.width_box.setValue(512)
+    dialog.height_box.setValue(512)
+    dialog.iterations.setValue(20)
+    dialog.previews.timer.stop()
+    dialog.previews._start()
+    qtbot.waitUntil(lambda: dialog.busy.value() > 0, timeout=20_000)
+    dialog.reject()
+    assert dialog.previews.job is None or dialog.previews.job.is_cancelled()
+    assert np.array_equal(doc.levels, expected.levels) and not window.errors
+    window.act_undo.trigger()
+    assert np.array_equal(window.document.levels, start)

@@ -23,7 +23,8 @@ ADDED_SINCE_0_1 = frozenset({"synthesize_scales",                      # issue 1
                              "scatter_regions", "mix_textures",
                              "add_plates", "plates_from_photo", "remove_plates",  # issue 20
                              "on_plates",
-                             "random_phase_noise", "texton", "match_histogram"})  # issue 22
+                             "random_phase_noise", "texton", "match_histogram",
+                             "heeger_bergen"})  # issue 22
 
 
 @pytest.fixture(scope="module")

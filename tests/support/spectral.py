@@ -6,6 +6,7 @@ import numpy as np
 from texeditor.recipe.actions import NewCanvas, SetLevels
 from texeditor.recipe.exemplars import exemplar_ref
 from texeditor.recipe.history import History
+from texeditor.pyramid.actions import HeegerBergen
 from texeditor.spectral.actions import MatchHistogram, RandomPhaseNoise, Texton
 
 
@@ -42,4 +43,6 @@ EXAMPLES = [
     Texton(GREY),
     MatchHistogram(COLOUR),
     MatchHistogram(GREY),
+    HeegerBergen(COLOUR, 20, 16, seed=3, iterations=2, levels=4),
+    HeegerBergen(GREY, 16, 16, seed=5, iterations=1, levels=3),
 ]

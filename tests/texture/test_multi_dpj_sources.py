@@ -295,7 +295,7 @@ def test_a_version_1_log_loads_replays_bit_for_bit_and_is_saved_as_version_2(tmp
     save_texture(path, history)
     saved = read_texture(path)
     new = [a.to_json() for a in saved.actions]
-    assert [o["version"] for o in new] == [1, 2, 2, 1, 1]
+    assert [o["version"] for o in new] == [Synthesize.VERSION, 2, 2, 1, 1]   # upgraded on load
     assert new[2]["mask_dpjs"] == [REFS[0]] and "mask_dpj" not in new[2]
     again, _ = load_texture(path)
     assert again.document.result_hash() == OLD_HASH

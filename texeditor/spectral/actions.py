@@ -40,20 +40,22 @@ def model_levels(picture: np.ndarray, levels: int) -> tuple[np.ndarray, np.ndarr
     return q.levels, q.palette
 
 
-def _levels_param():
+def levels_param():
     return param("int", 2, MAX_LEVELS, default=8, doc="number of levels G the output is cut into")
 
 
-class _ModelCanvas(Action):
-    """A new canvas made of a model's output (its plates go, as with a synthesis)."""
+class ModelCanvas(Action):
+    """A new canvas made of a model's output (its plates go, as with a synthesis); ``picture``
+    is the model, given the exemplar (and the worker's progress and cancel, for slow ones)."""
 
     EFFECT: ClassVar[str] = "other"
 
-    def picture(self, image: np.ndarray) -> np.ndarray:
+    def picture(self, image: np.ndarray, progress=None, cancel=None) -> np.ndarray:
         raise NotImplementedError
 
     def prepare(self, doc, progress=None, cancel=None):
-        return model_levels(self.picture(exemplar_of(doc, self.exemplar)), self.levels)
+        picture = self.picture(exemplar_of(doc, self.exemplar), progress, cancel)
+        return model_levels(picture, self.levels)
 
     def apply(self, doc, prepared=None) -> None:
         levels, palette = self.prepare(doc) if prepared is None else prepared
@@ -63,7 +65,7 @@ class _ModelCanvas(Action):
 
 @register
 @dataclass(frozen=True)
-class RandomPhaseNoise(_ModelCanvas):
+class RandomPhaseNoise(ModelCanvas):
     """A canvas of random-phase noise of an exemplar (Desolneux–Moisan–Ronsin): its Fourier
     modulus with the phase of a seeded white noise, any size, tileable."""
 
@@ -73,9 +75,9 @@ class RandomPhaseNoise(_ModelCanvas):
     width: int = param("int", 1, MAX_MODEL_SIDE, doc="points across")
     height: int = param("int", 1, MAX_MODEL_SIDE, doc="points down")
     seed: int = param("seed", default=0, doc="random seed of the phase: same seed, same texture")
-    levels: int = _levels_param()
+    levels: int = levels_param()
 
-    def picture(self, image):
+    def picture(self, image, progress=None, cancel=None):
         return random_phase_noise(image, (self.height, self.width), seed=self.seed)
 
     def canvas_shape(self, shape):
@@ -91,15 +93,15 @@ class RandomPhaseNoise(_ModelCanvas):
 
 @register
 @dataclass(frozen=True)
-class Texton(_ModelCanvas):
+class Texton(ModelCanvas):
     """A canvas of an exemplar's texton (its Fourier modulus with zero phases, centred): the
     elementary shape of its micro-texture, at the exemplar's size."""
 
     TYPE: ClassVar[str] = "texton"
     exemplar: str = param("exemplar", doc="reference of an exemplar photo of the document")
-    levels: int = _levels_param()
+    levels: int = levels_param()
 
-    def picture(self, image):
+    def picture(self, image, progress=None, cancel=None):
         return texton(image)
 
     def label(self) -> str:
