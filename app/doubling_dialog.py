@@ -22,6 +22,7 @@ from . import resources
 from .acquire_dialog import IMAGE_FILTER, QUANTISERS
 from .images import pixmap
 from .params_form import SeedEdit
+from .widgets import select_path
 
 PREVIEW = 200
 
@@ -108,12 +109,7 @@ class DoublingDialog(QtWidgets.QDialog):
             self.set_photo(path)
 
     def set_photo(self, path) -> None:
-        path = Path(path)
-        index = self.photo.findData(str(path))
-        if index < 0:
-            self.photo.addItem(path.name, str(path))
-            index = self.photo.count() - 1
-        self.photo.setCurrentIndex(index)
+        select_path(self.photo, path)
 
     def recompute(self) -> None:
         """Learn the table from the photo and preview the doubled texture."""
