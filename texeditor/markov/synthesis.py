@@ -552,7 +552,7 @@ def _clear(big_r, tail, lo, hi):
 
 
 @njit(cache=True, nogil=True)
-def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below):
+def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below, below_to):
     """The forward filter over row r from position n to the last window touching [c0, c1).
 
     Positions before n must already be in ``work`` (a resumed pass). Returns (status, n,
@@ -560,8 +560,8 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below
     off to the DPJ marginal with fewer rows above, and at worst restart the bottom-row chain.
     ``kmin`` rows of context are left out everywhere (a conditional scale's first rows).
     Windows lie in columns 0..width-1. ``below`` > 0: the rows under row r are fixed too (the
-    first rows of a torus, after its last), and so are the windows they end (but for the
-    position backing off).
+    first rows of a torus, after its last), and so are the windows they end at positions before
+    ``below_to`` (but for the position backing off).
     """
     g, u, v, direct, lvl = t.levels, t.u, t.v, t.direct, t.lvl
     gx, gp = t.gx, t.gp
@@ -597,7 +597,7 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below
                 total = _chain_weights(tb, toff, lo, hi, big_r, head, m)
             if n < c0 or n + u > c1:
                 total = _keep_fixed(out, r, n, c0, c1, gx, u, tb, toff, lo, hi, bcode)
-            if below > 0 and n != lenient_at:
+            if below > 0 and n != lenient_at and n < below_to:
                 total = _keep_below(out, r, n, below, tb, toff, lo, hi, bcode, t)
             if total > 0.0:
                 repairs += k > kmin
@@ -681,11 +681,11 @@ def _new_work(g, u, w, depth):
 
 
 @njit(cache=True, nogil=True)
-def _run(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below):
+def _run(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below, below_to):
     """_forward, growing the T buffer as often as it asks."""
     while True:
         status, n, repairs = _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t,
-                                      work, below)
+                                      work, below, below_to)
         if status != GROW:
             return status, n, repairs
         pos = work.pos
@@ -693,7 +693,7 @@ def _run(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below):
 
 
 @njit(cache=True, nogil=True)
-def _redraw_segment(out, r, c0, c1, kmin, t, work, state, lenient, below):
+def _redraw_segment(out, r, c0, c1, kmin, t, work, state, lenient, below, below_to):
     """Redraw row r on columns [c0, c1) from its exact law given everything around it
     (``lenient``: a position that meets a dead end backs off, as _draw_row's last resort;
     ``below``: the rows fixed under it, see _forward).
@@ -705,7 +705,7 @@ def _redraw_segment(out, r, c0, c1, kmin, t, work, state, lenient, below):
     n, lenient_at = n_first, np.int64(-1)
     while True:
         status, n, _ = _run(out, r, n, n_first, c0, c1, lenient_at, kmin,
-                            np.int64(out.shape[1]), t, work, below)
+                            np.int64(out.shape[1]), t, work, below, below_to)
         if status != DEAD_END:
             break
         if not lenient or lenient_at == n:
@@ -741,7 +741,7 @@ def _redraw_above(out, r, n, tries, col0, col1, t, seg, state):
     _copy_rows(out, r - depth, seg.saved, 0, depth, c0, c1)
     for ra in range(r - depth, r):
         if _redraw_segment(out, ra, c0, c1, np.int64(0), t, seg, state, False,
-                           np.int64(0)) >= 0:
+                           np.int64(0), np.int64(0)) >= 0:
             _copy_rows(seg.saved, 0, out, r - depth, depth, c0, c1)
             return -1
     return c0
@@ -763,7 +763,7 @@ def _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws):
     n, lenient_at, frontier = np.int64(0), np.int64(-1), np.int64(-1)
     pos[TOFF, 0] = 0
     while True:
-        status, n, rep = _run(out, r, n, 0, 0, w, lenient_at, kmin, w, t, work, 0)  # 0: folded
+        status, n, rep = _run(out, r, n, 0, 0, w, lenient_at, kmin, w, t, work, 0, 0)  # 0: folded
         repairs += rep
         if status == OK:
             break
@@ -810,7 +810,7 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w, closure):
             c0 = tile_w
             for r in range(t.v):
                 c0 = _close_row(out, r, np.int64(max(0, t.v - 1 - r)), tile_w, c0, t, seg,
-                                state, closure, np.int64(0))
+                                state, closure, np.int64(0), np.int64(0))
                 repairs += c0 < 0
                 c0 = -1 - c0 if c0 < 0 else c0
     for r in range(start, r1):
@@ -820,7 +820,7 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w, closure):
         redraws += red
         if tile_h > 0:
             repairs += _close_row(out, r, kmin, tile_w, tile_w, t, seg, state, closure,
-                                  np.int64(0)) < 0
+                                  np.int64(0), np.int64(0)) < 0
     return repairs, redraws
 
 
@@ -831,21 +831,26 @@ def _close_columns(across, t, state, tile_w, tile_h, closure):
     last points are redrawn given its first ones and the columns before it.
 
     Closure 2 also keeps every window whole that an earlier column's redraw changed (a column's
-    redrawn stretch reaches back to the first window that left the DPJ), and draws the last
-    column given the first ones after it too (the corner, where the two seams cross)."""
+    redrawn stretch reaches back to the first window that left the DPJ), and draws each column
+    given the v-1 after it too: the next columns up to where their own closure redraws (so one
+    long redraw does not spread to every later column), the first columns whole for the last
+    one (the corner, where the two seams cross)."""
     seg = _new_work(t.gx, t.u, across.shape[1], np.int64(MAX_REDRAW_DEPTH))
     u, v = t.u, t.v
     repairs = 0
     recent = np.full(max(v - 1, 1), tile_h, np.int64)   # the last v-1 columns' first change
     for j in range(tile_w):
         kmin = np.int64(max(0, v - 1 - j))
-        reach, below = tile_h, np.int64(0)
+        reach, below, below_to = tile_h, np.int64(0), np.int64(0)
         if closure > 1 and j >= v - 1:
             last = j == tile_w - 1
-            below = np.int64(v - 1 if last else 0)
+            below = np.int64(v - 1)
+            below_to = np.int64(tile_h if last else tile_h - (CLOSE_SPAN + 1) * u + 1)
             n0 = 0 if last else max(0, recent.min() - u + 1)
-            reach = _first_bad(across, j, below, n0, tile_h - (CLOSE_SPAN + 1) * u + 1, t)
-        c0 = _close_row(across, j, kmin, tile_h, reach, t, seg, state, closure, below)
+            reach = _first_bad(across, j, below if last else 0, n0,
+                               tile_h - (CLOSE_SPAN + 1) * u + 1, t)
+        c0 = _close_row(across, j, kmin, tile_h, reach, t, seg, state, closure, below,
+                        below_to)
         repairs += c0 < 0
         recent[j % len(recent)] = -1 - c0 if c0 < 0 else c0
         if j < v - 1:                # a first column, as it is now, after the last
@@ -854,7 +859,7 @@ def _close_columns(across, t, state, tile_w, tile_h, closure):
 
 
 @njit(cache=True, nogil=True)
-def _close_row(out, r, kmin, tile_w, reach, t, seg, state, closure, below):
+def _close_row(out, r, kmin, tile_w, reach, t, seg, state, closure, below, below_to):
     """Close row r across the side seam: copy its first u-1 points after its last column, then
     redraw its end from the exact law given both sides (and the ``below`` rows under it), from
     column ``reach`` - (u-1) or before (closure 2: ``reach``), over a wider stretch while that
@@ -867,18 +872,19 @@ def _close_row(out, r, kmin, tile_w, reach, t, seg, state, closure, below):
     if u == 1:
         return tile_w
     if closure > 1:
-        c0 = _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below)
+        c0 = _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below, below_to)
         if c0 >= 0:
             return c0
         c0 = -1 - c0                   # back off where needed, over what the tries changed
-        if _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, True, below) < 0:
+        if _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, True, below, below_to) < 0:
             return -1 - c0
         return -1 - tile_w
     for lenient in (False, True):      # a back-off at a dead end only when no stretch closes
         span = max(4 * u, tile_w - reach + u - 1)
         while True:
             c0 = max(u - 1, tile_w - span)
-            if _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, lenient, below) < 0:
+            if _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, lenient, below,
+                               below_to) < 0:
                 return c0 if not lenient else -1 - c0
             if c0 == u - 1:
                 break
@@ -887,7 +893,7 @@ def _close_row(out, r, kmin, tile_w, reach, t, seg, state, closure, below):
 
 
 @njit(cache=True, nogil=True)
-def _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below):
+def _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below, below_to):
     """Closure 2 of row r: at a dead end, the rows above are redrawn around it too (as a dead
     end inside the texture does, see _redraw_above, but within the stretch), deeper and wider
     as tries fail, then the row's stretch again, longer every fourth try. Returns the first
@@ -898,7 +904,7 @@ def _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below):
     c0 = max(u - 1, tile_w - span)
     for tries in range(CLOSE_TRIES):
         c0 = max(u - 1, tile_w - span)
-        n = _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, False, below)
+        n = _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, False, below, below_to)
         if n < 0:
             return c0
         depth = min(1 + tries % 3, MAX_REDRAW_DEPTH, r - t.v + 1)
@@ -908,7 +914,7 @@ def _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below):
             _copy_rows(out, r - depth, seg.saved, 0, depth, a, b)
             for ra in range(r - depth, r):
                 if _redraw_segment(out, ra, a, b, np.int64(0), t, seg, state, False,
-                                   np.int64(0)) >= 0:
+                                   np.int64(0), np.int64(0)) >= 0:
                     _copy_rows(seg.saved, 0, out, r - depth, depth, a, b)
                     break
         if tries % SPAN_TRIES == SPAN_TRIES - 1:
