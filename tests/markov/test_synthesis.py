@@ -122,7 +122,7 @@ def test_a_redrawn_segment_follows_its_exact_law_given_everything_around_it():
     for _ in range(draws):
         out[0], out[1] = above, row
         assert synthesis._redraw_segment(out, 1, c0, c1, np.int64(0), tables, work, state,
-                                         False, np.int64(0)) < 0
+                                         False, np.int64(0), np.int64(0)) < 0
         assert np.array_equal(out[1, :c0], row[:c0]) and np.array_equal(out[1, c1:], row[c1:])
         key = tuple(out[1, c0:c1])
         counts[key] = counts.get(key, 0) + 1
