@@ -14,6 +14,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from ..errors import InputError
 
@@ -36,46 +37,8 @@ def hilbert_cells(rows: int, cols: int):
     >>> list(hilbert_cells(2, 2))
     [(0, 0), (1, 0), (1, 1), (0, 1)]
     """
-    if rows < 1 or cols < 1:
-        return
-    if cols >= rows:
-        yield from _gilbert(0, 0, cols, 0, 0, rows)
-    else:
-        yield from _gilbert(0, 0, 0, rows, cols, 0)
-
-
-def _sign(v: int) -> int:
-    return (v > 0) - (v < 0)
-
-
-def _gilbert(x, y, ax, ay, bx, by):
-    """Fill the rectangle at (x, y) spanned by the major axis (ax, ay) and the minor (bx, by)."""
-    w, h = abs(ax + ay), abs(bx + by)
-    dax, day, dbx, dby = _sign(ax), _sign(ay), _sign(bx), _sign(by)
-    if h == 1:
-        for _ in range(w):
-            yield y, x
-            x, y = x + dax, y + day
-        return
-    if w == 1:
-        for _ in range(h):
-            yield y, x
-            x, y = x + dbx, y + dby
-        return
-    ax2, ay2, bx2, by2 = ax // 2, ay // 2, bx // 2, by // 2
-    w2, h2 = abs(ax2 + ay2), abs(bx2 + by2)
-    if 2 * w > 3 * h:                     # a long rectangle: two halves along the major axis
-        if w2 % 2 and w > 2:
-            ax2, ay2 = ax2 + dax, ay2 + day
-        yield from _gilbert(x, y, ax2, ay2, bx, by)
-        yield from _gilbert(x + ax2, y + ay2, ax - ax2, ay - ay2, bx, by)
-    else:                                 # up the minor axis, across, and back down
-        if h2 % 2 and h > 2:
-            bx2, by2 = bx2 + dbx, by2 + dby
-        yield from _gilbert(x, y, bx2, by2, ax2, ay2)
-        yield from _gilbert(x + bx2, y + by2, ax, ay, bx - bx2, by - by2)
-        yield from _gilbert(x + (ax - dax) + (bx2 - dbx), y + (ay - day) + (by2 - dby),
-                            -bx2, -by2, -(ax - ax2), -(ay - ay2))
+    for r, c in scan_order(rows, cols):
+        yield int(r), int(c)
 
 
 def scan_order(rows: int, cols: int, limit: int | None = None) -> np.ndarray:
@@ -84,11 +47,59 @@ def scan_order(rows: int, cols: int, limit: int | None = None) -> np.ndarray:
     if rows * cols > MAX_CELLS:
         raise InputError(f"{cols}×{rows} cells are too many for a scan (at most {MAX_CELLS}): "
                          f"choose larger cells")
-    n = rows * cols if limit is None else min(limit, rows * cols)
+    if rows < 1 or cols < 1:
+        return np.empty((0, 2), np.int64)
+    n = rows * cols if limit is None else max(0, min(limit, rows * cols))
     cells = np.empty((n, 2), np.int64)
-    for k, cell in zip(range(n), hilbert_cells(rows, cols)):
-        cells[k] = cell
+    frame = (0, 0, cols, 0, 0, rows) if cols >= rows else (0, 0, 0, rows, cols, 0)
+    _gilbert(cells, np.array(frame, np.int64))
     return cells
+
+
+@njit(cache=True)
+def _sign(v):
+    return (v > 0) - (v < 0)
+
+
+@njit(cache=True)
+def _gilbert(cells, first):
+    """Fill ``cells`` along the curve of the rectangle at (x, y) spanned by the major axis
+    (ax, ay) and the minor (bx, by) — ``first`` — until it is full. A stack of rectangles
+    still to fill stands for the recursion of the published curve, children pushed last
+    first so they come off in the curve's order."""
+    stack = np.empty((256, 6), np.int64)
+    stack[0] = first
+    top, k, n = 1, 0, len(cells)
+    while top and k < n:
+        top -= 1
+        x, y, ax, ay, bx, by = stack[top]
+        w, h = abs(ax + ay), abs(bx + by)
+        dax, day, dbx, dby = _sign(ax), _sign(ay), _sign(bx), _sign(by)
+        if h == 1 or w == 1:
+            dx, dy, m = (dax, day, w) if h == 1 else (dbx, dby, h)
+            for _ in range(m):
+                if k == n:
+                    break
+                cells[k, 0], cells[k, 1] = y, x
+                k += 1
+                x, y = x + dx, y + dy
+            continue
+        ax2, ay2, bx2, by2 = ax // 2, ay // 2, bx // 2, by // 2
+        w2, h2 = abs(ax2 + ay2), abs(bx2 + by2)
+        if 2 * w > 3 * h:                 # a long rectangle: two halves along the major axis
+            if w2 % 2 and w > 2:
+                ax2, ay2 = ax2 + dax, ay2 + day
+            stack[top] = (x + ax2, y + ay2, ax - ax2, ay - ay2, bx, by)
+            stack[top + 1] = (x, y, ax2, ay2, bx, by)
+            top += 2
+        else:                             # up the minor axis, across, and back down
+            if h2 % 2 and h > 2:
+                bx2, by2 = bx2 + dbx, by2 + dby
+            stack[top] = (x + (ax - dax) + (bx2 - dbx), y + (ay - day) + (by2 - dby),
+                          -bx2, -by2, -(ax - ax2), -(ay - ay2))
+            stack[top + 1] = (x + bx2, y + by2, ax, ay, bx - bx2, by - by2)
+            stack[top + 2] = (x, y, bx2, by2, ax2, ay2)
+            top += 3
 
 
 def cell_grid(shape, cell: int, top: int = 0, left: int = 0, down: int | None = None,
