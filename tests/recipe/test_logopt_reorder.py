@@ -12,6 +12,7 @@ from texeditor.recipe.actions import (CropCanvas, NewCanvas, ResizeCanvas, SetLe
                                       SetPalette)
 from texeditor.recipe.logopt import commute, optimize, optimize_with_notes
 from texeditor.recipe.replay import replay
+from texeditor.paint.actions import PlaceGrains, Stroke
 from texeditor.regions.actions import Fill
 from texeditor.spots.actions import DeleteSpot, PlaceSpot, spot_ref
 from texeditor.spots.envelope import Envelope
@@ -90,7 +91,17 @@ PAIR_STEPS = st.one_of(
     st.builds(ResizeCanvas, st.integers(1, 7), st.integers(1, 7), st.integers(0, 2)),
     st.builds(CropCanvas, st.integers(0, 2), st.integers(0, 2), st.integers(1, 6),
               st.integers(1, 6)),
-    st.sampled_from([SetPalette(RED3), SetPalette(GREY3)]))
+    st.sampled_from([SetPalette(RED3), SetPalette(GREY3)]),
+    st.builds(lambda pts, lv, size, cloud, seed: Stroke(
+        tuple(pts), lv, size, shape="square", distribution="cloud" if cloud else "solid",
+        density=0.5, seed=seed), st.lists(st.tuples(st.integers(-2, 7), st.integers(-2, 7)),
+                                          min_size=1, max_size=3),
+        st.integers(0, 2), st.integers(1, 3), st.booleans(), st.integers(0, 9)),
+    st.builds(lambda pts, lv, jitter, seed: PlaceGrains(tuple(pts), lv, "diamond", 3,
+                                                        jitter=jitter, seed=seed),
+              st.lists(st.tuples(st.integers(-2, 7), st.integers(-2, 7)), min_size=1,
+                       max_size=3), st.integers(0, 2), st.sampled_from([0.0, 2.0]),
+              st.integers(0, 9)))
 
 
 @settings(PROPERTY, max_examples=400)
@@ -155,6 +166,21 @@ def test_a_palette_moves_across_a_canvas_change_and_a_fill_to_the_next_palette()
            "dropped step 5 (Set palette (3 colours)): it changes nothing here"])
 
 
+def test_fills_merge_across_a_stroke_and_grains_painted_elsewhere():
+    stroke = Stroke(((6, 0), (6, 5)), 2, 1, shape="square", distribution="cloud", density=0.5,
+                    seed=3)
+    grains = PlaceGrains(((7, 7),), 1, "square", 1, jitter=0.4, seed=1)
+    log = [NewCanvas(8, 8, 3), SetLevels(0, 0, 2, 2, 1), stroke, grains, SetLevels(0, 2, 2, 2, 1)]
+    out = optimize(log)
+    assert out == [NewCanvas(8, 8, 3), SetLevels(0, 0, 2, 4, 1), stroke, grains]
+    assert same_result(out, log)
+    # a stroke over both rectangles: neither moves across it
+    near = Stroke(((1, 1), (1, 3)), 2, 1, shape="square")
+    assert len(optimize(log[:2] + [near] + log[4:])) == 4
+    # a wrapping stroke may land anywhere: it cannot say
+    assert Stroke(((0, 0),), 1, wrap=True).access((8, 8)) is None
+
+
 def test_nothing_moves_across_a_step_that_cannot_say_what_it_touches():
     blocked = [NewCanvas(6, 6, 3), SetLevels(0, 0, 2, 3, 1), Fill(5, 5, 2),
                SetLevels(0, 3, 2, 3, 1)]
@@ -196,7 +222,7 @@ def reorder_logs(draw):
     log = [NewCanvas(draw(st.integers(4, 10)), draw(st.integers(4, 10)), g)]
     for _ in range(draw(st.integers(0, 16))):
         kind = draw(st.sampled_from(["fill"] * 8 + ["crop", "resize", "resize", "palette",
-                                                    "spot", "region", "delete"]))
+                                                    "spot", "region", "delete", "stroke"]))
         if kind == "fill":
             log.append(SetLevels(2 * draw(st.integers(0, 3)), 2 * draw(st.integers(0, 3)),
                                  2 * draw(st.integers(1, 2)), 2 * draw(st.integers(1, 2)),
@@ -215,6 +241,12 @@ def reorder_logs(draw):
         elif kind == "spot":
             log.append(PlaceSpot(SPOT, draw(st.floats(0, 8)), draw(st.floats(0, 8)),
                                  level=draw(st.integers(0, g - 1))))
+        elif kind == "stroke":
+            log.append(Stroke(((draw(st.integers(0, 9)), draw(st.integers(0, 9))),
+                               (draw(st.integers(0, 9)), draw(st.integers(0, 9)))),
+                              draw(st.integers(0, g - 1)), draw(st.integers(1, 3)),
+                              shape="square", distribution="cloud", density=0.5,
+                              seed=draw(st.integers(0, 9))))
         elif kind == "region":
             log.append(Fill(draw(st.integers(0, 3)), draw(st.integers(0, 3)),
                             draw(st.integers(0, g - 1))))

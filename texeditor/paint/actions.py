@@ -22,7 +22,7 @@ from . import orders
 from . import peano
 from . import trees
 from . import zones
-from ..recipe.actions import MAX_CANVAS_SIDE, Action, param, register
+from ..recipe.actions import MAX_CANVAS_SIDE, Access, Action, param, register
 from ..markov.dpj import MAX_LEVELS
 from ..errors import InputError
 from ..regions.actions import changed_boxes
@@ -158,10 +158,28 @@ class Stroke(Action):
             wrap=self.wrap)
         commit_points(doc, rows, cols, values)
 
+    def access(self, shape):
+        """The box of its dabs: its draws do not depend on the canvas, so the points it paints
+        inside a box two canvases share are the same (a wrapping stroke: unknown)."""
+        if self.wrap:
+            return None
+        fp = self.brush().footprint()
+        centres = np.floor(np.asarray(self.points, float) + 0.5).astype(np.int64)
+        return Access(writes=(_box(centres, fp.rows, fp.cols),)) if len(fp) else Access()
+
     def label(self) -> str:
         kind = "Spray" if self.distribution == "cloud" else "Stroke"
         levels = f"levels {self.level_choices}" if self.level_choices else f"level {self.level}"
         return f"{kind}, {self.shape} {self.size}, {levels}"
+
+
+def _box(centres, rows, cols) -> tuple:
+    """(top, left, height, width) holding every footprint (offsets ``rows``, ``cols``) placed
+    at the (n, 2) ``centres`` and on the segments between them (a path's dabs lie on them)."""
+    top, left = int(centres[:, 0].min() + rows.min()), int(centres[:, 1].min() + cols.min())
+    bottom = int(centres[:, 0].max() + rows.max()) + 1
+    right = int(centres[:, 1].max() + cols.max()) + 1
+    return (top, left, bottom - top, right - left)
 
 
 # -- grains (§3.3.3a) ------------------------------------------------------------------------------
@@ -230,6 +248,14 @@ class PlaceGrains(Action):
         for p in self.points:
             painter.add(p, painted)
         commit_points(doc, *painted.result())
+
+    def access(self, shape):
+        """The box of its grains, jitter included (see Stroke.access)."""
+        if self.wrap:
+            return None
+        painter = GrainPainter(self, (1, 1), limit=brushes.MAX_DABS)
+        return Access(writes=(_box(self.centres(), painter.ys, painter.xs),)) \
+            if len(painter.ys) else Access()
 
     def label(self) -> str:
         n = len(self.points)
