@@ -33,6 +33,7 @@ WINDOW = (3, 2)             # finer scales: the parents carry the layout, a smal
 LEVELS = 4
 FREQUENCY_TOLERANCE = 0.01  # a coarse scale is redrawn while a level's share is further off
 COARSE_TRIES = 8            # draws of a coarse scale (the next-to-finest: 2; the finest: 1)
+TORUS_TOLERANCE = 0.01      # a tileable coarsest draw may leave this share of windows off its DPJ
 
 
 @dataclass(frozen=True)
@@ -181,6 +182,9 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     within FREQUENCY_TOLERANCE of its DPJ's: the field conditioned on its level histogram (the
     closest draw is kept if none is). The same model and seed give the same matrix."""
     shapes = scale_shapes(shape, model.scales)
+    if tileable and closure >= 2:
+        model = MultiScaleDPJ((_coarsest_on_torus(model.dpjs[0], shapes[0], seed, closure),)
+                              + model.dpjs[1:])
     weights = np.array([h * w for h, w in shapes], float)
     done = np.concatenate([[0], np.cumsum(weights)]) / weights.sum()
     repairs = redraws = 0
@@ -202,6 +206,28 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
         r = best[1]
         levels, repairs, redraws = r.levels, repairs + r.repairs, redraws + r.redraws
     return SynthesisResult(levels, repairs, redraws, int(seed))
+
+
+def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int) -> DPJ:
+    """The coarsest scale's law for a tileable draw: its own, or the law of its largest
+    sub-window (one row and column fewer at a time) whose draw on the torus closes.
+
+    A wide window over a small photo reduction is nearly deterministic: its chain follows the
+    photo's rows, which close only around the photo's own torus. Drawn on a torus of another
+    size, the seams then meet dead ends everywhere (grass, gravel: 50–90 % of the windows
+    outside the DPJ, a band the finer scales inherit). A smaller window branches more and
+    closes; the first draw that leaves at most TORUS_TOLERANCE of its windows outside says
+    which (judged on ``scale_seed(seed, 0)``, so the same seed picks the same window)."""
+    (u, v), g = dpj.window, dpj.levels
+    while True:
+        levels = synthesize(dpj, shape, seed=scale_seed(seed, 0), tileable=True,
+                            closure=closure).levels
+        seen = estimate_dpj(levels, dpj.window, g, wrap=True)
+        off = seen.probs[~np.isin(seen.codes, dpj.codes)].sum()
+        if off <= TORUS_TOLERANCE or min(u, v) <= 2:
+            return dpj
+        u, v = u - 1, v - 1
+        dpj = dpj.marginal(rows=slice(0, v), cols=slice(0, u))
 
 
 def _tries(k: int, scales: int) -> int:
