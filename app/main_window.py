@@ -102,6 +102,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self.doubling_dialog = None
         self.photo_model = None    # the photo model acquired or opened last (app.photo_ops)
         self._tone_cache = None    # (key, picture) of the last tone rendering
+        self._step_model = None    # (synthesis step, the photo model its tone names)
         self.tone_seconds = 0.0    # how long the last tone rendering took
 
         self.canvas = CanvasView()
@@ -658,8 +659,10 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         if self.runner.busy:
             return
         try:
+            photo, levels = self.tone_refs(refs)
             action = SynthesizeScales(tuple(refs), width, height, seed,
-                                      self.synthesis_dock.tileable())
+                                      self.synthesis_dock.tileable(), tone_photo=photo,
+                                      tone_levels=levels)
         except TexeditorError as exc:
             self.show_error("Cannot synthesise", exc)
             return

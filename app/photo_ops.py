@@ -18,7 +18,7 @@ from PySide6 import QtWidgets
 
 from texeditor.errors import TexeditorError
 from texeditor.markov.dpj import DPJ
-from texeditor.photo import PhotoModel, load_model
+from texeditor.photo import PhotoModel, document_model, load_model
 
 from .acquire_dialog import named_scales
 from .synthesis_dock import synthesis_step
@@ -96,9 +96,22 @@ class PhotoOps:
         return True
 
     # -- tone -------------------------------------------------------------------------------------------
+    def tone_model(self) -> PhotoModel | None:
+        """The model whose tone shows the document: the one its synthesis step names (a
+        reopened `.texture` or bank entry keeps it), else the attached one."""
+        step = synthesis_step(self.history)      # refs are content hashes: an equal step
+        cached = self._step_model                # names the same model
+        if cached is None or cached[0] != step:
+            try:
+                model = document_model(self.history.document, step)
+            except TexeditorError:
+                model = None                   # a stored tone that does not fit: the palette
+            cached = self._step_model = (step, model)
+        return cached[1] or self.photo_model
+
     def tone_available(self) -> bool:
-        """A model with tone is attached and the document's levels are levels it knows."""
-        model, doc = self.photo_model, self.history.document
+        """A model with tone is at hand and the document's levels are levels it knows."""
+        model, doc = self.tone_model(), self.history.document
         return (model is not None and model.tone is not None and doc.levels.size > 0
                 and doc.num_levels <= model.levels)
 
@@ -108,19 +121,30 @@ class PhotoOps:
         shown); None: the palette's colours are shown."""
         if not (self.act_tone.isChecked() and self.tone_available()):
             return None
-        doc = self.history.document
+        doc, model = self.history.document, self.tone_model()
         step = synthesis_step(self.history)
         seed = int(step.seed) if step is not None else 0
         wrap = bool(getattr(step, "tileable", False))
-        key = (id(self.photo_model), seed, wrap, doc.shape,
+        key = (id(model), seed, wrap, doc.shape,
                hashlib.blake2b(np.ascontiguousarray(doc.levels).data, digest_size=16).digest())
         if self._tone_cache is not None and self._tone_cache[0] == key:
             return self._tone_cache[1]
         start = time.perf_counter()
-        picture = self.photo_model.render(doc.levels, seed=seed, wrap=wrap)
+        picture = model.render(doc.levels, seed=seed, wrap=wrap)
         self.tone_seconds = time.perf_counter() - start
         self._tone_cache = (key, picture)
         return picture
+
+    def tone_refs(self, refs) -> tuple[str | None, str | None]:
+        """The attached model's tone added to the document as two exemplars (photo, levels),
+        for a synthesis from all its scales ``refs``: the step then names them and the tone
+        travels with the texture. (None, None) when there is no such tone."""
+        model = self.photo_model
+        if model is None or model.tone is None \
+                or tuple(refs) != tuple(d.ref for d in model.scales.dpjs):
+            return None, None
+        photo, levels = model.tone_pictures()
+        return self.history.add_exemplar(photo), self.history.add_exemplar(levels)
 
     def _tone_toggled(self, _on: bool = False) -> None:
         if self.history is not None:

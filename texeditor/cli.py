@@ -118,9 +118,11 @@ def _synth_model(model, width, height, seed, out, tone=True, tileable=False) -> 
 
     suffix = out.suffix.lower()
     if suffix == ".texture":
+        pictures = model.tone_pictures() if tone else None
         save_texture(out, synthesize_scales_texture(model.scales.dpjs, width, height, seed=seed,
-                                                    tileable=tileable))
-        print(f"{out}: {width}x{height}, seed {seed}, one multi-scale synthesis in its log")
+                                                    tileable=tileable, tone=pictures))
+        print(f"{out}: {width}x{height}, seed {seed}, one multi-scale synthesis in its log"
+              + (", with the photo's tone" if pictures is not None else ""))
         return 0
     result = model.synthesize((height, width), seed=seed, tone=tone, tileable=tileable)
     if suffix == ".png":
@@ -161,20 +163,26 @@ def _synth_texture(dpj, width, height, seed, out, tileable=False, scan="rows") -
 def cmd_render(args) -> int:
     from .export import write_npy, write_picture, write_png
     from .recipe.texturefile import render_texture
+    from .photo import document_tone
     from .texture.plates import document_picture
 
     out = output_path(args.output, (".png", ".npy"))
     doc = render_texture(args.texture)  # replays and checks the stored hash
     plates = doc.plates is not None and not args.no_plates
+    tone = None if plates or args.no_tone else document_tone(doc)
+    shown = ""
     if out.suffix.lower() == ".npy":
         write_npy(out, doc.levels)
     elif plates:                        # RGB: the texture's greys laid on its colour plates
         write_picture(out, document_picture(doc), scale=args.scale)
+        shown = ", on its colour plates"
+    elif tone is not None:              # the greys and colours of the photo it was made from
+        write_picture(out, tone, scale=args.scale)
+        shown = ", with its photo's tone"
     else:
         write_png(out, doc.levels, doc.palette, scale=args.scale)
     height, width = doc.shape
-    print(f"{out}: {width}x{height}, {len(doc.actions)} actions replayed, hash verified"
-          + (", on its colour plates" if plates and out.suffix.lower() == ".png" else ""))
+    print(f"{out}: {width}x{height}, {len(doc.actions)} actions replayed, hash verified{shown}")
     return 0
 
 
@@ -316,6 +324,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--scale", type=int, default=1, help="PNG upscale: each point as NxN pixels")
     r.add_argument("--no-plates", action="store_true",
                    help="PNG: the levels in their palette, without the colour plates")
+    r.add_argument("--no-tone", action="store_true",
+                   help="PNG: the levels in their palette, not in the tone of the photo a "
+                        "multi-scale synthesis was made from")
     r.add_argument("-o", "--output", required=True, help="OUT.png or OUT.npy")
     r.set_defaults(func=cmd_render)
 

@@ -254,3 +254,45 @@ def test_open_a_photo_model_file_then_a_single_dpj(qtbot, window, photo_path, tm
     scaled = window.document.dpj_ref in refs
     assert window.scale_refs() == (refs if scaled else ())
     assert dock.scales_box.isEnabled() == scaled and dock.scale_count() == (3 if scaled else 1)
+
+
+def test_a_toned_texture_reopened_in_a_fresh_session_shows_its_tone(qtbot, window, photo_path,
+                                                                    tmp_path, monkeypatch):
+    """The tone travels in the `.texture`: reopened with no photo model at hand (another
+    texture opened between, which lets the model go), the canvas still shows the photo's
+    greys, toggles to the palette and back, and undo/redo walk the reopened log."""
+    from texeditor.photo import document_tone
+    other = tmp_path / "other.texture"
+    assert window.save_to(other)
+    model_path = tmp_path / "brick-model.dpj"
+    acquire_model(load_image(photo_path), scales=2).save(model_path)
+    monkeypatch.setattr(QtWidgets.QFileDialog, "getOpenFileName",
+                        lambda *a, **k: (str(model_path), ""))
+    qtbot.keyClick(window, Key.Key_O, CTRL | SHIFT)
+    synthesise(qtbot, window, 72, 56, 9)
+    step = window.history.actions[-1]
+    assert step.TYPE == "synthesize_scales" and step.tone_photo in window.document.exemplars
+    toned = window.canvas.picture.copy()
+    assert np.array_equal(toned, tone_of(window, 9))
+    path = tmp_path / "toned.texture"
+    assert window.save_to(path)
+
+    window.open_file(other)                                   # the model is let go
+    assert window.runner.wait(60_000) and not window.errors
+    assert window.photo_model is None and window.canvas.picture is None
+    window.open_file(path)
+    assert window.runner.wait(60_000) and not window.errors
+    assert window.photo_model is None and window.act_tone.isEnabled()
+    assert np.array_equal(window.canvas.picture, toned)
+    assert np.array_equal(toned, rgb(document_tone(window.document)))
+    window.act_tone.trigger()
+    palette_shown(window)
+    window.act_tone.trigger()
+    assert np.array_equal(window.canvas.picture, toned)
+
+    fill_a_cell(qtbot, window)                                # a step after: tone follows
+    assert not np.array_equal(window.canvas.picture, toned)
+    undo_to_start(qtbot, window)
+    redo_to_end(qtbot, window)
+    qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert np.array_equal(window.canvas.picture, toned)

@@ -990,10 +990,18 @@ def thumbnail_png(levels: np.ndarray, palette, size: int = THUMB) -> bytes:
 
 
 def document_thumbnail(doc: Document, size: int = THUMB) -> bytes:
-    """A document's thumbnail: its levels in their palette, or laid on its colour plates."""
-    if doc.plates is None:
+    """A document's thumbnail as the window shows it: laid on its colour plates, in the tone
+    of the photo it was synthesised from, or its levels in their palette."""
+    from ..photo import document_tone
+    if doc.plates is not None:
+        return _thumbnail(attrs.central_crop(document_picture(doc), size), size)
+    try:
+        tone = document_tone(doc)
+    except TexeditorError:
+        tone = None                           # a tone that does not fit: the palette shows
+    if tone is None:
         return thumbnail_png(doc.levels, doc.palette, size)
-    return _thumbnail(attrs.central_crop(document_picture(doc), size), size)
+    return _thumbnail(attrs.central_crop(tone, size), size)
 
 
 def _thumbnail(image: np.ndarray, size: int) -> bytes:

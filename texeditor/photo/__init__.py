@@ -8,8 +8,8 @@ model can be saved as a `.dpj` (format 2) and drawn again, bit-exact from its se
 from __future__ import annotations
 
 from . import tone
-from .model import (PhotoModel, Resynthesis, Tone, acquire_model, load_model,
-                    model_from_bytes, photo_tone)
+from .model import (PhotoModel, Resynthesis, Tone, acquire_model, document_model,
+                    document_tone, load_model, model_from_bytes, photo_tone)
 
 
 def resynthesize(photo, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
@@ -24,5 +24,5 @@ def resynthesize(photo, shape, *, seed: int = 0, tone: bool = True, tileable: bo
                             cancel=cancel)
 
 
-__all__ = ["tone", "PhotoModel", "Resynthesis", "Tone", "acquire_model", "load_model",
-           "model_from_bytes", "photo_tone", "resynthesize"]
+__all__ = ["tone", "PhotoModel", "Resynthesis", "Tone", "acquire_model", "document_model",
+           "document_tone", "load_model", "model_from_bytes", "photo_tone", "resynthesize"]

@@ -25,6 +25,7 @@ from ..markov.levels import to_grey
 from ..markov.synthesis import CLOSURE
 from ..markov.multiscale import (COARSE_LEVELS, COARSE_WINDOW, LEVELS, WINDOW, MultiScaleDPJ,
                                  estimate_scales, synthesize_scales)
+from ..recipe.exemplars import MAX_SIDE
 from .tone import Renderer, ToneIndex, render, tone_index
 
 MODEL_FORMAT_VERSION = 2
@@ -154,6 +155,41 @@ class PhotoModel:
     def save(self, path) -> None:
         write_file(path, self.to_bytes())
 
+    # -- in a document --------------------------------------------------------------------------
+    def tone_pictures(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The tone as a document keeps it, two exemplar pictures: the photo (colour, or grey)
+        and its finest levels, their top-left MAX_SIDE² at most (an exemplar's limit)."""
+        if self.tone is None:
+            return None
+        photo = self.tone.grey if self.tone.colour is None else self.tone.colour
+        return (np.ascontiguousarray(photo[:MAX_SIDE, :MAX_SIDE]),
+                np.ascontiguousarray(self.tone.levels[:MAX_SIDE, :MAX_SIDE]))
+
+
+def document_tone(doc) -> np.ndarray | None:
+    """The document's levels drawn with the tone of the synthesis that made its canvas (its
+    seed, wrapping when it tiles), or None when that synthesis names no tone."""
+    step = next((a for a in reversed(doc.actions) if a.EFFECT == "reset"), None)
+    model = document_model(doc, step)
+    if model is None:
+        return None
+    return model.render(doc.levels, seed=int(step.seed), wrap=bool(step.tileable))
+
+
+def document_model(doc, step=None) -> PhotoModel | None:
+    """The photo model a document's texture is shown with: that of ``step`` (default: the
+    synthesis that made the canvas, the last new canvas of the log), a multi-scale synthesis
+    that names a tone; None when there is none."""
+    if step is None:
+        step = next((a for a in reversed(doc.actions) if a.EFFECT == "reset"), None)
+    if getattr(step, "tone_photo", None) is None:
+        return None
+    scales = MultiScaleDPJ(tuple(doc.dpjs[r] for r in step.dpjs))
+    levels = doc.exemplars[step.tone_levels]
+    if levels.ndim != 2 or int(levels.max()) >= scales.levels:
+        raise FormatError(f"the tone's levels {step.tone_levels} are not levels of these scales")
+    return PhotoModel(scales, tone_of_pictures(levels, doc.exemplars[step.tone_photo]))
+
 
 def acquire_model(image, *, scales: int | None = None, levels: int = LEVELS, window=WINDOW,
                   coarse_levels: int = COARSE_LEVELS, coarse_window=COARSE_WINDOW,
@@ -269,13 +305,15 @@ def _parse_tone(data: bytes, g: int, name: str) -> Tone:
     if levels.dtype != np.uint8 or levels.ndim != 2 or levels.size == 0 \
             or levels.size > MAX_TONE_PIXELS or levels.max() >= g:
         raise FormatError(f"{name}: tone levels must be a 2-D uint8 matrix of levels below {g}")
-    colour = arrays.get("colour")
-    if colour is not None:
-        if colour.dtype != np.uint8 or colour.shape != levels.shape + (3,):
-            raise FormatError(f"{name}: tone colour must be uint8 of shape {levels.shape + (3,)}")
-        grey = np.round(to_grey(colour) * 255).astype(np.uint8)
-    else:
-        grey = arrays["grey"]
-        if grey.dtype != np.uint8 or grey.shape != levels.shape:
-            raise FormatError(f"{name}: tone grey must be uint8 of shape {levels.shape}")
-    return Tone(levels, grey, colour)
+    return tone_of_pictures(levels, arrays.get("colour", arrays.get("grey")), name)
+
+
+def tone_of_pictures(levels: np.ndarray, picture: np.ndarray, name: str = "tone") -> Tone:
+    """A tone from the photo's finest levels and its picture (uint8 grey, or colour whose greys
+    are computed as on acquisition): how a `.dpj` and a document store it."""
+    if picture.dtype != np.uint8 or picture.shape not in (levels.shape, levels.shape + (3,)):
+        raise FormatError(f"{name}: the tone's photo must be uint8 grey or colour of the "
+                          f"levels' shape {levels.shape}, got {picture.dtype} {picture.shape}")
+    if picture.ndim == 2:
+        return Tone(levels, picture, None)
+    return Tone(levels, np.round(to_grey(picture) * 255).astype(np.uint8), picture)

@@ -507,6 +507,12 @@ class SynthesizeScales(Action):
     seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
     tileable: bool = _tileable()
     closure: int = _closure()
+    tone_photo: str | None = param("exemplar", default=None, optional=True,
+                                   doc="the photo whose greys and colours show the texture "
+                                       "(a photo model's tone), or none")
+    tone_levels: str | None = param("exemplar", default=None, optional=True,
+                                    doc="that photo's finest levels, which say where its tone "
+                                        "is drawn from")
 
     upgrade = classmethod(_closure_of_version_1)
 
@@ -514,6 +520,8 @@ class SynthesizeScales(Action):
         _check_canvas(self.width, self.height)
         if not self.dpjs:
             raise InputError("a multi-scale synthesis needs at least one DPJ")
+        if (self.tone_photo is None) != (self.tone_levels is None):
+            raise InputError("a tone names both its photo and the photo's levels, or neither")
 
     def render_result(self, dpjs, progress=None, cancel=None):
         """Synthesise (slow; safe in a worker thread): the finest scale's SynthesisResult."""
@@ -526,6 +534,9 @@ class SynthesizeScales(Action):
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
 
     def apply(self, doc, prepared=None) -> None:
+        for ref in (self.tone_photo, self.tone_levels):
+            if ref is not None and ref not in doc.exemplars:
+                raise InputError(f"the tone's picture {ref} is not part of this document")
         _apply_synthesis(self, doc, prepared, _scales(self._dpjs_of(doc)).palette,
                          self.dpjs[-1])
 
@@ -540,8 +551,9 @@ class SynthesizeScales(Action):
 
     def label(self) -> str:
         tiles = ", tileable" if self.tileable else ""
+        tone = ", with its photo's tone" if self.tone_photo is not None else ""
         return (f"Synthesise {self.width}×{self.height} on {len(self.dpjs)} scales, "
-                f"seed {self.seed}{tiles}")
+                f"seed {self.seed}{tiles}{tone}")
 
 
 def _apply_synthesis(action, doc, prepared, palette, current: str) -> None:

@@ -438,12 +438,15 @@ def synthesize_texture(dpj: DPJ, width: int, height: int, *, seed: int = 0, prog
 
 
 def synthesize_scales_texture(dpjs, width: int, height: int, *, seed: int = 0, progress=None,
-                              cancel=None, tileable: bool = False) -> History:
+                              cancel=None, tileable: bool = False, tone=None) -> History:
     """A History whose log is one multi-scale synthesis (`texeditor synth MODEL.dpj -o
-    OUT.texture`): the scales' DPJs travel in the file, the log replays the same levels."""
+    OUT.texture`): the scales' DPJs travel in the file, the log replays the same levels;
+    ``tone`` (PhotoModel.tone_pictures: photo, levels) travels too, as two exemplars."""
     history = History()
     refs = tuple(history.add_dpj(dpj) for dpj in dpjs)
-    action = SynthesizeScales(refs, width, height, seed, tileable)
+    photo, levels = (None, None) if tone is None else map(history.add_exemplar, tone)
+    action = SynthesizeScales(refs, width, height, seed, tileable, tone_photo=photo,
+                              tone_levels=levels)
     history.apply(action, prepared=action.render_result(dpjs, progress, cancel).levels)
     return history
 
