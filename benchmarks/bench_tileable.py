@@ -12,7 +12,8 @@ torus:
   fair one: its windows are as correlated as the seam band's), and the seed-to-seed spread (the
   interior of one seed, subsampled to the band's count, against the interior of the next seed —
   random windows, so less spread than any contiguous band shows even without a seam);
-- time of a tileable draw over a plain one (best of the seeds, warm);
+- time of a tileable draw over a plain one (best of the seeds, warm), at the size and by size
+  (128² to 1024²), for the 3×3 DPJ and for a photo model;
 - a photo model (multi-scale + tone): mean grey jump across each seam over the mean jump between
   neighbours inside (1: no seam to see), plain and tileable.
 """
@@ -111,12 +112,31 @@ def bench(name, size, seeds):
                   f"the band moved to the middle {np.mean(moved):.3f} (worst {max(moved):.3f}); "
                   f"interior seed-to-seed spread {np.mean(spread):.3f} (worst {max(spread):.3f})")
     model = texeditor.acquire_model(photo)
+    sweep(dpj, model, seeds)
     for tileable in (False, True):
         jumps = [[seam_jump(model.synthesize((size, size), seed=s, tileable=tileable).image, a)
                   for a in (0, 1)] for s in range(min(seeds, 3))]
         across_rows, across_cols = np.mean(jumps, axis=0)
         print(f"  photo model {'tileable' if tileable else 'plain   '}: grey jump across the seam "
               f"/ inside: bottom-top {across_rows:.2f}, right-left {across_cols:.2f}")
+
+
+def sweep(dpj, model, seeds, sizes=(128, 256, 512, 1024)):
+    """Time tileable/plain by size (best of the seeds, warm): the seams cost a stretch per row
+    and column, so the ratio falls as the side grows."""
+    line = []
+    for n in sizes:
+        one = best_time(lambda s: texeditor.synthesize(dpj, (n, n), seed=s), seeds)
+        two = best_time(lambda s: texeditor.synthesize(dpj, (n, n), seed=s, tileable=True), seeds)
+        line.append(f"{n}² {two / one:.2f}")
+    print("  3x3 time tileable/plain by size: " + ", ".join(line))
+    line = []
+    for n in sizes[1:3]:
+        k = max(2, seeds // 2)
+        one = best_time(lambda s: model.synthesize((n, n), seed=s), k)
+        two = best_time(lambda s: model.synthesize((n, n), seed=s, tileable=True), k)
+        line.append(f"{n}² {two / one:.2f} ({two:.2f} / {one:.2f} s)")
+    print("  photo model (scales + tone) time tileable/plain: " + ", ".join(line))
 
 
 def main():
