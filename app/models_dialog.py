@@ -249,6 +249,9 @@ def _run(action, scratch, progress, cancel):
 
 def open_model(window, model: str) -> ModelDialog | None:
     """The dialog of one model (histogram matching needs a texture to recolour)."""
+    if model in ("fractal_relief", "ifs_motif"):            # no photo: their own dialog
+        from .fractal_dialog import open_fractal
+        return open_fractal(window, model)
     if model == "match_histogram" and not window.document.levels.size:
         window.statusBar().showMessage("Match histogram: make or open a texture first.", 5000)
         return None

@@ -31,7 +31,7 @@ HANDLE = 6                      # handle radius, screen pixels
 GRID = 5                        # envelope points between grid lines
 KIND_NAMES = {"linear": "Straight lines", "bezier_curve": "Bézier curve",
               "uniform_bspline": "B-spline", "catmull_rom": "Catmull–Rom",
-              "interpolating_spline": "Interpolating spline"}
+              "interpolating_spline": "Interpolating spline", "fractal_curve": "Fractal curve"}
 KIND_TIPS = {"linear": "Straight lines from point to point",
              "bezier_curve": "One Bézier curve whose control polygon is the points: every point "
                              "pulls the whole outline",
@@ -40,7 +40,9 @@ KIND_TIPS = {"linear": "Straight lines from point to point",
              "catmull_rom": "A smooth curve through every point (Catmull–Rom); files made before "
                             "this name existed called it Bézier",
              "interpolating_spline": "A periodic cubic spline through every point; files made "
-                                     "before this name existed called it B-spline"}
+                                     "before this name existed called it B-spline",
+             "fractal_curve": "A fractal Bézier curve through every point (projected IFS, "
+                              "Guérin): smooth at roughness 0, rougher towards 100 %"}
 CONTROL_COLOUR = QtGui.QColor(255, 255, 255, 90)
 INTERIOR_NAMES = {"none": "None", "holes": "Holes", "levels": "Level patches",
                   "relief": "Relief (lit top left)"}
@@ -176,8 +178,17 @@ class EnvelopeView(QtWidgets.QWidget):
         if math.dist(a, b) < 1.0:
             return
         half = _round(math.dist(a, b) / 4)
-        kind = self.envelope.kind if self.envelope is not None else DEFAULT_KIND
-        self.set_envelope(Envelope(a, b, kind=kind).with_meridian(0.5, half, half, main=True))
+        self.set_envelope(self._same_kind(Envelope(a, b).with_meridian(0.5, half, half,
+                                                                        main=True)))
+
+    def _same_kind(self, envelope: Envelope) -> Envelope:
+        """A new envelope drawn with the outline kind (and fractal roughness) shown."""
+        old = self.envelope
+        if old is None:
+            return envelope.with_kind(DEFAULT_KIND)
+        if old.kind == "fractal_curve":
+            return envelope.with_fractal(old.roughness, old.seed)
+        return envelope.with_kind(old.kind)
 
     def try_envelope(self, make) -> bool:
         """Show the envelope ``make()`` builds, or say why it cannot be (a Bézier curve on too
@@ -373,8 +384,7 @@ class EnvelopeView(QtWidgets.QWidget):
             return
         points = approximate_polygon(np.asarray(stroke), tolerance=0.35)[:-1] \
             if len(stroke) > 8 else np.asarray(stroke)
-        kind = self.envelope.kind if self.envelope is not None else DEFAULT_KIND
-        self.try_envelope(lambda: Envelope.from_contour(np.round(points, 2), kind))
+        self.try_envelope(lambda: self._same_kind(Envelope.from_contour(np.round(points, 2))))
 
     # -- painting ---------------------------------------------------------------------------------
     def paintEvent(self, ev):
@@ -629,6 +639,10 @@ class SpotEditor(QtWidgets.QWidget):
         self.frequency = QtWidgets.QSpinBox()
         self.frequency.setRange(1, 64)
         self.frequency.setToolTip("How many bumps around the contour")
+        self.curve_roughness = _Slider(tip="Roughness of the fractal curve outline (projected "
+                                           "IFS): 0 the smooth curve through the points")
+        self.curve_roughness.set_value(0.5)
+        self.curve_roughness.setEnabled(False)
         self.fractal = _Slider(tip="Fractal roughening of the outline (midpoint displacement)")
         self.roughness = QtWidgets.QDoubleSpinBox()
         self.roughness.setRange(0.0, 1.0)
@@ -659,6 +673,7 @@ class SpotEditor(QtWidgets.QWidget):
         self.roughness.setPrefix("h ")
         self.shift.setPrefix("shift ")
         self.grain.setPrefix("size ")
+        form.addRow("Curve", self.curve_roughness)
         form.addRow("Bumps", _pair(self.contour, self.frequency))
         form.addRow("Fractal", _pair(self.fractal, self.roughness))
         form.addRow("Interior", _pair(self.interior, self.density))
@@ -671,6 +686,7 @@ class SpotEditor(QtWidgets.QWidget):
             w.valueChanged.connect(self._settings_changed)
         for w in (self.roughness, self.grain):
             w.valueChanged.connect(self._settings_changed)
+        self.curve_roughness.valueChanged.connect(self._kind_changed)
         self.interior.currentIndexChanged.connect(self._settings_changed)
         self.interior.currentIndexChanged.connect(self._interior_changed)
         self.seed.changed.connect(self._settings_changed)
@@ -742,6 +758,8 @@ class SpotEditor(QtWidgets.QWidget):
         self.density.set_value(p.density)
         self.grain.setValue(p.scale)
         self.kind.setCurrentIndex(self.kind.findData(entry.envelope.kind))
+        self.curve_roughness.set_value(entry.envelope.roughness)
+        self.curve_roughness.setEnabled(entry.envelope.kind == "fractal_curve")
         self._loading = False
         self._interior_changed()
         self.view.perturbation = self.perturbation()
@@ -760,8 +778,11 @@ class SpotEditor(QtWidgets.QWidget):
     def _kind_changed(self) -> None:
         if self._loading or self.view.envelope is None:
             return
-        envelope = self.view.envelope
-        if not self.view.try_envelope(lambda: envelope.with_kind(self.kind.currentData())):
+        envelope, kind = self.view.envelope, self.kind.currentData()
+        self.curve_roughness.setEnabled(kind == "fractal_curve")
+        if not self.view.try_envelope(
+                lambda: envelope.with_fractal(self.curve_roughness.value())
+                if kind == "fractal_curve" else envelope.with_kind(kind)):
             self._loading = True              # refused: the list shows the kind still drawn
             self.kind.setCurrentIndex(self.kind.findData(envelope.kind))
             self._loading = False

@@ -37,7 +37,7 @@ def one_of_each() -> list:
     from texeditor.recipe.actions import SynthesizeScales
     from texeditor.texture.actions import DoubleLevels
 
-    from . import paint, plates, spectral, spots as spot, texture
+    from . import fractal, paint, plates, spectral, spots as spot, texture
     from .regions import EXAMPLES, T, history_of
 
     histories = []
@@ -81,6 +81,10 @@ def one_of_each() -> list:
         histories.append((action.TYPE, History.from_log(h.applied, {})))
     for action in {type(a): a for a in spectral.EXAMPLES}.values():     # an exemplar photo each
         h = spectral.history()
+        h.apply(action)
+        histories.append((action.TYPE, h))
+    for action in {type(a): a for a in fractal.EXAMPLES}.values():
+        h = fractal.history()
         h.apply(action)
         histories.append((action.TYPE, h))
     return histories

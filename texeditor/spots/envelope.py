@@ -21,6 +21,8 @@ pieces around it, the locality the thesis praises). Two smooth curves *through* 
 kept under their own names: ``catmull_rom`` and ``interpolating_spline``. Files written before
 those names existed called them "bezier" and "bspline": `Envelope.from_json` reads those stored
 names with the meaning they had (LEGACY_KINDS), so old placements draw the same points.
+``fractal_curve`` is the projected-IFS curve through the points (companion 002): the Catmull–Rom
+curve roughened by a ``roughness`` in [0, 1] from a ``seed``; only its envelopes store those two.
 """
 
 from __future__ import annotations
@@ -35,7 +37,8 @@ import numpy as np
 from ..errors import InputError
 from ..regions.transforms import rotation_matrix
 
-KINDS = ("linear", "bezier_curve", "uniform_bspline", "catmull_rom", "interpolating_spline")
+KINDS = ("linear", "bezier_curve", "uniform_bspline", "catmull_rom", "interpolating_spline",
+         "fractal_curve")
 DEFAULT_KIND = "interpolating_spline"
 APPROXIMATING = ("bezier_curve", "uniform_bspline")    # follow their points, not through them
 LEGACY_KINDS = {"bezier": "catmull_rom", "bspline": "interpolating_spline"}   # stored names
@@ -50,6 +53,8 @@ MIN_GAP = 1e-6                  # two meridians closer than this along the equat
 MIN_AREA = 1e-6                 # an envelope with less area (points²) has no width
 MAX_STAMP_SIDE = 16384
 MAX_RELIEF_POINTS = 2**24       # a relief is shaded from the whole spot: 4096² points at most
+FRACTAL_ROUGHNESS = 0.5         # a fractal curve's roughness and seed when none is given
+MAX_CURVE_SEED = 2**32 - 1
 
 
 # -- the envelope ----------------------------------------------------------------------------------
@@ -90,6 +95,8 @@ class Envelope:
     parallels: tuple[Parallel, ...] = ()
     kind: str = DEFAULT_KIND
     contour: tuple[tuple[float, float], ...] | None = None
+    roughness: float = FRACTAL_ROUGHNESS       # the fractal curve's (other kinds: the default)
+    seed: int = 0
 
     def __post_init__(self):
         a, b = _point("equator end a", self.a), _point("equator end b", self.b)
@@ -110,8 +117,11 @@ class Envelope:
         if len(parallels) > MAX_MERIDIANS:
             raise InputError(f"an envelope has at most {MAX_MERIDIANS} parallels")
         contour = None if self.contour is None else _contour(self.contour)
+        roughness, seed = _fractal(self.roughness, self.seed) if self.kind == "fractal_curve" \
+            else (FRACTAL_ROUGHNESS, 0)
         for name, value in (("a", a), ("b", b), ("meridians", meridians),
-                            ("parallels", parallels), ("contour", contour)):
+                            ("parallels", parallels), ("contour", contour),
+                            ("roughness", roughness), ("seed", seed)):
             object.__setattr__(self, name, value)
         if self.kind == "bezier_curve" and len(self.control_points()) > MAX_BEZIER_POINTS:
             raise InputError(f"a Bézier curve takes at most {MAX_BEZIER_POINTS} points (this "
@@ -194,6 +204,11 @@ class Envelope:
     def with_kind(self, kind: str):
         return replace(self, kind=kind)
 
+    def with_fractal(self, roughness: float, seed: int | None = None):
+        """The fractal curve of this envelope's points with ``roughness`` (and ``seed``)."""
+        return replace(self, kind="fractal_curve", roughness=roughness,
+                       seed=self.seed if seed is None else seed)
+
     def width_at(self, t: float) -> tuple[float, float]:
         """The (left, right) half-widths of the outline at ``t``: a new meridian placed there
         leaves the shape as it is (linear reading of the neighbours)."""
@@ -245,6 +260,8 @@ class Envelope:
                "parallels": [[p.offset, p.t0, p.t1] for p in self.parallels]}
         if self.contour is not None:
             obj["contour"] = [list(p) for p in self.contour]
+        if self.kind == "fractal_curve":         # other kinds write what they always wrote
+            obj["roughness"], obj["seed"] = self.roughness, self.seed
         return obj
 
     def dumps(self) -> str:
@@ -256,7 +273,8 @@ class Envelope:
         """An envelope from its JSON object, every field checked (InputError when wrong)."""
         if not isinstance(obj, dict):
             raise InputError("an envelope must be a JSON object")
-        unknown = sorted(set(obj) - {"a", "b", "kind", "meridians", "parallels", "contour"})
+        unknown = sorted(set(obj) - {"a", "b", "kind", "meridians", "parallels", "contour",
+                                     "roughness", "seed"})
         if unknown:
             raise InputError(f"an envelope has unexpected fields {unknown}")
         if "a" not in obj or "b" not in obj:
@@ -280,7 +298,8 @@ class Envelope:
         if not isinstance(kind, str):
             raise InputError("the outline kind must be a text")
         kind = LEGACY_KINDS.get(kind, kind)          # a stored name keeps its meaning
-        return cls(obj["a"], obj["b"], tuple(ms), tuple(ps), kind, contour)
+        return cls(obj["a"], obj["b"], tuple(ms), tuple(ps), kind, contour,
+                   obj.get("roughness", FRACTAL_ROUGHNESS), obj.get("seed", 0))
 
     @classmethod
     def loads(cls, text: str) -> "Envelope":
@@ -297,6 +316,15 @@ def _check_kind(kind) -> None:
                          f"{', '.join(KINDS)}")
     if kind not in KINDS:
         raise InputError(f"the outline kind must be one of {', '.join(KINDS)}, got {kind!r}")
+
+
+def _fractal(roughness, seed) -> tuple[float, int]:
+    roughness = _number("the fractal curve's roughness", roughness, 0.0, 1.0)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) \
+            or not 0 <= seed <= MAX_CURVE_SEED:
+        raise InputError(f"the fractal curve's seed must be a whole number 0..{MAX_CURVE_SEED}, "
+                         f"got {seed!r}")
+    return roughness, int(seed)
 
 
 def _number(name: str, value, lo=-MAX_COORD, hi=MAX_COORD) -> float:
@@ -480,10 +508,21 @@ _OUTLINES = {"linear": linear_outline, "bezier_curve": bezier_curve_outline,
              "interpolating_spline": interpolating_spline_outline}
 
 
+def fractal_curve_outline(pts: np.ndarray, step: float, roughness: float = FRACTAL_ROUGHNESS,
+                          seed: int = 0) -> np.ndarray:
+    """The projected-IFS (fractal Bézier) curve through the points (companion 002,
+    `fractal.curves`): the Catmull–Rom curve at roughness 0, rougher towards 1, from a seed."""
+    from ..fractal.curves import fractal_outline
+    return fractal_outline(pts, step, roughness, seed)
+
+
 @lru_cache(maxsize=512)
 def _outline(envelope: Envelope, step: float) -> np.ndarray:
     pts = envelope.control_points()
-    out = pts if len(pts) < 3 else _OUTLINES[envelope.kind](pts, step)
+    if len(pts) >= 3 and envelope.kind == "fractal_curve":
+        out = fractal_curve_outline(pts, step, envelope.roughness, envelope.seed)
+    else:
+        out = pts if len(pts) < 3 else _OUTLINES[envelope.kind](pts, step)
     out.flags.writeable = False
     return out
 

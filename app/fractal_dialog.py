@@ -1,0 +1,200 @@
+"""Models ▸ Fractal relief… / IFS motif…: the fractal models of the companion documents as one
+step each (digest §11: midpoint displacement, 003; IFS, 002).
+
+The preview is the step itself run on a scratch document in the background (`LatestWins`), the
+latest setting winning; OK applies exactly what the preview shows (undoable). The relief shows
+its levels and the relief preview's shading (texeditor.relief) side by side; the motif shows
+the texture with the motif stamped on it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6 import QtCore, QtWidgets
+
+from texeditor.errors import TexeditorError
+from texeditor.fractal.actions import MAX_MOTIF_SIDE, FractalRelief, IFSMotif
+from texeditor.fractal.ifs import BUILTINS
+from texeditor.recipe.document import Document
+from texeditor.relief.previews import plane_preview
+from texeditor.spectral.actions import MAX_MODEL_SIDE
+
+from .dpj_editor.preview import LatestWins
+from .images import pixmap
+from .params_form import SeedEdit
+from .widgets import row, spin_box
+
+PREVIEW = 240
+TITLES = {"fractal_relief": "Fractal relief", "ifs_motif": "IFS motif"}
+ABOUT = {
+    "fractal_relief": "Heights by 2-D midpoint displacement (companion 003): each point of a "
+                      "grid computed once, its deviation falling by 2^−H a level; cut into G "
+                      "levels whose greys rise with the height, so the Relief dock shades it "
+                      "as terrain. Tileable.",
+    "ifs_motif": "An IFS attractor drawn by the chaos game (companion 002): the digest's tree, "
+                 "Barnsley's fern or Sierpinski's triangle, stamped in one level on the "
+                 "texture (undo takes it back).",
+}
+MOTIF_NAMES = {"tree": "Tree (the digest's IFS)", "fern": "Barnsley fern",
+               "sierpinski": "Sierpinski triangle"}
+
+
+class FractalDialog(QtWidgets.QDialog):
+    """One fractal model's settings, a live preview and OK, which applies the step."""
+
+    def __init__(self, window, model: str):
+        super().__init__(window)
+        self.main_window, self.model = window, model
+        self.setWindowTitle(TITLES[model])
+        self.preview_step = None
+        doc = window.document
+        h, w = doc.shape
+        self.width_box = spin_box(1, MAX_MODEL_SIDE, w or 256, tip="Points across")
+        self.height_box = spin_box(1, MAX_MODEL_SIDE, h or 256, tip="Points down")
+        self.seed = SeedEdit(1)
+        self.roughness = QtWidgets.QSlider(QtCore.Qt.Orientation.Horizontal)
+        self.roughness.setRange(0, 100)
+        self.roughness.setValue(50)
+        self.roughness.setToolTip("H: 1 smooth hills, 0 rough ground")
+        self.roughness_label = QtWidgets.QLabel()
+        self.levels = spin_box(2, 16, doc.num_levels if doc.levels.size else 8,
+                               tip="Number of levels G the heights are cut into")
+        self.motif = QtWidgets.QComboBox()
+        for name in BUILTINS:
+            self.motif.addItem(MOTIF_NAMES.get(name, name), name)
+        side = max(min(h, w) // 2, 8)
+        self.size_box = spin_box(1, MAX_MOTIF_SIDE, side, tip="Side of the motif's square")
+        self.row_box = spin_box(-MAX_MOTIF_SIDE, 65536, h // 2, tip="Row of the motif's centre")
+        self.col_box = spin_box(-MAX_MOTIF_SIDE, 65536, w // 2, tip="Column of its centre")
+        self.points = spin_box(1000, 1 << 24, 200_000, tip="Chaos-game points: more, denser")
+        self.density = spin_box(1, 1000, 1, tip="Hits a point needs to be painted")
+        self.level = spin_box(0, max(doc.num_levels - 1, 0), max(doc.num_levels - 1, 0),
+                              tip="The level the motif is painted in")
+        self.result_view, self.shaded_view = self._view(), self._view()
+        self.info = QtWidgets.QLabel()
+        self.info.setWordWrap(True)
+        self.info.setMinimumHeight(3 * self.info.fontMetrics().lineSpacing())
+        buttons = QtWidgets.QDialogButtonBox(QtWidgets.QDialogButtonBox.StandardButton.Ok
+                                             | QtWidgets.QDialogButtonBox.StandardButton.Cancel)
+        self.ok = buttons.button(QtWidgets.QDialogButtonBox.StandardButton.Ok)
+        buttons.accepted.connect(self.apply)
+        buttons.rejected.connect(self.reject)
+        self._layout(buttons)
+        self.previews = LatestWins(self, delay_ms=120)
+        self.previews.done.connect(self._shown)
+        self.previews.failed.connect(self._failed)
+        self.finished.connect(lambda _result: self.previews.stop())
+        for box in (self.width_box, self.height_box, self.levels, self.size_box, self.row_box,
+                    self.col_box, self.points, self.density, self.level):
+            box.valueChanged.connect(self.recompute)
+        self.roughness.valueChanged.connect(self.recompute)
+        self.motif.currentIndexChanged.connect(self.recompute)
+        self.seed.changed.connect(self.recompute)
+        self.recompute()
+
+    @staticmethod
+    def _view() -> QtWidgets.QLabel:
+        label = QtWidgets.QLabel()
+        label.setFixedSize(PREVIEW, PREVIEW)
+        label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
+        label.setFrameShape(QtWidgets.QFrame.Shape.StyledPanel)
+        return label
+
+    def _layout(self, buttons) -> None:
+        layout = QtWidgets.QVBoxLayout(self)
+        about = QtWidgets.QLabel(ABOUT[self.model])
+        about.setWordWrap(True)
+        layout.addWidget(about)
+        form = QtWidgets.QFormLayout()
+        if self.model == "fractal_relief":
+            form.addRow("Size", row(self.width_box, "×", self.height_box, "points"))
+            form.addRow("Roughness H", row(self.roughness, self.roughness_label, stretch=False))
+            form.addRow("Levels G", row(self.levels))
+        else:
+            form.addRow("Motif", row(self.motif))
+            form.addRow("Square", row(self.size_box, "points, centre row", self.row_box,
+                                      "column", self.col_box))
+            form.addRow("Points", row(self.points, "painted from", self.density, "hits"))
+            form.addRow("Level", row(self.level))
+        form.addRow("Seed", self.seed)
+        layout.addLayout(form)
+        views = QtWidgets.QGridLayout()
+        shown = (("Levels", self.result_view), ("Relief", self.shaded_view)) \
+            if self.model == "fractal_relief" else (("Texture with the motif", self.result_view),)
+        for k, (text, view) in enumerate(shown):
+            views.addWidget(QtWidgets.QLabel(text), 0, k)
+            views.addWidget(view, 1, k)
+        layout.addLayout(views)
+        layout.addWidget(self.info)
+        layout.addWidget(buttons)
+
+    def action(self):
+        if self.model == "fractal_relief":
+            return FractalRelief(self.width_box.value(), self.height_box.value(),
+                                 self.seed.value(), self.roughness.value() / 100,
+                                 self.levels.value())
+        return IFSMotif(self.motif.currentData(), self.row_box.value(), self.col_box.value(),
+                        self.size_box.value(), self.level.value(), self.seed.value(),
+                        self.points.value(), self.density.value())
+
+    def recompute(self) -> None:
+        """Run the step on a scratch document in the background: the preview is OK's step."""
+        self.roughness_label.setText(f"{self.roughness.value() / 100:.2f}")
+        self.previews.drop()
+        self.preview_step = None
+        self.ok.setEnabled(False)
+        scratch = Document() if self.model == "fractal_relief" \
+            else self.main_window.document.copy()
+        try:
+            action = self.action()
+        except TexeditorError as exc:
+            self._failed(exc)
+            return
+        self.previews.request(lambda progress, cancel: _run(action, scratch, progress, cancel))
+
+    def _shown(self, outcome) -> None:
+        action, prepared, scratch = outcome
+        picture = np.asarray(scratch.palette)[scratch.levels]
+        self.result_view.setPixmap(pixmap(picture, PREVIEW))
+        if self.model == "fractal_relief":
+            self.shaded_view.setPixmap(pixmap(plane_preview(scratch.levels, scratch.palette,
+                                                            size=PREVIEW), PREVIEW))
+        self.info.setText(f"Result {scratch.shape[1]}×{scratch.shape[0]}, G = "
+                          f"{scratch.num_levels}. OK adds one step (undo takes it back).")
+        self.preview_step = (action, prepared)
+        self.ok.setEnabled(True)
+
+    def _failed(self, exc) -> None:
+        self.result_view.clear()
+        self.info.setText(f"<span style='color:#b00020'>{exc}</span>")
+
+    def wait(self, timeout_ms: int = 60_000) -> bool:
+        """Until the preview of the latest settings is shown (tests and scripts only)."""
+        if self.previews.job is None and self.previews.pending is None:
+            return True
+        return self.previews.wait(timeout_ms)
+
+    def apply(self) -> None:
+        if self.preview_step is None:
+            return
+        action, prepared = self.preview_step
+        if self.main_window.submit(action, prepared=prepared):
+            self.accept()
+
+
+def _run(action, scratch, progress, cancel):
+    prepared = action.prepare(scratch, progress, cancel)
+    with scratch.step():
+        action.apply(scratch, prepared)
+    return action, prepared, scratch
+
+
+def open_fractal(window, model: str) -> FractalDialog | None:
+    """The dialog of one fractal model (a motif needs a texture to be stamped on)."""
+    if model == "ifs_motif" and not window.document.levels.size:
+        window.statusBar().showMessage("IFS motif: make or open a texture first.", 5000)
+        return None
+    dialog = FractalDialog(window, model)
+    dialog.finished.connect(dialog.deleteLater)
+    dialog.open()
+    return dialog
