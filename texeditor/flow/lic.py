@@ -1,0 +1,164 @@
+"""Line integral convolution (Cabral and Leedom 1993; companion document 004): seeded white
+noise smoothed along the streamlines of an orientation field (`field`), so the picture has the
+field's grain — wood, hair, brushed metal, grass — and the noise's randomness across it.
+
+Each point's value is a Hann-weighted mean of the noise along its streamline, traced both ways
+over a length L (points) by midpoint (RK2) steps of STEP points; the cost is points × L/STEP,
+in numba, by bands of rows so a worker can report progress and cancel.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+from numba import njit
+
+from ..errors import Cancelled, InputError
+
+STEP = 1.0             # points per integration step (midpoint rule)
+MAX_LENGTH = 256       # the longest streamline (points): its cost is that many half-steps a point
+BAND_POINTS = 2**17    # points per numba call between progress reports
+
+
+def line_integral_convolution(theta: np.ndarray, length: float, *, seed: int, wrap: bool = False,
+        progress: Callable[[float], None] | None = None,
+        cancel: Callable[[], bool] | None = None) -> np.ndarray:
+    """The LIC of seeded uniform white noise along the field θ (H, W) (`field` convention:
+    direction (sin θ, cos θ) in (row, col)), over a streamline ``length`` points long,
+    float64 of θ's shape. ``wrap``: noise and streamlines on the torus, so the picture tiles
+    when the field does; otherwise a streamline stops at the border. Its values are means of
+    noise, so their spread shrinks as L grows: normalise before use (`contrast`)."""
+    theta = _check_theta(theta)
+    length = check_length(length)
+    noise = np.random.default_rng(seed).random(theta.shape)
+    d_row, d_col = np.sin(theta), np.cos(theta)
+    out = np.empty(theta.shape)
+    height, width = theta.shape
+    rows = max(1, BAND_POINTS // width)
+    steps = max(1, int(round(length / 2 / STEP)))
+    weights = 0.5 * (1 + np.cos(np.pi * np.arange(steps + 1) / (steps + 1)))   # Hann, centre 1
+    for top in range(0, height, rows):
+        if cancel is not None and cancel():
+            raise Cancelled("flow texture cancelled")
+        _lic_rows(noise, d_row, d_col, weights, top, min(top + rows, height), wrap, out)
+        if progress is not None:
+            progress(min(top + rows, height) / height)
+    return out
+
+
+def contrast(picture: np.ndarray, reference=None) -> np.ndarray:
+    """A LIC picture with a usable spread of greys, float64 in [0, 1]: the reference photo's
+    grey histogram (φ = c_f⁻¹ ∘ c_g, scikit-image's ``match_histograms``) when one is given,
+    else standardised to mean 1/2 and standard deviation 1/6, clipped."""
+    if reference is not None:
+        from skimage.exposure import match_histograms
+        from ..markov.levels import to_grey
+        return match_histograms(picture, to_grey(reference))
+    spread = picture.std()
+    centred = picture - picture.mean()
+    scaled = centred / (6 * spread) if spread > 0 else centred
+    return np.clip(0.5 + scaled, 0.0, 1.0)
+
+
+def check_length(length) -> float:
+    if isinstance(length, bool) or not isinstance(length, (int, float, np.number)) \
+            or not np.isfinite(length) or not 1 <= length <= MAX_LENGTH:
+        raise InputError(f"the streamline length L must be 1..{MAX_LENGTH} points, got {length!r}")
+    return float(length)
+
+
+def _check_theta(theta) -> np.ndarray:
+    theta = np.asarray(theta, dtype=np.float64)
+    if theta.ndim != 2 or theta.size == 0 or not np.isfinite(theta).all():
+        raise InputError("a field is a non-empty (H, W) array of finite angles")
+    return theta
+
+
+@njit(cache=True)
+def _lic_rows(noise, d_row, d_col, weights, top, bottom, wrap, out):
+    height, width = noise.shape
+    for r in range(top, bottom):
+        for c in range(width):
+            acc = weights[0] * _sample(noise, float(r), float(c), wrap)
+            total = weights[0]
+            for sign in (1.0, -1.0):
+                pr, pc = float(r), float(c)
+                vr, vc = sign * d_row[r, c], sign * d_col[r, c]
+                for k in range(1, weights.shape[0]):
+                    ok, pr, pc, vr, vc = _advance(d_row, d_col, pr, pc, vr, vc, wrap)
+                    if not ok:
+                        break
+                    acc += weights[k] * _sample(noise, pr, pc, wrap)
+                    total += weights[k]
+            out[r, c] = acc / total
+
+
+@njit(cache=True)
+def _advance(d_row, d_col, pr, pc, vr, vc, wrap):
+    """One midpoint step of STEP along the field, keeping the heading (vr, vc) of the step
+    before (the field is a direction: its vector or its opposite). False when it leaves a
+    planar picture."""
+    height, width = d_row.shape
+    ar, ac = _direction(d_row, d_col, pr, pc, vr, vc, wrap)
+    mr, mc = pr + 0.5 * STEP * ar, pc + 0.5 * STEP * ac
+    if not wrap and not (-0.5 <= mr < height - 0.5 and -0.5 <= mc < width - 0.5):
+        return False, pr, pc, vr, vc
+    br, bc = _direction(d_row, d_col, mr, mc, ar, ac, wrap)
+    nr, nc = pr + STEP * br, pc + STEP * bc
+    if wrap:
+        nr, nc = _wrap_float(nr, height), _wrap_float(nc, width)
+    elif not (-0.5 <= nr < height - 0.5 and -0.5 <= nc < width - 0.5):
+        return False, pr, pc, vr, vc
+    return True, nr, nc, br, bc
+
+
+@njit(cache=True)
+def _direction(d_row, d_col, pr, pc, vr, vc, wrap):
+    """The field's direction at the nearest point, turned to agree with the heading (vr, vc)."""
+    height, width = d_row.shape
+    i, j = int(pr + 1.5) - 1, int(pc + 1.5) - 1      # rounding, for pr, pc > -1.5
+    if wrap:
+        i, j = _wrap_index(i, height), _wrap_index(j, width)
+    else:
+        i, j = min(max(i, 0), height - 1), min(max(j, 0), width - 1)
+    ur, uc = d_row[i, j], d_col[i, j]
+    if ur * vr + uc * vc < 0:
+        return -ur, -uc
+    return ur, uc
+
+
+@njit(cache=True)
+def _sample(noise, pr, pc, wrap):
+    """The noise at (pr, pc), bilinear (on the torus, or with the border repeated)."""
+    height, width = noise.shape
+    r0, c0 = int(pr + 1.0) - 1, int(pc + 1.0) - 1       # floor, for pr, pc > -1
+    fr, fc = pr - r0, pc - c0
+    if wrap:
+        ra, rb = _wrap_index(r0, height), _wrap_index(r0 + 1, height)
+        ca, cb = _wrap_index(c0, width), _wrap_index(c0 + 1, width)
+    else:
+        ra, rb = min(max(r0, 0), height - 1), min(max(r0 + 1, 0), height - 1)
+        ca, cb = min(max(c0, 0), width - 1), min(max(c0 + 1, 0), width - 1)
+    top = noise[ra, ca] * (1 - fc) + noise[ra, cb] * fc
+    low = noise[rb, ca] * (1 - fc) + noise[rb, cb] * fc
+    return top * (1 - fr) + low * fr
+
+
+@njit(cache=True)
+def _wrap_index(i, n):
+    """i on the torus of n, for i within one turn of it (what a half-point step reaches)."""
+    if i < 0:
+        return i + n
+    if i >= n:
+        return i - n
+    return i
+
+
+@njit(cache=True)
+def _wrap_float(x, n):
+    if x < 0:
+        x += n
+    elif x >= n:
+        x -= n
+    return x if x < n else 0.0      # -1e-17 + n rounds to n
