@@ -59,6 +59,8 @@ def strokes_field(strokes, shape, *, wrap: bool = False):
     """
     height, width = _check_shape(shape)
     segments = _segments(strokes)
+    if wrap:
+        segments = _split(segments, min(height, width) / 4)
     step = max(1.0, max(height, width) / FIELD_GRID)
     grid = (max(1, round(height / step)), max(1, round(width / step)))
     c2, s2, total = _segment_vectors(segments, grid, height, width, step ** 2, wrap)
@@ -108,6 +110,19 @@ def _segments(strokes) -> np.ndarray:
     return np.ascontiguousarray(segments[keep])
 
 
+def _split(segments: np.ndarray, longest: float) -> np.ndarray:
+    """Each segment cut into equal pieces at most ``longest`` long: on the torus a short
+    segment's nearest image is one of the nine around the canvas."""
+    lengths = np.hypot(segments[:, 2] - segments[:, 0], segments[:, 3] - segments[:, 1])
+    pieces = np.maximum(np.ceil(lengths / longest), 1).astype(np.int64)
+    index = np.repeat(np.arange(len(segments)), pieces)
+    k = np.arange(len(index)) - np.repeat(np.cumsum(pieces) - pieces, pieces)
+    start, end = segments[index, :2], segments[index, 2:]
+    f0, f1 = (k / pieces[index])[:, None], ((k + 1) / pieces[index])[:, None]
+    return np.ascontiguousarray(np.concatenate([start + f0 * (end - start),
+                                                start + f1 * (end - start)], axis=1))
+
+
 @njit(cache=True)
 def _segment_vectors(segments, grid, height, width, soft, wrap):
     """Σ w·(cos 2φ, sin 2φ) and Σ w over the segments at each grid node's output position,
@@ -125,6 +140,9 @@ def _segment_vectors(segments, grid, height, width, soft, wrap):
             for k in range(n):
                 r0, c0, r1, c1 = segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
                 dr, dc = r1 - r0, c1 - c0
+                if wrap:      # its middle on the canvas: the images one turn away suffice
+                    r0 -= np.floor((r0 + 0.5 * dr) / height) * height
+                    c0 -= np.floor((c0 + 0.5 * dc) / width) * width
                 length2 = dr * dr + dc * dc
                 best = np.inf
                 for a in range(-shifts, shifts + 1):

@@ -30,8 +30,20 @@ def line_integral_convolution(theta: np.ndarray, length: float, *, seed: int, wr
     when the field does; otherwise a streamline stops at the border. Its values are means of
     noise, so their spread shrinks as L grows: normalise before use (`contrast`)."""
     theta = _check_theta(theta)
-    length = check_length(length)
     noise = np.random.default_rng(seed).random(theta.shape)
+    return smooth_along(noise, theta, length, wrap=wrap, progress=progress, cancel=cancel)
+
+
+def smooth_along(picture: np.ndarray, theta: np.ndarray, length: float, *, wrap: bool = False,
+                 progress: Callable[[float], None] | None = None,
+                 cancel: Callable[[], bool] | None = None) -> np.ndarray:
+    """Any picture (H, W) smoothed along the field θ of its shape: the convolution of
+    :func:`line_integral_convolution`, whose picture is white noise."""
+    theta = _check_theta(theta)
+    noise = np.asarray(picture, dtype=np.float64)
+    if noise.shape != theta.shape or not np.isfinite(noise).all():
+        raise InputError("the picture smoothed must be finite and of the field's shape")
+    length = check_length(length)
     d_row, d_col = np.sin(theta), np.cos(theta)
     out = np.empty(theta.shape)
     height, width = theta.shape
@@ -49,12 +61,14 @@ def line_integral_convolution(theta: np.ndarray, length: float, *, seed: int, wr
 
 def contrast(picture: np.ndarray, reference=None) -> np.ndarray:
     """A LIC picture with a usable spread of greys, float64 in [0, 1]: the reference photo's
-    grey histogram (φ = c_f⁻¹ ∘ c_g, scikit-image's ``match_histograms``) when one is given,
-    else standardised to mean 1/2 and standard deviation 1/6, clipped."""
+    grey histogram when one is given (φ = c_f⁻¹ ∘ c_g: the value of rank i becomes the
+    photo's quantile at rank i, `pyramid.match_quantiles`), else standardised to mean 1/2 and
+    standard deviation 1/6, clipped."""
     if reference is not None:
-        from skimage.exposure import match_histograms
         from ..markov.levels import to_grey
-        return match_histograms(picture, to_grey(reference))
+        from ..pyramid.synthesis import match_quantiles, quantiles
+        target = quantiles(np.sort(to_grey(reference), axis=None), picture.size)
+        return match_quantiles(picture, target)
     spread = picture.std()
     centred = picture - picture.mean()
     scaled = centred / (6 * spread) if spread > 0 else centred
