@@ -83,12 +83,13 @@ def _angles(c2, s2, total):
 
 
 def _resample(vectors: np.ndarray, shape, wrap: bool) -> np.ndarray:
-    """Each plane resized to ``shape`` (bilinear, pixel centres aligned as skimage's resize)."""
+    """Each plane resized to ``shape`` (bilinear, pixel centres aligned as skimage's resize;
+    smoothed first when it shrinks, which averages the vectors, so directions are too)."""
     if vectors.shape[1:] == tuple(shape):
         return vectors
     from skimage.transform import resize
-    return np.stack([resize(v, shape, order=1, mode="wrap" if wrap else "edge",
-                            anti_aliasing=False) for v in vectors])
+    return np.stack([resize(v, shape, order=1, mode="wrap" if wrap else "edge")
+                     for v in vectors])
 
 
 def _segments(strokes) -> np.ndarray:
