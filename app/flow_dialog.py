@@ -15,6 +15,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 from texeditor.errors import InputError, TexeditorError
 from texeditor.flow import orientation_field, strokes_field
 from texeditor.flow.actions import MAX_SEGMENTS, MAX_SIGMA, FlowTexture, strokes_param
+from texeditor.flow.field import FIELD_GRID
 from texeditor.flow.lic import MAX_LENGTH
 from texeditor.flow.texture import LENGTH, SIGMA
 from texeditor.markov.levels import load_image
@@ -283,14 +284,20 @@ class FlowDialog(QtWidgets.QDialog):
         self.previews.request(lambda progress, cancel: _run(action, scratch, progress, cancel))
 
     def _glyphs(self, action: FlowTexture):
-        """Short lines along the step's field on a coarse grid, in pad coordinates: the
-        field of a grid of GLYPHS nodes, the strokes scaled to it."""
+        """Short lines along the step's field on a coarse grid of GLYPHS nodes, in pad
+        coordinates (a drawn field computed as the step's, at FIELD_GRID points at most)."""
         h, w = action.height, action.width
         scale = GLYPHS / max(h, w)
         grid = (max(1, round(h * scale)), max(1, round(w * scale)))
         if action.source == "strokes":
-            theta, _ = strokes_field([[(r * scale, c * scale) for r, c in seg]
-                                      for seg in action.segments()], grid, wrap=action.tileable)
+            fine = min(1.0, FIELD_GRID / max(h, w))
+            theta, _ = strokes_field([[(r * fine, c * fine) for r, c in seg]
+                                      for seg in action.segments()],
+                                     (max(1, round(h * fine)), max(1, round(w * fine))),
+                                     wrap=action.tileable)
+            rows = ((np.arange(grid[0]) + 0.5) * theta.shape[0] / grid[0]).astype(int)
+            cols = ((np.arange(grid[1]) + 0.5) * theta.shape[1] / grid[1]).astype(int)
+            theta = theta[np.ix_(rows, cols)]
         else:
             theta, _ = orientation_field(self.exemplar, grid, sigma=action.sigma,
                                          wrap=action.tileable)

@@ -48,9 +48,10 @@ def strokes_field(strokes, shape, *, wrap: bool = False):
     """The field of polylines drawn by a user: ``strokes`` a list of point lists (row, col) in
     the output's coordinates, ``shape`` (H, W) the output's size.
 
-    Each segment lends its direction to every point, weighted by its length over the squared
-    distance to it (plus a grid step², so the weight stays finite on the stroke): near a stroke
-    the field follows it, between strokes it turns smoothly from one to the other. A single
+    Each segment lends its direction to every point, weighted by its length over the cubed
+    distance to it, (d² + step²)^{3/2} with a grid step so the weight stays finite on the
+    stroke: near a stroke the field follows it, between strokes it turns smoothly from one to
+    the other (with 1/d², the far strokes together would outweigh the near one). A single
     straight stroke gives a constant field. ``wrap`` measures distances on the torus (the
     field tiles). Computed on a grid of at most FIELD_GRID nodes a side, then resampled.
 
@@ -127,7 +128,7 @@ def _split(segments: np.ndarray, longest: float) -> np.ndarray:
 @njit(cache=True)
 def _segment_vectors(segments, grid, height, width, soft, wrap):
     """Σ w·(cos 2φ, sin 2φ) and Σ w over the segments at each grid node's output position,
-    w = length / (d² + soft), d the (torus) distance from the node to the segment."""
+    w = length / (d² + soft)^{3/2}, d the (torus) distance from the node to the segment."""
     gh, gw = grid
     c2 = np.zeros((gh, gw))
     s2 = np.zeros((gh, gw))
@@ -152,7 +153,7 @@ def _segment_vectors(segments, grid, height, width, soft, wrap):
                         t = min(max((pr * dr + pc * dc) / length2, 0.0), 1.0)
                         er, ec = pr - t * dr, pc - t * dc
                         best = min(best, er * er + ec * ec)
-                w = np.sqrt(length2) / (best + soft)
+                w = np.sqrt(length2) / (best + soft) ** 1.5
                 # doubled angle of (dr, dc) = (sin φ, cos φ)·len: cos 2φ, sin 2φ
                 c2[i, j] += w * (dc * dc - dr * dr) / length2
                 s2[i, j] += w * 2 * dr * dc / length2
