@@ -26,7 +26,7 @@ from . import resources
 from .acquire_dialog import IMAGE_FILTER
 from .dpj_editor.preview import LatestWins
 from .images import photo_rgb, pixmap, qimage_from_rgb
-from .models_dialog import PREVIEW, _run, exemplar_from
+from .models_dialog import PREVIEW, exemplar_from
 from .params_form import SeedEdit
 from .widgets import row, select_path, spin_box
 
@@ -347,6 +347,15 @@ class FlowDialog(QtWidgets.QDialog):
             self.main_window.history.add_exemplar(self.exemplar)
         if self.main_window.submit(action, prepared=prepared):
             self.accept()
+
+
+def _run(action, scratch, progress, cancel):
+    """The worker's part (as `models_dialog`'s): the step's preparation, then the step on the
+    scratch document nothing else holds, so the GUI thread only shows it."""
+    prepared = action.prepare(scratch, progress, cancel)
+    with scratch.step():
+        action.apply(scratch, prepared)
+    return action, prepared, scratch
 
 
 def open_flow(window) -> FlowDialog:
