@@ -91,58 +91,54 @@ def _check_theta(theta) -> np.ndarray:
 
 @njit(cache=True)
 def _lic_rows(noise, d_row, d_col, weights, top, bottom, wrap, out):
+    """Rows top..bottom-1 of the LIC, written in one loop nest (helpers cost a third more).
+
+    From each point, both ways: a midpoint step of STEP along the field (nearest point's
+    direction, turned to agree with the heading of the step before: the field has no sign),
+    then the noise there (bilinear), weighted. A planar streamline stops at the border."""
     height, width = noise.shape
     for r in range(top, bottom):
         for c in range(width):
-            acc = weights[0] * _sample(noise, float(r), float(c), wrap)
+            acc = weights[0] * noise[r, c]
             total = weights[0]
-            for sign in (1.0, -1.0):
+            for way in range(2):
                 pr, pc = float(r), float(c)
-                vr, vc = sign * d_row[r, c], sign * d_col[r, c]
+                vr, vc = d_row[r, c], d_col[r, c]
+                if way:
+                    vr, vc = -vr, -vc
                 for k in range(1, weights.shape[0]):
-                    ok, pr, pc, vr, vc = _advance(d_row, d_col, pr, pc, vr, vc, wrap)
-                    if not ok:
+                    i, j = _nearest(pr, pc, height, width, wrap)
+                    ar, ac = d_row[i, j], d_col[i, j]
+                    if ar * vr + ac * vc < 0:
+                        ar, ac = -ar, -ac
+                    mr, mc = pr + 0.5 * STEP * ar, pc + 0.5 * STEP * ac
+                    if not wrap and not (-0.5 <= mr < height - 0.5 and -0.5 <= mc < width - 0.5):
                         break
+                    i, j = _nearest(mr, mc, height, width, wrap)
+                    br, bc = d_row[i, j], d_col[i, j]
+                    if br * ar + bc * ac < 0:
+                        br, bc = -br, -bc
+                    nr, nc = pr + STEP * br, pc + STEP * bc
+                    if wrap:
+                        nr, nc = _wrap_float(nr, height), _wrap_float(nc, width)
+                    elif not (-0.5 <= nr < height - 0.5 and -0.5 <= nc < width - 0.5):
+                        break
+                    pr, pc, vr, vc = nr, nc, br, bc
                     acc += weights[k] * _sample(noise, pr, pc, wrap)
                     total += weights[k]
             out[r, c] = acc / total
 
 
-@njit(cache=True)
-def _advance(d_row, d_col, pr, pc, vr, vc, wrap):
-    """One midpoint step of STEP along the field, keeping the heading (vr, vc) of the step
-    before (the field is a direction: its vector or its opposite). False when it leaves a
-    planar picture."""
-    height, width = d_row.shape
-    ar, ac = _direction(d_row, d_col, pr, pc, vr, vc, wrap)
-    mr, mc = pr + 0.5 * STEP * ar, pc + 0.5 * STEP * ac
-    if not wrap and not (-0.5 <= mr < height - 0.5 and -0.5 <= mc < width - 0.5):
-        return False, pr, pc, vr, vc
-    br, bc = _direction(d_row, d_col, mr, mc, ar, ac, wrap)
-    nr, nc = pr + STEP * br, pc + STEP * bc
-    if wrap:
-        nr, nc = _wrap_float(nr, height), _wrap_float(nc, width)
-    elif not (-0.5 <= nr < height - 0.5 and -0.5 <= nc < width - 0.5):
-        return False, pr, pc, vr, vc
-    return True, nr, nc, br, bc
-
-
-@njit(cache=True)
-def _direction(d_row, d_col, pr, pc, vr, vc, wrap):
-    """The field's direction at the nearest point, turned to agree with the heading (vr, vc)."""
-    height, width = d_row.shape
+@njit(cache=True, inline="always")
+def _nearest(pr, pc, height, width, wrap):
+    """The point nearest (pr, pc): on the torus, or the border's for a midpoint just off it."""
     i, j = int(pr + 1.5) - 1, int(pc + 1.5) - 1      # rounding, for pr, pc > -1.5
     if wrap:
-        i, j = _wrap_index(i, height), _wrap_index(j, width)
-    else:
-        i, j = min(max(i, 0), height - 1), min(max(j, 0), width - 1)
-    ur, uc = d_row[i, j], d_col[i, j]
-    if ur * vr + uc * vc < 0:
-        return -ur, -uc
-    return ur, uc
+        return _wrap_index(i, height), _wrap_index(j, width)
+    return min(max(i, 0), height - 1), min(max(j, 0), width - 1)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sample(noise, pr, pc, wrap):
     """The noise at (pr, pc), bilinear (on the torus, or with the border repeated)."""
     height, width = noise.shape
@@ -159,9 +155,9 @@ def _sample(noise, pr, pc, wrap):
     return top * (1 - fr) + low * fr
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _wrap_index(i, n):
-    """i on the torus of n, for i within one turn of it (what a half-point step reaches)."""
+    """i on the torus of n, for i within one turn of it (what a step of a point reaches)."""
     if i < 0:
         return i + n
     if i >= n:
@@ -169,7 +165,7 @@ def _wrap_index(i, n):
     return i
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _wrap_float(x, n):
     if x < 0:
         x += n
