@@ -247,11 +247,14 @@ def _run(action, scratch, progress, cancel):
     return action, prepared, scratch
 
 
-def open_model(window, model: str) -> ModelDialog | None:
+def open_model(window, model: str):
     """The dialog of one model (histogram matching needs a texture to recolour)."""
     if model in ("fractal_relief", "ifs_motif"):            # no photo: their own dialog
         from .fractal_dialog import open_fractal
         return open_fractal(window, model)
+    if model == "flow_texture":
+        from .flow_dialog import open_flow
+        return open_flow(window)
     if model == "match_histogram" and not window.document.levels.size:
         window.statusBar().showMessage("Match histogram: make or open a texture first.", 5000)
         return None

@@ -19,6 +19,8 @@ def add_model_entries(window) -> None:
            "New colours giving the texture a photo's grey or colour distribution")
     _entry(window, menu, "&Heeger–Bergen texture from a photo…", "heeger_bergen",
            "A new texture: noise given a photo's pyramid sub-band histograms (stone, bark)")
+    _entry(window, menu, "&Flow texture…", "flow_texture",
+           "A new texture: noise smoothed along a photo's grain or strokes you draw (wood, hair)")
     _entry(window, menu, "&Fractal relief…", "fractal_relief",
            "A new texture: midpoint-displacement heights in G levels, for the relief preview")
     _entry(window, menu, "&IFS motif…", "ifs_motif",

@@ -103,7 +103,7 @@ def test_the_engine_never_imports_the_gui():
 def test_each_idea_is_one_package_one_level_deep():
     packages = {p.parent.name for p in ENGINE.glob("*/__init__.py")}
     assert packages == {"markov", "regions", "paint", "spots", "texture", "photo", "relief",
-                        "recipe", "bank", "spectral", "pyramid", "fractal"}
+                        "recipe", "bank", "spectral", "pyramid", "fractal", "flow"}
     assert not list(ENGINE.glob("*/*/__init__.py"))
 
 

@@ -38,7 +38,7 @@ def test_models_session(window, qtbot, photo_path):
     names = [a.text() for a in window.menu("ModelsMenu").actions()]
     assert names == ["Random-phase &noise from a photo…", "&Texton of a photo…",
                      "&Match histogram to a photo…", "&Heeger–Bergen texture from a photo…",
-                     "&Fractal relief…", "&IFS motif…"]
+                     "&Flow texture…", "&Fractal relief…", "&IFS motif…"]
 
     dialog = open_dialog(window, qtbot, "random_phase_noise")
     dialog.width_box.setValue(40)

@@ -24,7 +24,7 @@ ADDED_SINCE_0_1 = frozenset({"synthesize_scales",                      # issue 1
                              "add_plates", "plates_from_photo", "remove_plates",  # issue 20
                              "on_plates",
                              "random_phase_noise", "texton", "match_histogram",
-                             "heeger_bergen",  # issue 22
+                             "heeger_bergen", "flow_texture",  # issue 22
                              "fractal_relief", "ifs_motif"})  # issue 22 item 5
 
 

@@ -34,6 +34,7 @@ def one_of_each() -> list:
     type applied to the document its own tests use (their EXAMPLES)."""
     from texeditor.spots.actions import PlaceSpot, ScatterSpots
     from texeditor.markov.multiscale import estimate_scales
+    from texeditor.photo import PhotoModel, photo_tone
     from texeditor.recipe.actions import SynthesizeScales
     from texeditor.texture.actions import DoubleLevels
 
@@ -65,9 +66,12 @@ def one_of_each() -> list:
     h.apply(DoubleLevels(table, 5))             # a doubling table: a stored DPJ
     histories.append(("double_levels", h))
     h = History()
-    model, _ = estimate_scales(photo, scales=2)
+    model, levels = estimate_scales(photo, scales=2)
     refs = tuple(h.add_dpj(dpj) for dpj in model.dpjs)
-    h.apply(SynthesizeScales(refs, 30, 20, seed=4))    # a multi-scale synthesis
+    tone = PhotoModel(model, photo_tone(photo, levels[-1])).tone_pictures()
+    photo_ref, levels_ref = (h.add_exemplar(p) for p in tone)
+    h.apply(SynthesizeScales(refs, 30, 20, seed=4,     # a multi-scale synthesis, with its tone
+                             tone_photo=photo_ref, tone_levels=levels_ref))
     h.apply(SetPalette([(0, 0, 0), (90, 90, 90), (170, 170, 170), (255, 255, 255)]))
     histories.append(("synthesize_scales", h))
     h = spot.canvas(base=1)

@@ -6,6 +6,7 @@ import numpy as np
 from texeditor.recipe.actions import NewCanvas, SetLevels
 from texeditor.recipe.exemplars import exemplar_ref
 from texeditor.recipe.history import History
+from texeditor.flow.actions import FlowTexture
 from texeditor.pyramid.actions import HeegerBergen
 from texeditor.spectral.actions import MatchHistogram, RandomPhaseNoise, Texton
 
@@ -45,4 +46,7 @@ EXAMPLES = [
     MatchHistogram(GREY),
     HeegerBergen(COLOUR, 20, 16, seed=3, iterations=2, levels=4),
     HeegerBergen(GREY, 16, 16, seed=5, iterations=1, levels=3),
+    FlowTexture("photo", COLOUR, width=24, height=20, seed=2, length=8, levels=4),
+    FlowTexture("strokes", None, ((2, 2), (18, 30), (18, 30), (4, 40)), width=44, height=20,
+                seed=3, length=6, tileable=True, levels=3),
 ]
