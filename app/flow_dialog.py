@@ -22,13 +22,11 @@ from texeditor.markov.levels import load_image
 from texeditor.recipe.document import Document
 from texeditor.spectral.actions import MAX_MODEL_SIDE
 
-from . import resources
-from .acquire_dialog import IMAGE_FILTER
-from .dpj_editor.preview import LatestWins
 from .images import photo_rgb, pixmap, qimage_from_rgb
-from .models_dialog import PREVIEW, exemplar_from
+from .models_dialog import exemplar_from
 from .params_form import SeedEdit
-from .widgets import row, select_path, spin_box
+from .step_dialog import PREVIEW, StepDialog, photo_box
+from .widgets import row, spin_box
 
 GLYPHS = 14             # field lines drawn on the pad, across its longer side
 MIN_GAP = 4             # pad pixels between the recorded points of a stroke
@@ -113,19 +111,13 @@ class StrokePad(QtWidgets.QWidget):
         painter.end()
 
 
-class FlowDialog(QtWidgets.QDialog):
+class FlowDialog(StepDialog):
     """The flow texture's settings, the drawing pad, a live preview and OK."""
 
     def __init__(self, window):
-        super().__init__(window)
-        self.main_window = window
-        self.setWindowTitle("Flow texture")
+        super().__init__(window, "Flow texture")
         self.exemplar: np.ndarray | None = None
-        self.preview_step = None
-        self.photo = QtWidgets.QComboBox()
-        for path in resources.sample_images():
-            self.photo.addItem(path.stem, str(path))
-        self.browse = QtWidgets.QPushButton("Browse…")
+        self.photo, self.browse = photo_box()
         self.source = QtWidgets.QComboBox()
         self.source.addItem("The photo's grain", "photo")
         self.source.addItem("Strokes drawn on the pad", "strokes")
@@ -150,30 +142,7 @@ class FlowDialog(QtWidgets.QDialog):
                                tip="Number of levels G the texture is cut into")
         self.pad = StrokePad()
         self.clear = QtWidgets.QPushButton("Clear strokes")
-        self.result_view = QtWidgets.QLabel()
-        self.result_view.setFixedSize(PREVIEW, PREVIEW)
-        self.result_view.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
-        self.result_view.setFrameShape(QtWidgets.QFrame.Shape.StyledPanel)
-        self.busy = QtWidgets.QProgressBar()
-        self.busy.setRange(0, 100)
-        self.busy.setTextVisible(False)
-        self.busy.setMaximumHeight(8)
-        self.busy.hide()
-        self.info = QtWidgets.QLabel()
-        self.info.setWordWrap(True)
-        self.info.setMinimumHeight(3 * self.info.fontMetrics().lineSpacing())
-        buttons = QtWidgets.QDialogButtonBox(QtWidgets.QDialogButtonBox.StandardButton.Ok
-                                             | QtWidgets.QDialogButtonBox.StandardButton.Cancel)
-        self.ok = buttons.button(QtWidgets.QDialogButtonBox.StandardButton.Ok)
-        buttons.accepted.connect(self.apply)
-        buttons.rejected.connect(self.reject)
-        self._layout(buttons)
-        self.previews = LatestWins(self, delay_ms=120)
-        self.previews.done.connect(self._shown)
-        self.previews.failed.connect(self._failed)
-        self.previews.progress.connect(lambda f: self.busy.setValue(round(100 * f)))
-        self.finished.connect(lambda _result: self.previews.stop())
-        self.setMinimumHeight(self.sizeHint().height())
+        self._layout()
         self._connect()
         self.load_photo()
 
@@ -189,7 +158,7 @@ class FlowDialog(QtWidgets.QDialog):
         self.pad.drawn.connect(self._drawn)
         self.clear.clicked.connect(self.pad.clear)
 
-    def _layout(self, buttons) -> None:
+    def _layout(self) -> None:
         layout = QtWidgets.QVBoxLayout(self)
         about = QtWidgets.QLabel(ABOUT)
         about.setWordWrap(True)
@@ -209,18 +178,7 @@ class FlowDialog(QtWidgets.QDialog):
         views.addWidget(QtWidgets.QLabel("Result"), 0, 1)
         views.addWidget(self.result_view, 1, 1)
         layout.addLayout(views)
-        layout.addWidget(self.busy)
-        layout.addWidget(self.info)
-        layout.addWidget(buttons)
-
-    def choose_file(self) -> None:
-        path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Choose a photo", "", IMAGE_FILTER)
-        if path:
-            self.set_photo(path)
-
-    def set_photo(self, path) -> None:
-        select_path(self.photo, path)
-        self.load_photo()
+        self.finish(layout)
 
     def load_photo(self) -> None:
         self.exemplar, self.note = None, ""
@@ -279,9 +237,7 @@ class FlowDialog(QtWidgets.QDialog):
             self.pad.set_glyphs(())
             self._failed(exc)
             return
-        self.busy.setValue(0)
-        self.busy.show()
-        self.previews.request(lambda progress, cancel: _run(action, scratch, progress, cancel))
+        self.request(action, scratch)
 
     def _glyphs(self, action: FlowTexture):
         """Short lines along the step's field on a coarse grid of GLYPHS nodes, in pad
@@ -312,50 +268,16 @@ class FlowDialog(QtWidgets.QDialog):
                 glyphs.append((u - du, v - dv, u + du, v + dv))
         return glyphs
 
-    def _waiting(self) -> None:
-        self.previews.drop()
-        self.preview_step = None
-        self.ok.setEnabled(False)
-
-    def _shown(self, outcome) -> None:
-        action, prepared, scratch = outcome
-        self.busy.hide()
+    def show_result(self, action, scratch) -> None:
         self.result_view.setPixmap(pixmap(np.asarray(scratch.palette)[scratch.levels], PREVIEW))
         field = "the drawn strokes" if action.source == "strokes" else "the photo's grain"
         self.info.setText(f"Field of {field}{self.note}. Result {scratch.shape[1]}×"
                           f"{scratch.shape[0]}, G = {scratch.num_levels}. OK adds one step "
                           "(undo takes it back).")
-        self.preview_step = (action, prepared)
-        self.ok.setEnabled(True)
 
-    def _failed(self, exc) -> None:
-        self.busy.hide()
-        self.result_view.clear()
-        self.info.setText(f"<span style='color:#b00020'>{exc}</span>")
-
-    def wait(self, timeout_ms: int = 60_000) -> bool:
-        """Until the preview of the latest settings is shown (tests and scripts only)."""
-        if self.previews.job is None and self.previews.pending is None:
-            return True
-        return self.previews.wait(timeout_ms)
-
-    def apply(self) -> None:
-        if self.preview_step is None:
-            return
-        action, prepared = self.preview_step
+    def before_apply(self, action) -> None:
         if action.exemplar is not None:
             self.main_window.history.add_exemplar(self.exemplar)
-        if self.main_window.submit(action, prepared=prepared):
-            self.accept()
-
-
-def _run(action, scratch, progress, cancel):
-    """The worker's part (as `models_dialog`'s): the step's preparation, then the step on the
-    scratch document nothing else holds, so the GUI thread only shows it."""
-    prepared = action.prepare(scratch, progress, cancel)
-    with scratch.step():
-        action.apply(scratch, prepared)
-    return action, prepared, scratch
 
 
 def open_flow(window) -> FlowDialog:

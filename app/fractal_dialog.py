@@ -19,12 +19,10 @@ from texeditor.recipe.document import Document
 from texeditor.relief.previews import plane_preview
 from texeditor.spectral.actions import MAX_MODEL_SIDE
 
-from .dpj_editor.preview import LatestWins
 from .images import pixmap
 from .params_form import SeedEdit
+from .step_dialog import PREVIEW, StepDialog, preview_view
 from .widgets import row, spin_box
-
-PREVIEW = 240
 TITLES = {"fractal_relief": "Fractal relief", "ifs_motif": "IFS motif"}
 ABOUT = {
     "fractal_relief": "Heights by 2-D midpoint displacement (companion 003): each point of a "
@@ -39,14 +37,12 @@ MOTIF_NAMES = {"tree": "Tree (the digest's IFS)", "fern": "Barnsley fern",
                "sierpinski": "Sierpinski triangle"}
 
 
-class FractalDialog(QtWidgets.QDialog):
+class FractalDialog(StepDialog):
     """One fractal model's settings, a live preview and OK, which applies the step."""
 
     def __init__(self, window, model: str):
-        super().__init__(window)
-        self.main_window, self.model = window, model
-        self.setWindowTitle(TITLES[model])
-        self.preview_step = None
+        super().__init__(window, TITLES[model])
+        self.model = model
         doc = window.document
         h, w = doc.shape
         self.width_box = spin_box(1, MAX_MODEL_SIDE, w or 256, tip="Points across")
@@ -70,20 +66,8 @@ class FractalDialog(QtWidgets.QDialog):
         self.density = spin_box(1, 1000, 1, tip="Hits a point needs to be painted")
         self.level = spin_box(0, max(doc.num_levels - 1, 0), max(doc.num_levels - 1, 0),
                               tip="The level the motif is painted in")
-        self.result_view, self.shaded_view = self._view(), self._view()
-        self.info = QtWidgets.QLabel()
-        self.info.setWordWrap(True)
-        self.info.setMinimumHeight(3 * self.info.fontMetrics().lineSpacing())
-        buttons = QtWidgets.QDialogButtonBox(QtWidgets.QDialogButtonBox.StandardButton.Ok
-                                             | QtWidgets.QDialogButtonBox.StandardButton.Cancel)
-        self.ok = buttons.button(QtWidgets.QDialogButtonBox.StandardButton.Ok)
-        buttons.accepted.connect(self.apply)
-        buttons.rejected.connect(self.reject)
-        self._layout(buttons)
-        self.previews = LatestWins(self, delay_ms=120)
-        self.previews.done.connect(self._shown)
-        self.previews.failed.connect(self._failed)
-        self.finished.connect(lambda _result: self.previews.stop())
+        self.shaded_view = preview_view()
+        self._layout()
         for box in (self.width_box, self.height_box, self.levels, self.size_box, self.row_box,
                     self.col_box, self.points, self.density, self.level):
             box.valueChanged.connect(self.recompute)
@@ -92,15 +76,7 @@ class FractalDialog(QtWidgets.QDialog):
         self.seed.changed.connect(self.recompute)
         self.recompute()
 
-    @staticmethod
-    def _view() -> QtWidgets.QLabel:
-        label = QtWidgets.QLabel()
-        label.setFixedSize(PREVIEW, PREVIEW)
-        label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
-        label.setFrameShape(QtWidgets.QFrame.Shape.StyledPanel)
-        return label
-
-    def _layout(self, buttons) -> None:
+    def _layout(self) -> None:
         layout = QtWidgets.QVBoxLayout(self)
         about = QtWidgets.QLabel(ABOUT[self.model])
         about.setWordWrap(True)
@@ -125,8 +101,7 @@ class FractalDialog(QtWidgets.QDialog):
             views.addWidget(QtWidgets.QLabel(text), 0, k)
             views.addWidget(view, 1, k)
         layout.addLayout(views)
-        layout.addWidget(self.info)
-        layout.addWidget(buttons)
+        self.finish(layout)
 
     def action(self):
         if self.model == "fractal_relief":
@@ -140,9 +115,7 @@ class FractalDialog(QtWidgets.QDialog):
     def recompute(self) -> None:
         """Run the step on a scratch document in the background: the preview is OK's step."""
         self.roughness_label.setText(f"{self.roughness.value() / 100:.2f}")
-        self.previews.drop()
-        self.preview_step = None
-        self.ok.setEnabled(False)
+        self._waiting()
         scratch = Document() if self.model == "fractal_relief" \
             else self.main_window.document.copy()
         try:
@@ -150,10 +123,9 @@ class FractalDialog(QtWidgets.QDialog):
         except TexeditorError as exc:
             self._failed(exc)
             return
-        self.previews.request(lambda progress, cancel: _run(action, scratch, progress, cancel))
+        self.request(action, scratch)
 
-    def _shown(self, outcome) -> None:
-        action, prepared, scratch = outcome
+    def show_result(self, action, scratch) -> None:
         picture = np.asarray(scratch.palette)[scratch.levels]
         self.result_view.setPixmap(pixmap(picture, PREVIEW))
         if self.model == "fractal_relief":
@@ -161,32 +133,6 @@ class FractalDialog(QtWidgets.QDialog):
                                                             size=PREVIEW), PREVIEW))
         self.info.setText(f"Result {scratch.shape[1]}×{scratch.shape[0]}, G = "
                           f"{scratch.num_levels}. OK adds one step (undo takes it back).")
-        self.preview_step = (action, prepared)
-        self.ok.setEnabled(True)
-
-    def _failed(self, exc) -> None:
-        self.result_view.clear()
-        self.info.setText(f"<span style='color:#b00020'>{exc}</span>")
-
-    def wait(self, timeout_ms: int = 60_000) -> bool:
-        """Until the preview of the latest settings is shown (tests and scripts only)."""
-        if self.previews.job is None and self.previews.pending is None:
-            return True
-        return self.previews.wait(timeout_ms)
-
-    def apply(self) -> None:
-        if self.preview_step is None:
-            return
-        action, prepared = self.preview_step
-        if self.main_window.submit(action, prepared=prepared):
-            self.accept()
-
-
-def _run(action, scratch, progress, cancel):
-    prepared = action.prepare(scratch, progress, cancel)
-    with scratch.step():
-        action.apply(scratch, prepared)
-    return action, prepared, scratch
 
 
 def open_fractal(window, model: str) -> FractalDialog | None:

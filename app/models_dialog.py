@@ -11,7 +11,7 @@ applies what the preview shows (undoable).
 from __future__ import annotations
 
 import numpy as np
-from PySide6 import QtCore, QtWidgets
+from PySide6 import QtWidgets
 
 from texeditor.errors import TexeditorError
 from texeditor.markov.levels import load_image, to_grey, to_rgb, has_colour
@@ -21,14 +21,10 @@ from texeditor.pyramid.actions import HeegerBergen
 from texeditor.pyramid.synthesis import ITERATIONS, MAX_ITERATIONS
 from texeditor.spectral.actions import MatchHistogram, RandomPhaseNoise, Texton, MAX_MODEL_SIDE
 
-from . import resources
-from .acquire_dialog import IMAGE_FILTER
-from .dpj_editor.preview import LatestWins
 from .images import photo_rgb, pixmap
 from .params_form import SeedEdit
-from .widgets import row, select_path, spin_box
-
-PREVIEW = 240
+from .step_dialog import PREVIEW, StepDialog, photo_box, preview_view
+from .widgets import row, spin_box
 TITLES = {"random_phase_noise": "Random-phase noise from a photo",
           "texton": "Texton of a photo", "match_histogram": "Match histogram to a photo",
           "heeger_bergen": "Heeger–Bergen texture from a photo"}
@@ -61,19 +57,14 @@ def exemplar_from(image: np.ndarray) -> tuple[np.ndarray, str]:
     return np.round(crop * 255).astype(np.uint8), note
 
 
-class ModelDialog(QtWidgets.QDialog):
+class ModelDialog(StepDialog):
     """One model's settings, a live preview and OK, which applies the step."""
 
     def __init__(self, window, model: str):
-        super().__init__(window)
-        self.main_window, self.model = window, model
-        self.setWindowTitle(TITLES[model])
+        super().__init__(window, TITLES[model])
+        self.model = model
         self.exemplar: np.ndarray | None = None
-        self.preview_step = None                     # (action, prepared) the preview shows
-        self.photo = QtWidgets.QComboBox()
-        for path in resources.sample_images():
-            self.photo.addItem(path.stem, str(path))
-        self.browse = QtWidgets.QPushButton("Browse…")
+        self.photo, self.browse = photo_box()
         h, w = window.document.shape
         self.width_box = spin_box(16, MAX_MODEL_SIDE, w or 256, tip="Points across")
         self.height_box = spin_box(16, MAX_MODEL_SIDE, h or 256, tip="Points down")
@@ -84,27 +75,8 @@ class ModelDialog(QtWidgets.QDialog):
                                if window.document.levels.size else 8,
                                tip="Number of levels G the model's output is cut into (Lloyd "
                                    "on greys, colour classes in CIELAB on colours)")
-        self.photo_view, self.result_view = self._view(), self._view()
-        self.busy = QtWidgets.QProgressBar()
-        self.busy.setRange(0, 100)
-        self.busy.setTextVisible(False)
-        self.busy.setMaximumHeight(8)
-        self.busy.hide()
-        self.info = QtWidgets.QLabel()
-        self.info.setWordWrap(True)
-        self.info.setMinimumHeight(3 * self.info.fontMetrics().lineSpacing())   # never over the views
-        buttons = QtWidgets.QDialogButtonBox(QtWidgets.QDialogButtonBox.StandardButton.Ok
-                                             | QtWidgets.QDialogButtonBox.StandardButton.Cancel)
-        self.ok = buttons.button(QtWidgets.QDialogButtonBox.StandardButton.Ok)
-        buttons.accepted.connect(self.apply)
-        buttons.rejected.connect(self.reject)
-        self._layout(buttons)
-        self.previews = LatestWins(self, delay_ms=120)
-        self.previews.done.connect(self._shown)
-        self.previews.failed.connect(self._failed)
-        self.previews.progress.connect(lambda f: self.busy.setValue(round(100 * f)))
-        self.finished.connect(lambda _result: self.previews.stop())     # closed either way
-        self.setMinimumHeight(self.sizeHint().height())     # wrapped labels never squeezed
+        self.photo_view = preview_view()
+        self._layout()
         self.photo.currentIndexChanged.connect(self.load_photo)
         self.browse.clicked.connect(self.choose_file)
         for box in (self.width_box, self.height_box, self.levels, self.iterations):
@@ -112,15 +84,7 @@ class ModelDialog(QtWidgets.QDialog):
         self.seed.changed.connect(self.recompute)
         self.load_photo()
 
-    @staticmethod
-    def _view() -> QtWidgets.QLabel:
-        label = QtWidgets.QLabel()
-        label.setFixedSize(PREVIEW, PREVIEW)
-        label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
-        label.setFrameShape(QtWidgets.QFrame.Shape.StyledPanel)
-        return label
-
-    def _layout(self, buttons) -> None:
+    def _layout(self) -> None:
         layout = QtWidgets.QVBoxLayout(self)
         about = QtWidgets.QLabel(ABOUT[self.model])
         about.setWordWrap(True)
@@ -143,18 +107,7 @@ class ModelDialog(QtWidgets.QDialog):
             views.addWidget(QtWidgets.QLabel(text), 0, k)
             views.addWidget(view, 1, k)
         layout.addLayout(views)
-        layout.addWidget(self.busy)
-        layout.addWidget(self.info)
-        layout.addWidget(buttons)
-
-    def choose_file(self) -> None:
-        path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Choose a photo", "", IMAGE_FILTER)
-        if path:
-            self.set_photo(path)
-
-    def set_photo(self, path) -> None:
-        select_path(self.photo, path)
-        self.load_photo()
+        self.finish(layout)
 
     def load_photo(self) -> None:
         self.exemplar, self.note = None, ""
@@ -195,56 +148,18 @@ class ModelDialog(QtWidgets.QDialog):
         except TexeditorError as exc:
             self._failed(exc)
             return
-        self.busy.setValue(0)
-        self.busy.show()
-        self.previews.request(lambda progress, cancel: _run(action, scratch, progress, cancel))
+        self.request(action, scratch)
 
-    def _waiting(self) -> None:
-        """The settings changed: the preview on show (or coming) is no longer OK's."""
-        self.previews.drop()
-        self.preview_step = None
-        self.ok.setEnabled(False)
-
-    def _shown(self, outcome) -> None:
-        action, prepared, scratch = outcome
-        self.busy.hide()
+    def show_result(self, action, scratch) -> None:
         self.result_view.setPixmap(pixmap(np.asarray(scratch.palette)[scratch.levels], PREVIEW))
         h, w = self.exemplar.shape[:2]
         kind = "colour" if self.exemplar.ndim == 3 else "grey"
         self.info.setText(f"Photo {w}×{h}, {kind}{self.note}. Result {scratch.shape[1]}×"
                           f"{scratch.shape[0]}, G = {scratch.num_levels}. OK adds one step "
                           "(undo takes it back).")
-        self.preview_step = (action, prepared)
-        self.ok.setEnabled(True)
 
-    def _failed(self, exc) -> None:
-        self.busy.hide()
-        self.result_view.clear()
-        self.info.setText(f"<span style='color:#b00020'>{exc}</span>")
-
-    def wait(self, timeout_ms: int = 60_000) -> bool:
-        """Until the preview of the latest settings is shown (tests and scripts only); at once
-        when none is asked for (no photo)."""
-        if self.previews.job is None and self.previews.pending is None:
-            return True
-        return self.previews.wait(timeout_ms)
-
-    def apply(self) -> None:
-        if self.preview_step is None:
-            return
-        action, prepared = self.preview_step
+    def before_apply(self, action) -> None:
         self.main_window.history.add_exemplar(self.exemplar)
-        if self.main_window.submit(action, prepared=prepared):
-            self.accept()
-
-
-def _run(action, scratch, progress, cancel):
-    """The worker's part: the step's slow preparation, then the step on the scratch document
-    (which nothing else holds), so the GUI thread only shows it."""
-    prepared = action.prepare(scratch, progress, cancel)
-    with scratch.step():
-        action.apply(scratch, prepared)
-    return action, prepared, scratch
 
 
 def open_model(window, model: str):

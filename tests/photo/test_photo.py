@@ -12,17 +12,7 @@ from texeditor import DPJ
 from texeditor.errors import FormatError, InputError
 from texeditor.photo import acquire_model, load_model, model_from_bytes, tone
 from texeditor.recipe.texturefile import render_texture, save_texture, synthesize_scales_texture
-
-
-def speckle(shape=(128, 128), seed=0, colour=False):
-    """A textured photo made here (no bundled picture): smoothed noise, grey or RGB."""
-    rng = np.random.default_rng(seed)
-    grey = ski.filters.gaussian(rng.random(shape), 2)
-    grey = (grey - grey.min()) / np.ptp(grey)
-    if not colour:
-        return np.round(grey * 255).astype(np.uint8)
-    rgb = np.stack([grey, grey ** 2, 1 - grey], axis=2)
-    return np.round(rgb * 255).astype(np.uint8)
+from tests.support.photo import speckle
 
 
 @pytest.fixture(scope="module")

@@ -17,7 +17,7 @@ from texeditor.errors import FormatError, InputError, TexeditorError
 from texeditor.photo import acquire_model, document_model, document_tone
 from texeditor.recipe.actions import SynthesizeScales
 from texeditor.recipe.texturefile import render_texture, save_texture, synthesize_scales_texture
-from tests.photo.test_photo import speckle
+from tests.support.photo import speckle
 
 
 @pytest.fixture(scope="module", params=["grey", "colour"])
