@@ -18,12 +18,10 @@ from texeditor.flow.actions import MAX_SEGMENTS, MAX_SIGMA, FlowTexture, strokes
 from texeditor.flow.field import FIELD_GRID
 from texeditor.flow.lic import MAX_LENGTH
 from texeditor.flow.texture import LENGTH, SIGMA
-from texeditor.markov.levels import load_image
 from texeditor.recipe.document import Document
 from texeditor.spectral.actions import MAX_MODEL_SIDE
 
 from .images import photo_rgb, pixmap, qimage_from_rgb
-from .models_dialog import exemplar_from
 from .params_form import SeedEdit
 from .step_dialog import PREVIEW, StepDialog, photo_box
 from .widgets import row, spin_box
@@ -159,11 +157,7 @@ class FlowDialog(StepDialog):
         self.clear.clicked.connect(self.pad.clear)
 
     def _layout(self) -> None:
-        layout = QtWidgets.QVBoxLayout(self)
-        about = QtWidgets.QLabel(ABOUT)
-        about.setWordWrap(True)
-        layout.addWidget(about)
-        form = QtWidgets.QFormLayout()
+        layout, form = self.start(ABOUT)
         form.addRow("Photo", row(self.photo, self.browse, stretch=False))
         form.addRow("Direction", row(self.source, self.greys))
         form.addRow("Size", row(self.width_box, "×", self.height_box, "points", self.tileable))
@@ -182,11 +176,8 @@ class FlowDialog(StepDialog):
 
     def load_photo(self) -> None:
         self.exemplar, self.note = None, ""
-        path = self.photo.currentData()
         try:
-            if path is None:
-                raise TexeditorError("choose a photo with Browse…")
-            self.exemplar, self.note = exemplar_from(load_image(path))
+            self.read_photo()
         except TexeditorError as exc:
             self.pad.set_background(None)
             self._waiting()

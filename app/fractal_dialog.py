@@ -77,11 +77,7 @@ class FractalDialog(StepDialog):
         self.recompute()
 
     def _layout(self) -> None:
-        layout = QtWidgets.QVBoxLayout(self)
-        about = QtWidgets.QLabel(ABOUT[self.model])
-        about.setWordWrap(True)
-        layout.addWidget(about)
-        form = QtWidgets.QFormLayout()
+        layout, form = self.start(ABOUT[self.model])
         if self.model == "fractal_relief":
             form.addRow("Size", row(self.width_box, "×", self.height_box, "points"))
             form.addRow("Roughness H", row(self.roughness, self.roughness_label, stretch=False))

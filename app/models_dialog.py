@@ -14,9 +14,7 @@ import numpy as np
 from PySide6 import QtWidgets
 
 from texeditor.errors import TexeditorError
-from texeditor.markov.levels import load_image, to_grey, to_rgb, has_colour
 from texeditor.recipe.document import Document
-from texeditor.recipe.exemplars import MAX_SIDE
 from texeditor.pyramid.actions import HeegerBergen
 from texeditor.pyramid.synthesis import ITERATIONS, MAX_ITERATIONS
 from texeditor.spectral.actions import MatchHistogram, RandomPhaseNoise, Texton, MAX_MODEL_SIDE
@@ -43,18 +41,6 @@ ABOUT = {
                      "texture, of any size, tileable. Best on stochastic textures (stone, "
                      "bark, clouds); regular patterns lose their order.",
 }
-
-
-def exemplar_from(image: np.ndarray) -> tuple[np.ndarray, str]:
-    """A photo as an exemplar: uint8 grey or RGB (alpha laid on white), its middle 1024² at
-    most (a crop, not a reduction: a micro-texture's grain keeps its scale); and a note."""
-    colour = has_colour(image)
-    unit = to_rgb(image) if colour else to_grey(image)
-    h, w = unit.shape[:2]
-    top, left = max((h - MAX_SIDE) // 2, 0), max((w - MAX_SIDE) // 2, 0)
-    crop = unit[top:top + MAX_SIDE, left:left + MAX_SIDE]
-    note = f" (its middle {crop.shape[1]}×{crop.shape[0]})" if crop.shape[:2] != (h, w) else ""
-    return np.round(crop * 255).astype(np.uint8), note
 
 
 class ModelDialog(StepDialog):
@@ -85,11 +71,7 @@ class ModelDialog(StepDialog):
         self.load_photo()
 
     def _layout(self) -> None:
-        layout = QtWidgets.QVBoxLayout(self)
-        about = QtWidgets.QLabel(ABOUT[self.model])
-        about.setWordWrap(True)
-        layout.addWidget(about)
-        form = QtWidgets.QFormLayout()
+        layout, form = self.start(ABOUT[self.model])
         form.addRow("Photo", row(self.photo, self.browse, stretch=False))
         if self.model in SIZED:
             form.addRow("Size", row(self.width_box, "×", self.height_box, "points"))
@@ -112,11 +94,8 @@ class ModelDialog(StepDialog):
     def load_photo(self) -> None:
         self.exemplar, self.note = None, ""
         self._waiting()
-        path = self.photo.currentData()
         try:
-            if path is None:
-                raise TexeditorError("choose a photo with Browse…")
-            self.exemplar, self.note = exemplar_from(load_image(path))
+            self.read_photo()
         except TexeditorError as exc:
             self.photo_view.clear()
             self._failed(exc)

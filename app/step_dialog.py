@@ -9,7 +9,12 @@ undoable step.
 
 from __future__ import annotations
 
+import numpy as np
 from PySide6 import QtCore, QtWidgets
+
+from texeditor.errors import TexeditorError
+from texeditor.markov.levels import has_colour, load_image, to_grey, to_rgb
+from texeditor.recipe.exemplars import MAX_SIDE
 
 from . import resources
 from .acquire_dialog import IMAGE_FILTER
@@ -25,6 +30,18 @@ def preview_view() -> QtWidgets.QLabel:
     label.setAlignment(QtCore.Qt.AlignmentFlag.AlignCenter)
     label.setFrameShape(QtWidgets.QFrame.Shape.StyledPanel)
     return label
+
+
+def exemplar_from(image: np.ndarray) -> tuple[np.ndarray, str]:
+    """A photo as an exemplar: uint8 grey or RGB (alpha laid on white), its middle 1024² at
+    most (a crop, not a reduction: a micro-texture's grain keeps its scale); and a note."""
+    colour = has_colour(image)
+    unit = to_rgb(image) if colour else to_grey(image)
+    h, w = unit.shape[:2]
+    top, left = max((h - MAX_SIDE) // 2, 0), max((w - MAX_SIDE) // 2, 0)
+    crop = unit[top:top + MAX_SIDE, left:left + MAX_SIDE]
+    note = f" (its middle {crop.shape[1]}×{crop.shape[0]})" if crop.shape[:2] != (h, w) else ""
+    return np.round(crop * 255).astype(np.uint8), note
 
 
 def photo_box() -> tuple[QtWidgets.QComboBox, QtWidgets.QPushButton]:
@@ -66,6 +83,15 @@ class StepDialog(QtWidgets.QDialog):
         self.previews.progress.connect(lambda f: self.busy.setValue(round(100 * f)))
         self.finished.connect(lambda _result: self.previews.stop())     # closed either way
 
+    def start(self, about: str) -> tuple[QtWidgets.QVBoxLayout, QtWidgets.QFormLayout]:
+        """The dialog's layout begun: what the model does, then its settings' form (added
+        by the caller once filled)."""
+        layout = QtWidgets.QVBoxLayout(self)
+        label = QtWidgets.QLabel(about)
+        label.setWordWrap(True)
+        layout.addWidget(label)
+        return layout, QtWidgets.QFormLayout()
+
     def finish(self, layout: QtWidgets.QVBoxLayout) -> None:
         """The progress bar, the message and the buttons under the subclass's layout."""
         layout.addWidget(self.busy)
@@ -82,6 +108,14 @@ class StepDialog(QtWidgets.QDialog):
     def set_photo(self, path) -> None:
         select_path(self.photo, path)
         self.load_photo()
+
+    def read_photo(self) -> None:
+        """The chosen photo as the exemplar (``self.exemplar``, ``self.note``), or a
+        TexeditorError saying why not."""
+        path = self.photo.currentData()
+        if path is None:
+            raise TexeditorError("choose a photo with Browse…")
+        self.exemplar, self.note = exemplar_from(load_image(path))
 
     # -- the preview ------------------------------------------------------------------------------
     def request(self, action, scratch) -> None:

@@ -177,3 +177,24 @@ def fill_a_cell(qtbot, window):
     click(window.canvas.viewport(), cell_pos(window.canvas, int(xs[0]), int(ys[0])))
     assert len(window.history.actions) == steps + 1
     assert window.history.actions[-1].TYPE == "fill"
+
+
+def open_model_dialog(window, qtbot, model: str):
+    """Models ▸ the entry of ``model``: the dialog it opens (a StepDialog), once exposed."""
+    from app.step_dialog import StepDialog
+    [entry] = [a for a in window.menu("ModelsMenu").actions() if a.objectName() == f"act_{model}"]
+    entry.trigger()
+    dialog = [d for d in window.findChildren(StepDialog) if d.isVisible()][-1]
+    qtbot.waitExposed(dialog)
+    return dialog
+
+
+def model_ok(dialog, qtbot):
+    """OK once the preview of the latest settings is shown (computed in the background)."""
+    assert dialog.wait()
+    assert dialog.ok.isEnabled(), dialog.info.text()
+    assert not dialog.result_view.pixmap().isNull()
+    qtbot.mouseClick(dialog.ok, QtCore.Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: not dialog.isVisible())
+    dialog.main_window.activateWindow()      # the window manager's part, offscreen
+    qtbot.waitUntil(lambda: dialog.main_window.isActiveWindow())

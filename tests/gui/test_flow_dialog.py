@@ -5,33 +5,15 @@ redo, and the dialog opened again keeps working."""
 import numpy as np
 from PySide6 import QtCore
 
-from app.flow_dialog import FlowDialog
-from app.models_dialog import exemplar_from
+from app.step_dialog import exemplar_from
 from texeditor.flow import flow_texture
 from texeditor.markov.levels import load_image, quantize
 
-from .support import undo_to_start
+from .support import model_ok, open_model_dialog, undo_to_start
 
 LEFT = QtCore.Qt.MouseButton.LeftButton
 
 
-def open_flow(window, qtbot) -> FlowDialog:
-    [entry] = [a for a in window.menu("ModelsMenu").actions()
-               if a.objectName() == "act_flow_texture"]
-    entry.trigger()
-    dialog = [d for d in window.findChildren(FlowDialog) if d.isVisible()][-1]
-    qtbot.waitExposed(dialog)
-    return dialog
-
-
-def ok(dialog, qtbot):
-    assert dialog.wait()
-    assert dialog.ok.isEnabled(), dialog.info.text()
-    assert not dialog.result_view.pixmap().isNull()
-    qtbot.mouseClick(dialog.ok, LEFT)
-    qtbot.waitUntil(lambda: not dialog.isVisible())
-    dialog.main_window.activateWindow()
-    qtbot.waitUntil(lambda: dialog.main_window.isActiveWindow())
 
 
 def drag(qtbot, pad, points):
@@ -51,14 +33,14 @@ def test_flow_texture_session(window, qtbot, photo_path):
     start = (doc.levels.copy(), doc.palette.copy(), len(window.history.actions))
     photo, _ = exemplar_from(load_image(photo_path))
 
-    dialog = open_flow(window, qtbot)                         # the photo's grain
+    dialog = open_model_dialog(window, qtbot, "flow_texture")   # the photo's grain
     assert dialog.source.currentData() == "photo" and dialog.pad.glyphs
     dialog.width_box.setValue(48)
     dialog.height_box.setValue(40)
     dialog.levels.setValue(5)
     dialog.length.setValue(10)
     dialog.seed.set_value(3)
-    ok(dialog, qtbot)
+    model_ok(dialog, qtbot)
     step = window.history.actions[-1]
     assert step.TYPE == "flow_texture" and step.source == "photo" and step.seed == 3
     expected = cut(flow_texture((40, 48), photo=photo, seed=3, length=10), 5)
@@ -67,7 +49,7 @@ def test_flow_texture_session(window, qtbot, photo_path):
     assert np.array_equal(doc.palette, expected.palette)
     first = doc.levels.copy()
 
-    dialog = open_flow(window, qtbot)                         # again: strokes drawn on the pad
+    dialog = open_model_dialog(window, qtbot, "flow_texture")   # again: strokes drawn on the pad
     assert dialog.width_box.value() == 48                     # the canvas's size
     dialog.length.setValue(12)
     pad = dialog.pad
@@ -80,7 +62,7 @@ def test_flow_texture_session(window, qtbot, photo_path):
     dialog.seed.set_value(8)
     assert not dialog.ok.isEnabled()                          # the new preview is coming
     side = pad.height()
-    ok(dialog, qtbot)
+    model_ok(dialog, qtbot)
     step = window.history.actions[-1]
     assert step.source == "strokes" and step.seed == 8 and len(step.strokes) == 6
     h, w = doc.shape
@@ -101,7 +83,7 @@ def test_flow_texture_session(window, qtbot, photo_path):
         window.act_redo.trigger()
     assert np.array_equal(window.document.levels, after)
 
-    dialog = open_flow(window, qtbot)                         # a third time: Clear, then Cancel
+    dialog = open_model_dialog(window, qtbot, "flow_texture")   # a third time: Clear, then Cancel
     drag(qtbot, dialog.pad, [(30, 30), (200, 60)])
     assert dialog.wait() and dialog.ok.isEnabled()
     qtbot.mouseClick(dialog.clear, LEFT)

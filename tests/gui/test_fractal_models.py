@@ -4,16 +4,15 @@ against the engine, undo to the start, redo; a fractal spot placed with the Spot
 
 import numpy as np
 import pytest
-from PySide6 import QtCore
 
-from app.fractal_dialog import FractalDialog
 from texeditor.fractal.actions import heights_picture
 from texeditor.fractal.ifs import ifs_attractor
 from texeditor.fractal.midpoint import midpoint_displacement
 from texeditor.spectral.actions import model_levels
 from texeditor.spots.actions import PlaceSpot
 
-from .support import cell_pos, click, fill_a_cell, spot_tool, undo_to_start
+from .support import (cell_pos, click, fill_a_cell, model_ok, open_model_dialog, spot_tool,
+                      undo_to_start)
 
 
 @pytest.fixture(autouse=True)
@@ -22,22 +21,6 @@ def own_spot_library(tmp_path, monkeypatch):
     monkeypatch.setenv("TEXEDITOR_DATA", str(tmp_path / "data"))
 
 
-def open_dialog(window, qtbot, model: str) -> FractalDialog:
-    [entry] = [a for a in window.menu("ModelsMenu").actions() if a.objectName() == f"act_{model}"]
-    entry.trigger()
-    dialog = [d for d in window.findChildren(FractalDialog) if d.isVisible()][-1]
-    qtbot.waitExposed(dialog)
-    return dialog
-
-
-def ok(dialog, qtbot):
-    assert dialog.wait()
-    assert dialog.ok.isEnabled(), dialog.info.text()
-    assert not dialog.result_view.pixmap().isNull()
-    qtbot.mouseClick(dialog.ok, QtCore.Qt.MouseButton.LeftButton)
-    qtbot.waitUntil(lambda: not dialog.isVisible())
-    dialog.main_window.activateWindow()
-    qtbot.waitUntil(lambda: dialog.main_window.isActiveWindow())
 
 
 def relief_levels(w, h, seed, roughness, g):
@@ -46,7 +29,7 @@ def relief_levels(w, h, seed, roughness, g):
 
 def test_fractal_models_session(window, qtbot):
     start = (window.document.levels.copy(), window.document.palette.copy())
-    dialog = open_dialog(window, qtbot, "fractal_relief")
+    dialog = open_model_dialog(window, qtbot, "fractal_relief")
     dialog.width_box.setValue(48)
     dialog.height_box.setValue(40)
     dialog.levels.setValue(6)
@@ -55,24 +38,24 @@ def test_fractal_models_session(window, qtbot):
         dialog.seed.set_value(seed)
     assert not dialog.ok.isEnabled()
     assert dialog.wait() and not dialog.shaded_view.pixmap().isNull()    # the relief, shaded
-    ok(dialog, qtbot)
+    model_ok(dialog, qtbot)
     doc = window.document
     levels, palette = relief_levels(48, 40, 5, 0.7, 6)
     assert doc.shape == (40, 48) and doc.num_levels == 6
     assert np.array_equal(doc.levels, levels) and np.array_equal(doc.palette, palette)
     first = doc.levels.copy()
 
-    dialog = open_dialog(window, qtbot, "fractal_relief")   # again, rougher
+    dialog = open_model_dialog(window, qtbot, "fractal_relief")   # again, rougher
     assert dialog.width_box.value() == 48                    # the texture's size proposed
     dialog.roughness.setValue(20)
     dialog.seed.set_value(5)
-    ok(dialog, qtbot)
+    model_ok(dialog, qtbot)
     assert np.array_equal(doc.levels, relief_levels(48, 40, 5, 0.2, 6)[0])
     assert not np.array_equal(doc.levels, first)
     fill_a_cell(qtbot, window)
     before_motif = doc.levels.copy()
 
-    dialog = open_dialog(window, qtbot, "ifs_motif")
+    dialog = open_model_dialog(window, qtbot, "ifs_motif")
     dialog.motif.setCurrentIndex(dialog.motif.findData("fern"))
     dialog.size_box.setValue(30)
     dialog.row_box.setValue(20)
@@ -80,19 +63,19 @@ def test_fractal_models_session(window, qtbot):
     dialog.level.setValue(5)
     dialog.points.setValue(20_000)
     dialog.seed.set_value(2)
-    ok(dialog, qtbot)
+    model_ok(dialog, qtbot)
     mask = ifs_attractor("fern", (30, 30), points=20_000, seed=2) > 0
     expected = before_motif.copy()
     expected[5:35, 9:39][mask] = 5
     assert np.array_equal(doc.levels, expected)
 
-    dialog = open_dialog(window, qtbot, "ifs_motif")          # again: the tree, elsewhere
+    dialog = open_model_dialog(window, qtbot, "ifs_motif")          # again: the tree, elsewhere
     dialog.motif.setCurrentIndex(dialog.motif.findData("tree"))
     dialog.size_box.setValue(16)
     dialog.row_box.setValue(8)
     dialog.col_box.setValue(8)
     dialog.level.setValue(0)
-    ok(dialog, qtbot)
+    model_ok(dialog, qtbot)
     assert [a.TYPE for a in window.history.actions[-5:]] == [
         "fractal_relief", "fractal_relief", "fill", "ifs_motif", "ifs_motif"]
     after = doc.levels.copy()
@@ -109,7 +92,7 @@ def test_fractal_models_session(window, qtbot):
 
 def test_cancel_applies_nothing_and_a_motif_needs_a_texture(window, qtbot):
     steps = len(window.history.actions)
-    dialog = open_dialog(window, qtbot, "fractal_relief")
+    dialog = open_model_dialog(window, qtbot, "fractal_relief")
     assert dialog.wait()
     dialog.reject()
     assert len(window.history.actions) == steps

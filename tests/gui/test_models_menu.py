@@ -3,33 +3,16 @@ previews the step it applies; steps follow one another with tools between, and u
 to the start."""
 
 import numpy as np
-from PySide6 import QtCore
 
-from app.models_dialog import ModelDialog, exemplar_from
+from app.step_dialog import exemplar_from
 from texeditor.markov.levels import load_image, quantize
 from texeditor.pyramid import heeger_bergen
 from texeditor.spectral import random_phase_noise, texton
 from texeditor.spectral.actions import matched_palette
 
-from .support import fill_a_cell, undo_to_start
+from .support import fill_a_cell, model_ok, open_model_dialog, undo_to_start
 
 
-def open_dialog(window, qtbot, model: str) -> ModelDialog:
-    [entry] = [a for a in window.menu("ModelsMenu").actions() if a.objectName() == f"act_{model}"]
-    entry.trigger()
-    dialog = [d for d in window.findChildren(ModelDialog) if d.isVisible()][-1]
-    qtbot.waitExposed(dialog)
-    return dialog
-
-
-def ok(dialog, qtbot):
-    assert dialog.wait()          # the preview is computed in the background
-    assert dialog.ok.isEnabled(), dialog.info.text()
-    assert not dialog.result_view.pixmap().isNull()
-    qtbot.mouseClick(dialog.ok, QtCore.Qt.MouseButton.LeftButton)
-    qtbot.waitUntil(lambda: not dialog.isVisible())
-    dialog.main_window.activateWindow()      # the window manager's part, offscreen
-    qtbot.waitUntil(lambda: dialog.main_window.isActiveWindow())
 
 
 def test_models_session(window, qtbot, photo_path):
@@ -40,12 +23,12 @@ def test_models_session(window, qtbot, photo_path):
                      "&Match histogram to a photo…", "&Heeger–Bergen texture from a photo…",
                      "&Flow texture…", "&Fractal relief…", "&IFS motif…"]
 
-    dialog = open_dialog(window, qtbot, "random_phase_noise")
+    dialog = open_model_dialog(window, qtbot, "random_phase_noise")
     dialog.width_box.setValue(40)
     dialog.height_box.setValue(30)
     dialog.levels.setValue(5)
     dialog.seed.set_value(3)
-    ok(dialog, qtbot)
+    model_ok(dialog, qtbot)
     doc = window.document
     expected = quantize(random_phase_noise(photo, (30, 40), seed=3), 5, "lab")
     assert doc.shape == (30, 40) and doc.num_levels == 5
@@ -53,22 +36,22 @@ def test_models_session(window, qtbot, photo_path):
     assert np.array_equal(doc.palette, expected.palette)
     first = doc.levels.copy()
 
-    dialog = open_dialog(window, qtbot, "random_phase_noise")      # again, another seed
+    dialog = open_model_dialog(window, qtbot, "random_phase_noise")      # again, another seed
     dialog.seed.set_value(4)
-    ok(dialog, qtbot)
+    model_ok(dialog, qtbot)
     assert doc.shape == (30, 40) and not np.array_equal(doc.levels, first)
     fill_a_cell(qtbot, window)                                     # a tool works on it
     assert window.history.actions[-1].TYPE == "fill"
 
     levels, palette = doc.levels.copy(), doc.palette.copy()
-    dialog = open_dialog(window, qtbot, "match_histogram")
-    ok(dialog, qtbot)
+    dialog = open_model_dialog(window, qtbot, "match_histogram")
+    model_ok(dialog, qtbot)
     assert np.array_equal(doc.levels, levels)
     assert np.array_equal(doc.palette, matched_palette(levels, palette, photo))
 
-    dialog = open_dialog(window, qtbot, "texton")
+    dialog = open_model_dialog(window, qtbot, "texton")
     dialog.levels.setValue(4)
-    ok(dialog, qtbot)
+    model_ok(dialog, qtbot)
     assert doc.shape == photo.shape[:2] and doc.num_levels == 4
     assert np.array_equal(doc.levels, quantize(texton(photo), 4, "lab").levels)
     assert [a.TYPE for a in window.history.actions[-5:]] == [
@@ -84,8 +67,8 @@ def test_match_histogram_previews_then_applies_the_photos_distribution(window, q
     photo, _ = exemplar_from(load_image(photo_path))
     doc = window.document
     levels, palette = doc.levels.copy(), doc.palette.copy()
-    dialog = open_dialog(window, qtbot, "match_histogram")
-    ok(dialog, qtbot)
+    dialog = open_model_dialog(window, qtbot, "match_histogram")
+    model_ok(dialog, qtbot)
     assert np.array_equal(doc.levels, levels)
     assert np.array_equal(doc.palette, matched_palette(levels, palette, photo))
     window.act_undo.trigger()
@@ -95,7 +78,7 @@ def test_match_histogram_previews_then_applies_the_photos_distribution(window, q
 def test_a_bad_photo_says_why_and_ok_stays_off(window, qtbot, tmp_path):
     bad = tmp_path / "bad.png"
     bad.write_bytes(b"not a picture")
-    dialog = open_dialog(window, qtbot, "texton")
+    dialog = open_model_dialog(window, qtbot, "texton")
     dialog.set_photo(bad)
     assert dialog.wait() and not dialog.ok.isEnabled() and dialog.info.text()
     steps = len(window.history.actions)
@@ -108,7 +91,7 @@ def test_heeger_bergen_previews_in_the_background_the_latest_settings_winning(wi
                                                                               photo_path):
     photo, _ = exemplar_from(load_image(photo_path))
     start = window.document.levels.copy()
-    dialog = open_dialog(window, qtbot, "heeger_bergen")
+    dialog = open_model_dialog(window, qtbot, "heeger_bergen")
     dialog.width_box.setValue(64)
     dialog.height_box.setValue(48)
     dialog.iterations.setValue(2)
@@ -116,13 +99,13 @@ def test_heeger_bergen_previews_in_the_background_the_latest_settings_winning(wi
     for seed in (5, 6, 7):                      # typed one after the other: only 7 is shown
         dialog.seed.set_value(seed)
     assert not dialog.ok.isEnabled()            # nothing to apply until the preview is there
-    ok(dialog, qtbot)
+    model_ok(dialog, qtbot)
     expected = quantize(heeger_bergen(photo, (48, 64), seed=7, iterations=2), 6, "lab")
     doc = window.document
     assert doc.shape == (48, 64) and np.array_equal(doc.levels, expected.levels)
     assert window.history.actions[-1].seed == 7
 
-    dialog = open_dialog(window, qtbot, "heeger_bergen")     # again: Cancel while it computes
+    dialog = open_model_dialog(window, qtbot, "heeger_bergen")     # again: Cancel while it computes
     dialog.width_box.setValue(512)
     dialog.height_box.setValue(512)
     dialog.iterations.setValue(20)

@@ -169,11 +169,16 @@ def attractor_frame(ifs, shape, *, points: int = 1_000_000, seed: int = 0) -> Fr
 
 
 def _shape(shape) -> tuple[int, int]:
+    return checked_shape(shape, MAX_SIDE, "an IFS picture")
+
+
+def checked_shape(shape, most: int, what: str) -> tuple[int, int]:
+    """(h, w) of whole numbers 1..most, or an InputError naming ``what``."""
     try:
         h, w = (int(v) for v in shape)
         ok = all(float(v) == int(v) for v in shape)
     except (TypeError, ValueError, OverflowError):
         ok = False
-    if not ok or not (1 <= h <= MAX_SIDE and 1 <= w <= MAX_SIDE):
-        raise InputError(f"an IFS picture is 1..{MAX_SIDE} points a side, got {shape!r}")
+    if not ok or not (1 <= h <= most and 1 <= w <= most):
+        raise InputError(f"{what} is 1..{most} points a side, got {shape!r}")
     return h, w

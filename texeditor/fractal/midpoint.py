@@ -18,6 +18,7 @@ import numpy as np
 from numba import njit
 
 from ..errors import InputError
+from .ifs import checked_shape
 
 MAX_SIDE = 4096
 
@@ -96,12 +97,4 @@ def _resample(field: np.ndarray, size: int, axis: int) -> np.ndarray:
 
 
 def _shape(shape) -> tuple[int, int]:
-    try:
-        h, w = (int(v) for v in shape)
-        ok = all(float(v) == int(v) for v in shape)
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok or not (1 <= h <= MAX_SIDE and 1 <= w <= MAX_SIDE):
-        raise InputError(f"a midpoint-displacement field is 1..{MAX_SIDE} points a side, "
-                         f"got {shape!r}")
-    return h, w
+    return checked_shape(shape, MAX_SIDE, "a midpoint-displacement field")
