@@ -3,8 +3,8 @@ Resynthesizer, and the photo's own two halves as the yardstick of "same texture"
 
 Run: python benchmarks/bench_quality.py [--photos brick grass gravel] [--size 512] [--seeds 1]
                                          [--large 2048] [--montage-dir docs/img]
-Photos are scikit-image data names or picture files; random-phase noise is timed and scored
-too (a row, not in the montage). Metrics (benchmarks/quality.py) compare each
+Photos are scikit-image data names or picture files; random-phase noise, Heeger–Bergen and the
+flow texture are timed (at both sizes) and scored too (rows, not in the montage). Metrics (benchmarks/quality.py) compare each
 output with the photo in grey; lower is closer. Time: the whole photo → picture call, warmed on
 64² first (numba), best of --seeds; the metrics are those of the first seed's output.
 Montage per photo, <montage-dir>/quality-<photo>.png, panels left to right without captions:
@@ -39,6 +39,7 @@ MULTI = "texeditor multi-scale + tone"
 OLD = "texeditor 1984 (3x3, G=4, single scale)"
 HEEGER_BERGEN = "Heeger-Bergen pyramid (5 iterations)"
 RPN = "random-phase noise (doc. 001)"
+FLOW = "flow texture along the photo's grain (004)"
 
 
 def load_photo(name: str) -> tuple[str, np.ndarray]:
@@ -75,6 +76,12 @@ def multi_scale(photo, shape, seed):
 
 def heeger_bergen(photo, shape, seed):
     return texeditor.heeger_bergen(photo, shape, seed=seed), None
+
+
+def flow(photo, shape, seed):
+    """Noise along the photo's orientation field, with its greys (texeditor.flow_texture)."""
+    picture = texeditor.flow_texture(shape, photo=photo, seed=seed)
+    return np.round(np.clip(picture, 0, 1) * 255).astype(np.uint8), None
 
 
 def timed(method, photo, shape, seeds: int):
@@ -124,11 +131,11 @@ def bench_photo(name: str, size: int, seeds: int, large: int) -> tuple[str, list
     resynthesize = getattr(texeditor, "resynthesize", None)
     if resynthesize is not None:
         methods.append((MULTI, multi_scale))
-    methods.append((HEEGER_BERGEN, heeger_bergen))
+    methods += [(HEEGER_BERGEN, heeger_bergen), (FLOW, flow)]
     for title, method in methods:
         seconds, image, result = timed(method, photo, shape, seeds)
         print(row(title, seconds, scores(image, grey)))
-        if title not in ("image quilting (baseline)", RPN, HEEGER_BERGEN):
+        if title not in ("image quilting (baseline)", RPN, HEEGER_BERGEN, FLOW):
             panels.append(image)
         if title == MULTI and (drift := level_drift(result)) is not None:
             drifts = [drift] + [level_drift(multi_scale(photo, shape, seed)[1])
@@ -145,8 +152,9 @@ def bench_photo(name: str, size: int, seeds: int, large: int) -> tuple[str, list
         seconds, *_ = timed(multi_scale, photo, (large, large), seeds)
         print(f"{MULTI} at {large}x{large}: {seconds:.2f} s")
     if large:
-        seconds, *_ = timed(random_phase, photo, (large, large), seeds)
-        print(f"{RPN} at {large}x{large}: {seconds:.2f} s")
+        for title, method in ((RPN, random_phase), (HEEGER_BERGEN, heeger_bergen), (FLOW, flow)):
+            seconds, *_ = timed(method, photo, (large, large), seeds)
+            print(f"{title} at {large}x{large}: {seconds:.2f} s")
     return label, panels
 
 

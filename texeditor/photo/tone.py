@@ -177,8 +177,11 @@ def _distance(grey, i, j, photo, pi, pj, best):
 @njit(cache=True, nogil=True)
 def _distance_wrap(grey, i, j, photo, pi, pj, best):
     """_distance on a tiling picture: every rendered point of the (2·HALF+1)² square around
-    (i, j), read across the seams (the last rows and columns meet the first ones)."""
+    (i, j), read across the seams (the last rows and columns meet the first ones). Away from
+    the seams the rendered points are the causal half, so _distance gives the same total."""
     h, w = grey.shape
+    if HALF <= i < h - HALF and HALF <= j < w - HALF:
+        return _distance(grey, i, j, photo, pi, pj, best)
     ph, pw = photo.shape
     here = i * w + j
     total = np.int64(0)
