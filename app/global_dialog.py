@@ -129,13 +129,13 @@ class GlobalOperatorsDialog(QtWidgets.QDialog):
         self.target.setText(f"Applies to {what}.")
 
     def _selection(self) -> dict:
-        """The Extract tool's selection recipe, or {} for the whole texture."""
+        """The Extract tool's selection recipe (while its point is on the canvas), or {} for
+        the whole texture."""
         from .tools.regions import ExtractTool
 
         tool = next((t for t in self.main_window.tools if isinstance(t, ExtractTool)), None)
-        if tool is None or tool.selection is None:
-            return {}
-        return dict(tool.selection)
+        selection = None if tool is None else tool.live_selection()
+        return {} if selection is None else dict(selection)
 
     def _target_text(self) -> str:
         sel = self._selection()

@@ -281,12 +281,16 @@ class ExtractTool(Tool):
         self.selection = None
         self.refresh()
 
-    def mask(self) -> np.ndarray | None:
-        if self.selection is None:
-            return None
+    def live_selection(self) -> dict | None:
+        """The selection, if its point is on the canvas as it is now (an undo or a model may
+        have made the canvas smaller since it was clicked: then there is none to act on)."""
         s = self.selection
         h, w = self.document.shape
-        if not (0 <= s["row"] < h and 0 <= s["col"] < w):
+        return s if s is not None and 0 <= s["row"] < h and 0 <= s["col"] < w else None
+
+    def mask(self) -> np.ndarray | None:
+        s = self.live_selection()
+        if s is None:
             return None
         return regions.select(self.document.levels, (s["row"], s["col"]), kind=s["kind"],
                               scope=s["scope"], connectivity=s["connectivity"],

@@ -4,7 +4,7 @@ Hundreds of random user events — every tool by its shortcut or its button, dra
 the canvas (inside and off its edges), the wheel, the view keys, Space-drag, palette swatches,
 the Synthesise button, clicks in the History list, undo and redo, the Extract panel, the spot
 modes, and the non-modal dialogs (global operators, composition, DPJ editor) opened, used and
-closed. It fails on an exception that reaches Qt, on a crash (the parent sees the signal), or
+closed; with ``models``, the Models menu's dialogs too. It fails on an exception that reaches Qt, on a crash (the parent sees the signal), or
 when Ctrl+Z back to step 1 does not give back the synthesised texture and its palette (and
 Ctrl+Shift+Z the document the walk ended on).
 """
@@ -30,8 +30,8 @@ VIEW_KEYS = {"0": Key.Key_0, "1": Key.Key_1, "W": Key.Key_W, "+": Key.Key_Plus,
 class Walk:
     """The random walk: each event is one user gesture, logged so a failure can be read."""
 
-    def __init__(self, hand: Hand, seed: int):
-        self.hand, self.win = hand, hand.win
+    def __init__(self, hand: Hand, seed: int, models: bool = False):
+        self.hand, self.win, self.models = hand, hand.win, models
         self.rng = random.Random(seed)
         self.log: list[str] = []
         self.made = 0              # events that added a step
@@ -161,6 +161,32 @@ class Walk:
         editor.close()
         return "Edit DPJ open, close"
 
+    def model(self):
+        """Models ▸ a random entry: a setting changed (the seed, where it has one), the
+        background preview waited for, then OK or Cancel — or Cancel while it computes."""
+        from app.step_dialog import StepDialog
+        entries = [a for a in self.win.menu("ModelsMenu").actions() if a.isEnabled()]
+        entry = self.rng.choice(entries)
+        entry.trigger()
+        QtTest.QTest.qWait(20)
+        dialogs = [d for d in self.win.findChildren(StepDialog) if d.isVisible()]
+        if not dialogs:                     # an entry that needs something the window lacks
+            return f"model {entry.objectName()}: no dialog"
+        dialog = dialogs[-1]
+        if hasattr(dialog, "seed"):
+            dialog.seed.set_value(self.rng.randrange(1000))
+        if self.rng.random() < 0.2:
+            dialog.reject()
+            return f"model {entry.objectName()}: Cancel at once"
+        assert dialog.wait(120_000), f"{entry.objectName()}: no preview in 120 s"
+        ok = dialog.ok.isEnabled() and self.rng.random() < 0.7
+        if ok:
+            self.hand.button(dialog.ok)
+        else:
+            dialog.reject()
+        QtTest.QTest.qWait(20)
+        return f"model {entry.objectName()}: {'OK' if ok else 'Cancel'}"
+
     def slider(self):
         dock = self.win.palette_dock
         slider = self.rng.choice([dock.darkest, dock.lightest, dock.contrast])
@@ -169,7 +195,9 @@ class Walk:
         return f"grey-scale slider {key.name}"
 
     def step(self) -> None:
-        event = self.rng.choices(EVENTS, WEIGHTS)[0]
+        events, weights = (EVENTS + [Walk.model], WEIGHTS + [MODEL_WEIGHT]) if self.models \
+            else (EVENTS, WEIGHTS)
+        event = self.rng.choices(events, weights)[0]
         before = self.win.history.index
         self.log.append(event(self))
         self.hand.wait_idle()
@@ -183,6 +211,7 @@ EVENT_WEIGHTS = {
     Walk.global_dialog: 2, Walk.composition: 1, Walk.dpj_editor: 1, Walk.slider: 2,
 }
 EVENTS, WEIGHTS = list(EVENT_WEIGHTS), list(EVENT_WEIGHTS.values())
+MODEL_WEIGHT = 3            # --models walks: the Models dialogs too (other seeds' walks unchanged)
 
 
 def undo_all_redo_all(hand: Hand, start: dict) -> str | None:
@@ -205,12 +234,12 @@ def undo_all_redo_all(hand: Hand, start: dict) -> str | None:
     return None
 
 
-def run_monkey(seed: int, events: int) -> int:
+def run_monkey(seed: int, events: int, models: bool = False) -> int:
     recorder = Recorder()
     win = open_window(recorder)
     hand = Hand(win)
     start = state(win)
-    walk = Walk(hand, seed)
+    walk = Walk(hand, seed, models)
     problem = None
     try:
         for _ in range(events):

@@ -11,7 +11,7 @@ and modal message boxes are recorded instead of blocking. The child prints one J
 (prefixed ``REPORT ``) and exits 0, or exits 1 with what went wrong on stderr.
 
     python -m tests.gui.session_runner session paint
-    python -m tests.gui.session_runner monkey 7 [--events 320]
+    python -m tests.gui.session_runner monkey 7 [--events 320] [--models]
 """
 
 from __future__ import annotations
@@ -293,10 +293,12 @@ def main(argv: list[str]) -> int:
     if kind == "session" and len(argv) == 2:
         from .sessions import run_session
         return run_session(argv[1])
-    if kind == "monkey" and len(argv) in (2, 4):
+    if kind == "monkey" and len(argv) >= 2:
         from .monkey import run_monkey
-        events = int(argv[3]) if len(argv) == 4 and argv[2] == "--events" else 320
-        return run_monkey(int(argv[1]), events)
+        rest = argv[2:]
+        models = "--models" in rest
+        events = int(rest[rest.index("--events") + 1]) if "--events" in rest else 320
+        return run_monkey(int(argv[1]), events, models)
     if kind == "crash":                  # for the runner's own test: a segfault, as Qt's was
         import faulthandler
         faulthandler._sigsegv()

@@ -29,3 +29,20 @@ def test_a_monkey_walk_raises_nothing_and_undoes_to_the_start(seed, tmp_path):
     assert report["seed"] == seed and report["events"] >= 300
     assert report["made"] >= 20                     # the walk edits, not only moves the view
     assert {"tool", "drag", "click", "Ctrl+Z"} <= set(report["kinds"])
+
+
+MODEL_SEEDS = {                  # walks with the Models dialogs too (--models)
+    1: "a selection clicked on a canvas a model step then made smaller: the global operators "
+       "acted on its point, off the canvas ('This change cannot be made'); a selection whose "
+       "point is off the canvas now counts as none (ExtractTool.live_selection)",
+}
+
+
+@pytest.mark.parametrize("seed", sorted(MODEL_SEEDS))
+def test_a_walk_through_the_models_dialogs_raises_nothing_and_undoes_to_the_start(seed,
+                                                                                  tmp_path):
+    report = run_child(["monkey", str(seed), "--models"], tmp_path)
+    assert report["seed"] == seed and report["events"] >= 300
+    assert "model" in report["kinds"] and report["made"] >= 20
+    assert report["dialogs"] == []                  # no error reached the user
+

@@ -5,7 +5,7 @@ import pytest
 from PySide6 import QtCore
 
 from app.tools.regions import CopyTool, ExtractTool, FillTool, TranslateTool
-from texeditor.recipe.actions import NewCanvas, SetLevels
+from texeditor.recipe.actions import NewCanvas, ResizeCanvas, SetLevels
 
 from .support import cell_pos, click, drag, edit_and_apply, mouse, press_key
 
@@ -184,6 +184,37 @@ def test_global_operators_dialog_rotates_the_whole_texture_or_the_selection(boar
     levels = board.document.levels
     assert (levels[10:15, 15:20] == 3).all() and (levels[10:15, 20:25] == 3).all()
     assert (levels[4:8, 5:11] == 2).all()
+
+
+def test_a_selection_left_off_a_smaller_canvas_is_not_acted_on(board, qtbot):
+    """A selection clicked on the 40×30 canvas, then a smaller canvas (a new texture, a model,
+    an undo): the global operators act on the whole texture instead of failing on a point
+    that is no longer there; a click on the canvas selects again, then Ctrl+Z walks back."""
+    from texeditor.regions import transforms
+
+    press_key(board, QtCore.Qt.Key.Key_E)
+    click(board.canvas.viewport(), cell_pos(board.canvas, 27, 12))       # the level-3 block
+    assert board.tool.live_selection() is not None
+    steps = board.history.index
+    board.submit(ResizeCanvas(10, 20, 0))
+    board.canvas.fit()
+    assert board.tool.live_selection() is None and board.tool.mask() is None
+    qtbot.keyClick(board, QtCore.Qt.Key.Key_G, QtCore.Qt.KeyboardModifier.ControlModifier)
+    dialog = board._global_dialog
+    assert "whole texture" in dialog.target.text()
+    dialog.operator.setCurrentIndex(dialog.operator.findData("isometry"))
+    dialog.angle.setValue(180)
+    dialog.wrap.setChecked(False)
+    before = board.document.levels.copy()
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    assert not board.errors
+    assert np.array_equal(board.document.levels, transforms.isometry(before, 180, (4.5, 9.5)))
+    dialog.close()
+    click(board.canvas.viewport(), cell_pos(board.canvas, 3, 3))
+    assert board.tool.live_selection() is not None
+    while board.history.index > steps:
+        board.undo()
+    assert board.document.shape == (30, 40)
 
 
 def test_scatter_every_region_from_the_global_dialog_then_undo_to_the_start(board, qtbot):
