@@ -103,6 +103,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default=str(ROOT / "docs" / "img"))
     parser.add_argument("--times", action="store_true")
     args = parser.parse_args(argv)
+    Path(args.out).mkdir(parents=True, exist_ok=True)
     pictures(Path(args.out))
     if args.times:
         times()
