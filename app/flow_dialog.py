@@ -115,6 +115,7 @@ class FlowDialog(StepDialog):
     def __init__(self, window):
         super().__init__(window, "Flow texture")
         self.exemplar: np.ndarray | None = None
+        self._glyph_cache = None                     # (what the field depends on, its lines)
         self.photo, self.browse = photo_box()
         self.source = QtWidgets.QComboBox()
         self.source.addItem("The photo's grain", "photo")
@@ -223,16 +224,27 @@ class FlowDialog(StepDialog):
         scratch = Document()
         try:
             action = self.action(scratch)
-            self.pad.set_glyphs(self._glyphs(action))
+            self.pad.set_glyphs(self._cached_glyphs(action))
         except TexeditorError as exc:
             self.pad.set_glyphs(())
             self._failed(exc)
             return
         self.request(action, scratch)
 
+    def _cached_glyphs(self, action: FlowTexture):
+        """The pad's field lines, computed again only when the field changes, not for a new
+        seed, L or G (they are computed on the GUI thread: up to 0.8 s for a 1024² photo)."""
+        key = (id(self.exemplar), action.source, action.sigma, action.tileable, action.height,
+               action.width, action.strokes)
+        if self._glyph_cache is None or self._glyph_cache[0] != key:
+            self._glyph_cache = (key, self._glyphs(action))
+        return self._glyph_cache[1]
+
     def _glyphs(self, action: FlowTexture):
         """Short lines along the step's field on a coarse grid of GLYPHS nodes, in pad
-        coordinates (a drawn field computed as the step's, at FIELD_GRID points at most)."""
+        coordinates (a drawn field computed as the step's, at FIELD_GRID points at most; a
+        photo's as the step's: a reduced photo would show another field, brick's joints
+        instead of its grain)."""
         h, w = action.height, action.width
         scale = GLYPHS / max(h, w)
         grid = (max(1, round(h * scale)), max(1, round(w * scale)))
