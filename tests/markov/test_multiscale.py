@@ -152,3 +152,59 @@ def test_level_shares_stay_within_three_hundredths_when_structure_is_large(photo
     assert worst_share_error(model, (512, 512), seeds) <= 0.03
     monkeypatch.setattr(multiscale, "_tries", lambda k, scales: 1)
     assert worst_share_error(model, (512, 512), seeds) > 0.03
+
+
+def fake_draws(shares, log):
+    """draw(t, progress, cancel) giving a 10×10 two-level matrix with shares[t] of level 1;
+    draws at odd t (the ones run ahead on the second thread) note when they were cancelled."""
+    import threading
+    import time
+
+    from texeditor.errors import Cancelled
+    from texeditor.markov.synthesis import SynthesisResult
+
+    def draw(t, progress, cancel):
+        log.append(("start", t, threading.current_thread().name))
+        if t % 2 and shares[t] is None:                 # a slow draw: runs until cancelled
+            give_up = time.monotonic() + 10
+            while not cancel():
+                assert time.monotonic() < give_up, "the draw ahead was never cancelled"
+                time.sleep(0.001)
+            log.append(("cancelled", t))
+            raise Cancelled("speculative")
+        levels = (np.arange(100).reshape(10, 10) < 100 * shares[t]).astype(np.uint8)
+        return SynthesisResult(levels, 0, 0, t)
+    return draw
+
+
+@pytest.mark.parametrize("shares, chosen", [
+    ([0.30, 0.52, 0.505, 0.9], 2),        # the first within 0.01 of a half
+    ([0.30, 0.45, 0.58, 0.47], 3),        # none: the closest
+    ([0.5, None, 0.0, 0.0], 0),           # the first: the draw ahead is cancelled
+    ([0.2, 0.3, 0.6], 2),                 # an odd number of tries
+])
+def test_coarse_tries_pick_the_draw_one_after_another_would(shares, chosen):
+    """Tries of a coarse scale run two at a time (the next on a second thread); the pick is
+    the first draw whose shares are within tolerance, else the closest, as in order."""
+    log = []
+    r = multiscale._closest_draw(fake_draws(shares, log), len(shares), np.array([0.5, 0.5]),
+                                 None, None)
+    assert r.seed == chosen
+    assert ("cancelled", 1) in log if shares[1] is None else all(e[0] == "start" for e in log)
+    assert {e[2] for e in log if e[0] == "start" and e[1] % 2} == {"coarse-try_0"}
+
+
+def test_cancel_stops_both_coarse_tries():
+    from texeditor.errors import Cancelled
+    log = []
+    with pytest.raises(Cancelled):
+        multiscale._closest_draw(fake_draws([0.0, None], log), 2, np.array([0.5, 0.5]),
+                                 None, lambda: any(e[0] == "start" and e[1] == 1 for e in log))
+    assert ("cancelled", 1) in log
+
+
+def test_progress_of_coarse_tries_only_grows():
+    model, _ = multiscale.estimate_scales(blobs(5), scales=3)
+    seen = []
+    multiscale.synthesize_scales(model, (200, 200), seed=2, progress=seen.append)
+    assert seen == sorted(seen) and seen[-1] == pytest.approx(1.0)

@@ -176,3 +176,33 @@ def test_a_colour_photo_gives_colour_classes_at_every_scale():
     for level in range(2):
         pixels = out.image[out.levels == level].astype(int)
         assert np.all(np.argmax(pixels[:, :2], axis=1) == hue(lab.palette[level]))
+
+
+@pytest.mark.parametrize("rows, columns", [(8, 128), (3, 5), (2, 1)])
+def test_two_lanes_render_the_picture_of_one_scan(model, monkeypatch, rows, columns):
+    """The tone's two-lane wavefront (strips on two threads, each chunk waiting for the strip
+    above) gives the picture of one scan in order, whatever the strip and chunk sizes."""
+    levels = model.synthesize((150, 301), seed=3).levels
+    monkeypatch.setattr(tone, "LANE_ROWS", 10 ** 6)          # one strip: the plain scan
+    one = tone.render(levels, 4, model.tone.levels, model.tone.grey, seed=8)[0]
+    monkeypatch.setattr(tone, "LANE_ROWS", rows)
+    monkeypatch.setattr(tone, "LANE_COLUMNS", columns)
+    lanes = []
+    real = tone._two_lanes
+    monkeypatch.setattr(tone, "_two_lanes", lambda *a: lanes.append(1) or real(*a))
+    two = tone.render(levels, 4, model.tone.levels, model.tone.grey, seed=8)[0]
+    assert lanes and np.array_equal(one, two)
+    other = tone.render(levels, 4, model.tone.levels, model.tone.grey, seed=9)[0]
+    assert not np.array_equal(two, other)
+
+
+def test_an_error_in_a_tone_lane_reaches_the_caller(monkeypatch):
+    calls = []
+
+    def run(rows, columns):
+        calls.append(rows)
+        if len(calls) == 5:
+            raise MemoryError("lane")
+    with pytest.raises(MemoryError):
+        tone._two_lanes(run, (0, 64), 1000)
+    assert len(calls) < 64 // tone.LANE_ROWS * 8         # the other lane stopped too

@@ -13,13 +13,16 @@ axis.
 from __future__ import annotations
 
 import math
+import threading
+from concurrent.futures import ThreadPoolExecutor
+from contextlib import closing
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 import skimage as ski
 
-from ..errors import InputError
+from ..errors import Cancelled, InputError
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import has_colour, quantize, to_grey
@@ -191,21 +194,68 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     levels = None
     for k in range(model.scales):
         tries = _tries(k, model.scales)
-        best = None
-        for t in range(tries):
-            report = None if progress is None else (
-                lambda f, k=k, t=t: progress(done[k] + (t + f) / tries * (done[k + 1] - done[k])))
-            final = rows_final if k == model.scales - 1 else None
-            r = _draw_scale(model, k, shapes[k], levels, _try_seed(seed, k, t), report, cancel,
-                            final, bool(tileable), closure)
-            off = _frequency_error(r.levels, model.frequencies(k))
-            if best is None or off < best[0]:
-                best = (off, r)
-            if off <= FREQUENCY_TOLERANCE:
-                break
-        r = best[1]
+        report = None if progress is None else (
+            lambda f, k=k: progress(done[k] + f * (done[k + 1] - done[k])))
+        final = rows_final if k == model.scales - 1 else None
+
+        def draw(t, report, cancel, k=k, parents=levels, final=final):
+            return _draw_scale(model, k, shapes[k], parents, _try_seed(seed, k, t), report,
+                               cancel, final, bool(tileable), closure)
+        r = _closest_draw(draw, tries, model.frequencies(k), report, cancel)
         levels, repairs, redraws = r.levels, repairs + r.repairs, redraws + r.redraws
     return SynthesisResult(levels, repairs, redraws, int(seed))
+
+
+def _closest_draw(draw, tries: int, expected, progress, cancel) -> SynthesisResult:
+    """The first of ``tries`` draws whose level shares are within FREQUENCY_TOLERANCE of
+    ``expected``, else the closest. Draws go two at a time, the next one on a second thread
+    (the other core is otherwise idle while the coarse scales are drawn): the result is the
+    one a draw after another would give, and the speculative draw is cancelled when unneeded."""
+    if tries == 1:
+        return draw(0, progress, cancel)
+    best = None
+    with ThreadPoolExecutor(1, thread_name_prefix="coarse-try") as worker:
+        for t in range(0, tries, 2):
+            pair = min(2, tries - t)
+            report = None if progress is None else _part(progress, t, pair, tries)
+            with closing(_pair(worker, draw, t, pair, report, cancel)) as draws:
+                for r in draws:
+                    off = _frequency_error(r.levels, expected)
+                    if best is None or off < best[0]:
+                        best = (off, r)
+                    if off <= FREQUENCY_TOLERANCE:
+                        return r
+    return best[1]
+
+
+def _part(progress, t: int, pair: int, tries: int):
+    return lambda f: progress((t + f * pair) / tries)
+
+
+def _pair(worker, draw, t: int, pair: int, progress, cancel):
+    """Draw t here and (``pair`` = 2) draw t + 1 on ``worker`` at once; yields them in order.
+    Once the caller stops reading, the draw on the worker is cancelled and waited for."""
+    stop = threading.Event()
+    ahead = None
+    if pair == 2:
+        ahead = worker.submit(draw, t + 1, None, lambda: stop.is_set() or bool(cancel and cancel()))
+    try:
+        yield draw(t, progress, cancel)
+        if ahead is not None:
+            yield ahead.result()
+    finally:
+        stop.set()
+        if ahead is not None:
+            _settle(ahead)
+
+
+def _settle(job) -> None:
+    """Wait for a speculative draw to end (finished, failed or cancelled); its result is unused
+    unless it was read before."""
+    try:
+        job.result()
+    except Cancelled:
+        pass
 
 
 def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int) -> DPJ:

@@ -91,9 +91,14 @@ class PhotoModel:
         return Resynthesis(image, result.levels, self.frequencies(), result.repairs, int(seed))
 
     def _synthesize_with_tone(self, shape, seed, progress, cancel, tileable, closure):
-        renderer = []
+        renderer, final = [], [0]
         with ThreadPoolExecutor(1, thread_name_prefix="tone") as worker:
             jobs = []
+
+            def catch_up(levels):
+                """Render every row final by now (a tone behind the levels takes all the rows
+                that are ready at once, which its two lanes share better)."""
+                renderer[0].advance(levels, final[0])
 
             def rows_final(levels, n):
                 if not renderer:
@@ -102,7 +107,8 @@ class PhotoModel:
                                              index=self._index(), wrap=tileable))
                 if jobs and jobs[-1].done():
                     jobs[-1].result()                   # a tone error stops the synthesis
-                jobs.append(worker.submit(renderer[0].advance, levels, n))
+                final[0] = n
+                jobs.append(worker.submit(catch_up, levels))
             try:
                 result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
                                            cancel=cancel, rows_final=rows_final,

@@ -11,6 +11,7 @@ to the point's own level. Seeded and exact: the same levels, tone and seed give 
 
 from __future__ import annotations
 
+import threading
 from typing import NamedTuple
 
 import numpy as np
@@ -23,6 +24,11 @@ RANDOM_CANDIDATES = 8      # drawn from the photo points sharing the context
 FRESH_START = 1 / 64       # chance that a point considers only fresh candidates (no long copies)
 COHERENCE = 0.5           # a continuing candidate's mismatch counts this much (Ashikhmin)
 HALF = 2                   # the causal neighbourhood compared: rows above and left, ±HALF
+DRAWS = 1 + RANDOM_CANDIDATES   # random numbers per point, so point n starts at draw DRAWS·n
+GAMMA = 0x9E3779B97F4A7C15  # SplitMix64's step (markov.synthesis.uniform)
+LANE_ROWS = 8              # the two-lane wavefront: strips of this many rows,
+LANE_COLUMNS = 128         # cut in chunks this wide (each row's chunk HALF columns left of
+                           # the row above's: a point reads the row above up to HALF columns on)
 
 
 class ToneIndex(NamedTuple):
@@ -109,7 +115,7 @@ class Renderer:
         self.photo_grey = np.ascontiguousarray(photo_grey, dtype=np.uint8)
         self.photo_pixels = photo_pixels
         self.index = index or tone_index(photo_levels, num_levels)
-        self.state = np.random.SeedSequence([int(seed), 0x70E]).generate_state(1, np.uint64)
+        self.state0 = np.random.SeedSequence([int(seed), 0x70E]).generate_state(1, np.uint64)[0]
         self.source = np.empty(shape, np.int64)
         self.grey = np.empty(shape, np.uint8)
         self.done = 0
@@ -130,10 +136,20 @@ class Renderer:
         w = band.shape[1]
         first, last = (self.done - a) * w, (stop - a) * w
         codes = tuple(c[first:last] for c in context_codes(band, self.num_levels, self.wrap))
+        rows, base = (self.done, stop), self.done
+        if self.wrap or stop - self.done < 2 * LANE_ROWS or w < 2 * LANE_COLUMNS:
+            self._chunk(codes, base, rows, (0, w), 0)
+        else:
+            _two_lanes(lambda r, c: self._chunk(codes, base, r, c, HALF), rows, w)
+        self.done = stop
+
+    def _chunk(self, codes, base, rows, columns, skew) -> None:
+        """Render rows (i0, i1), row i0 + k over columns (j0, j1) moved ``skew``·k left
+        (``codes``: the contexts from row ``base`` on)."""
         ix = self.index
         _render(codes, ix.codes, ix.keys, ix.starts, ix.points, self.photo_grey, self.source,
-                self.grey, self.state, self.done, stop, self.wrap)
-        self.done = stop
+                self.grey, self.state0, base, rows[0], rows[1], columns[0], columns[1], skew,
+                self.wrap)
 
     def result(self):
         """(grey, pixels or None) of the rows rendered so far (all, after the last advance)."""
@@ -142,6 +158,48 @@ class Renderer:
             flat = np.asarray(self.photo_pixels).reshape(-1, self.photo_pixels.shape[-1])
             pixels = flat[self.source.ravel()].reshape(*self.grey.shape, flat.shape[-1])
         return self.grey, pixels
+
+
+def _two_lanes(run, rows, width: int) -> None:
+    """``run((i0, i1), (j0, j1))`` over strips of LANE_ROWS rows and chunks of LANE_COLUMNS
+    columns, even strips here and odd ones on a second thread. A strip's chunk waits for the
+    strip above to be far enough on (its last row reads that strip's last rows up to HALF
+    columns past its end, and those rows' chunks lie up to HALF·(LANE_ROWS-1) columns left):
+    every point sees what it would see in scan order, so the picture is the same."""
+    i0, i1 = rows
+    strips = [(r, min(i1, r + LANE_ROWS)) for r in range(i0, i1, LANE_ROWS)]
+    chunks = -(-width // LANE_COLUMNS)
+    lead = -(-(HALF * (LANE_ROWS - 1) + HALF) // LANE_COLUMNS)
+    done = [0] * len(strips)
+    failed = []
+    ready = threading.Condition()
+
+    def lane(first: int) -> None:
+        try:
+            for s in range(first, len(strips), 2):
+                for c in range(chunks):
+                    need = min(chunks, c + 1 + lead)
+                    with ready:
+                        ready.wait_for(lambda: failed or s == 0 or done[s - 1] >= need)
+                    if failed:
+                        return
+                    last = c == chunks - 1
+                    run(strips[s], (c * LANE_COLUMNS,
+                                    width + HALF * LANE_ROWS if last else (c + 1) * LANE_COLUMNS))
+                    with ready:
+                        done[s] = c + 1
+                        ready.notify_all()
+        except BaseException as error:      # stop the other lane, raise it on this thread
+            with ready:
+                failed.append(error)
+                ready.notify_all()
+
+    helper = threading.Thread(target=lane, args=(1,), name="tone-lane")
+    helper.start()
+    lane(0)
+    helper.join()
+    if failed:
+        raise failed[0]
 
 
 @njit(cache=True, nogil=True)
@@ -202,17 +260,22 @@ def _distance_wrap(grey, i, j, photo, pi, pj, best):
 
 
 @njit(cache=True, nogil=True)
-def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, state, i0, i1,
-            wrap):
-    """Rows i0..i1-1 in scan order (``out_codes`` hold theirs): coherent and fresh candidates
-    of the right context, the best match wins. ``wrap``: neighbours across the seams count
-    once rendered."""
+def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, state0, base,
+            i0, i1, j0, j1, skew, wrap):
+    """Rows i0..i1-1, row i0 + k over columns j0..j1-1 moved skew·k left (clipped to the
+    picture), in scan order: coherent and fresh candidates of the right context, the best
+    match wins. ``out_codes`` hold the contexts from row ``base`` on. Point n = i·w + j draws
+    from SplitMix64 at state0 + DRAWS·n·GAMMA, whichever order the chunks run in. ``wrap``:
+    neighbours across the seams count once rendered."""
     h, w = grey.shape
     ph, pw = photo.shape
     cand = np.empty(4 + RANDOM_CANDIDATES, np.int64)
+    state = np.empty(1, np.uint64)
     for i in range(i0, i1):
-        for j in range(w):
-            n = (i - i0) * w + j
+        ja, jb = max(0, j0 - skew * (i - i0)), min(w, j1 - skew * (i - i0))
+        state[0] = state0 + np.uint64(DRAWS) * np.uint64(i * w + ja) * np.uint64(GAMMA)
+        for j in range(ja, jb):
+            n = (i - base) * w + j
             level, a, b = 0, 0, 0
             while level < 3:
                 a, b = _bucket(keys[level], starts[level], out_codes[level][n])
