@@ -149,8 +149,9 @@ def bench_photo(name: str, size: int, seeds: int, large: int) -> tuple[str, list
     if resynthesize is None:
         print(f"({MULTI}: skipped, texeditor.resynthesize does not exist yet)")
     elif large:
-        seconds, *_ = timed(multi_scale, photo, (large, large), seeds)
-        print(f"{MULTI} at {large}x{large}: {seconds:.2f} s")
+        seconds, _, result = timed(multi_scale, photo, (large, large), seeds)
+        print(f"{MULTI} at {large}x{large}: {seconds:.2f} s, largest |level frequency - "
+              f"model's| = {level_drift(result):.3f} (seed 0)")
     if large:
         for title, method in ((RPN, random_phase), (HEEGER_BERGEN, heeger_bergen), (FLOW, flow)):
             seconds, *_ = timed(method, photo, (large, large), seeds)
