@@ -155,6 +155,29 @@ def test_a_tiling_coarsest_scale_backs_off_to_a_window_that_closes(name):
     assert off_the_dpj(synthesize_scales(alone, shape, seed=0).levels, coarse, torus=False) < 0.01
 
 
+def first_law_that_closes(dpj, shape, seed):
+    """The back-off one window after another (the rule _coarsest_on_torus runs two at a time)."""
+    while True:
+        drawn = synthesize(dpj, shape, seed=multiscale.scale_seed(seed, 0), tileable=True).levels
+        if off_the_dpj(drawn, dpj) <= multiscale.TORUS_TOLERANCE or min(dpj.window) <= 2:
+            return dpj
+        u, v = dpj.window
+        dpj = dpj.marginal(rows=slice(0, v - 1), cols=slice(0, u - 1))
+
+
+@pytest.mark.parametrize("name", ["brick", "moon"])
+def test_the_back_off_picks_the_law_one_window_after_another_would(name):
+    """The windows are tried two at a time; the law is still the first, widest, that closes
+    (here 5×5, 4×4 or 3×3 depending on the seed)."""
+    coarse = acquire_model(getattr(ski.data, name)()).scales.dpjs[0]
+    windows = set()
+    for seed in range(6):
+        law = multiscale._coarsest_on_torus(coarse, (32, 40), seed, 2)
+        assert law == first_law_that_closes(coarse, (32, 40), seed)
+        windows.add(law.window)
+    assert len(windows) >= 2
+
+
 def test_tone_contexts_read_across_the_seams_when_the_levels_tile():
     levels = np.random.default_rng(0).integers(0, 3, (5, 7)).astype(np.uint8)
     nine, five, own = context_codes(levels, 3, wrap=True)

@@ -208,24 +208,31 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
 
 def _closest_draw(draw, tries: int, expected, progress, cancel) -> SynthesisResult:
     """The first of ``tries`` draws whose level shares are within FREQUENCY_TOLERANCE of
-    ``expected``, else the closest. Draws go two at a time, the next one on a second thread
-    (the other core is otherwise idle while the coarse scales are drawn): the result is the
-    one a draw after another would give, and the speculative draw is cancelled when unneeded."""
+    ``expected``, else the closest (the draws run two at a time, see _in_order)."""
     if tries == 1:
         return draw(0, progress, cancel)
     best = None
-    with ThreadPoolExecutor(1, thread_name_prefix="coarse-try") as worker:
-        for t in range(0, tries, 2):
-            pair = min(2, tries - t)
-            report = None if progress is None else _part(progress, t, pair, tries)
-            with closing(_pair(worker, draw, t, pair, report, cancel)) as draws:
-                for r in draws:
-                    off = _frequency_error(r.levels, expected)
-                    if best is None or off < best[0]:
-                        best = (off, r)
-                    if off <= FREQUENCY_TOLERANCE:
-                        return r
+    with closing(_in_order(draw, tries, progress, cancel)) as draws:
+        for r in draws:
+            off = _frequency_error(r.levels, expected)
+            if best is None or off < best[0]:
+                best = (off, r)
+            if off <= FREQUENCY_TOLERANCE:
+                return r
     return best[1]
+
+
+def _in_order(draw, count: int, progress=None, cancel=None):
+    """Yield draw(t, progress, cancel) for t = 0 … count-1 in order, two at a time: draw t + 1
+    runs on a second thread (the other core is otherwise idle while the coarse scales are
+    drawn). The results are those of one draw after another; once the caller stops reading,
+    the draw running ahead is cancelled."""
+    with ThreadPoolExecutor(1, thread_name_prefix="coarse-try") as worker:
+        for t in range(0, count, 2):
+            pair = min(2, count - t)
+            report = None if progress is None else _part(progress, t, pair, count)
+            with closing(_pair(worker, draw, t, pair, report, cancel)) as draws:
+                yield from draws
 
 
 def _part(progress, t: int, pair: int, tries: int):
@@ -268,16 +275,23 @@ def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int) -> DPJ:
     outside the DPJ, a band the finer scales inherit). A smaller window branches more and
     closes; the first draw that leaves at most TORUS_TOLERANCE of its windows outside says
     which (judged on ``scale_seed(seed, 0)``, so the same seed picks the same window)."""
-    (u, v), g = dpj.window, dpj.levels
-    while True:
-        levels = synthesize(dpj, shape, seed=scale_seed(seed, 0), tileable=True,
-                            closure=closure).levels
-        seen = estimate_dpj(levels, dpj.window, g, wrap=True)
-        off = seen.probs[~np.isin(seen.codes, dpj.codes)].sum()
-        if off <= TORUS_TOLERANCE or min(u, v) <= 2:
-            return dpj
-        u, v = u - 1, v - 1
-        dpj = dpj.marginal(rows=slice(0, v), cols=slice(0, u))
+    laws = [dpj]
+    while min(laws[-1].window) > 2:
+        (u, v) = laws[-1].window
+        laws.append(laws[-1].marginal(rows=slice(0, v - 1), cols=slice(0, u - 1)))
+
+    def closes(t, progress, cancel):
+        law = laws[t]
+        levels = synthesize(law, shape, seed=scale_seed(seed, 0), tileable=True,
+                            closure=closure, cancel=cancel).levels
+        seen = estimate_dpj(levels, law.window, law.levels, wrap=True)
+        return seen.probs[~np.isin(seen.codes, law.codes)].sum() <= TORUS_TOLERANCE
+
+    with closing(_in_order(closes, len(laws) - 1)) as tried:   # the last law is the last resort
+        for law, closed in zip(laws, tried):
+            if closed:
+                return law
+    return laws[-1]
 
 
 def _tries(k: int, scales: int) -> int:
