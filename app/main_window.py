@@ -101,7 +101,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self.composition_dialog = None
         self.doubling_dialog = None
         self.photo_model = None    # the photo model acquired or opened last (app.photo_ops)
-        self._tone_cache = None    # (key, picture) of the last tone rendering
+        self._tone_cache = None    # (model, key, tone.Rendered) of the last tone rendering
         self._step_model = None    # (synthesis step, the photo model its tone names)
         self.tone_seconds = 0.0    # how long the last tone rendering took
 

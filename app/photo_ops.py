@@ -125,15 +125,19 @@ class PhotoOps:
         step = synthesis_step(self.history)
         seed = int(step.seed) if step is not None else 0
         wrap = bool(getattr(step, "tileable", False))
-        key = (id(model), seed, wrap, doc.shape,
+        key = (seed, wrap, doc.shape,
                hashlib.blake2b(np.ascontiguousarray(doc.levels).data, digest_size=16).digest())
-        if self._tone_cache is not None and self._tone_cache[0] == key:
-            return self._tone_cache[1]
+        cached = self._tone_cache                   # (model, key, its tone.Rendered)
+        same_model = cached is not None and cached[0] is model
+        if same_model and cached[1] == key:
+            return cached[2].picture
+        # after an edit, the rows above the first changed one are kept
         start = time.perf_counter()
-        picture = model.render(doc.levels, seed=seed, wrap=wrap)
+        drawn = model.rendering(doc.levels, seed=seed, wrap=wrap,
+                                before=cached[2] if same_model else None)
         self.tone_seconds = time.perf_counter() - start
-        self._tone_cache = (key, picture)
-        return picture
+        self._tone_cache = (model, key, drawn)
+        return drawn.picture
 
     def tone_refs(self, refs) -> tuple[str | None, str | None]:
         """The attached model's tone added to the document as two exemplars (photo, levels),

@@ -206,3 +206,31 @@ def test_an_error_in_a_tone_lane_reaches_the_caller(monkeypatch):
     with pytest.raises(MemoryError):
         tone._two_lanes(run, (0, 64), 1000)
     assert len(calls) < 64 // tone.LANE_ROWS * 8         # the other lane stopped too
+
+
+@pytest.mark.parametrize("wrap", [False, True])
+@pytest.mark.parametrize("colour", [False, True])
+def test_a_rendering_after_an_edit_keeps_the_rows_above_and_matches_a_fresh_one(wrap, colour,
+                                                                                 monkeypatch):
+    """The window draws the tone again after each edit from the previous rendering: the rows
+    above the first changed one are kept, and the picture is the one drawn from scratch."""
+    model = acquire_model(speckle((200, 200), seed=4, colour=colour), scales=2)
+    levels = model.synthesize((90, 140), seed=2, tileable=wrap).levels
+    drawn = model.rendering(levels, seed=2, wrap=wrap)
+    starts = []
+    real = tone.Renderer.resume
+    monkeypatch.setattr(tone.Renderer, "resume",
+                        lambda self, before, start: starts.append(start) or real(self, before, start))
+    for top, expected_start in ((60, 59), (30, 29), (2, 1), (0, 0), (89, 0 if wrap else 88)):
+        edited = drawn.levels.copy()
+        edited[top:top + 1, 20:70] = (edited[top:top + 1, 20:70] + 1) % 4
+        again = model.rendering(edited, seed=2, wrap=wrap, before=drawn)
+        fresh = model.rendering(edited, seed=2, wrap=wrap)
+        assert np.array_equal(again.picture, fresh.picture)
+        assert np.array_equal(again.source, fresh.source)
+        assert tone.first_row_to_draw(drawn, edited, 2, wrap) == expected_start
+        drawn = again
+    assert starts == [59, 29, 1] + ([] if wrap else [88])   # from 0: everything drawn
+    assert model.rendering(drawn.levels, seed=2, wrap=wrap, before=drawn) is drawn
+    other_seed = model.rendering(drawn.levels, seed=3, wrap=wrap, before=drawn)
+    assert np.array_equal(other_seed.picture, model.render(drawn.levels, seed=3, wrap=wrap))

@@ -26,7 +26,7 @@ from ..markov.synthesis import CLOSURE
 from ..markov.multiscale import (COARSE_LEVELS, COARSE_WINDOW, LEVELS, WINDOW, MultiScaleDPJ,
                                  estimate_scales, synthesize_scales)
 from ..recipe.exemplars import MAX_SIDE
-from .tone import Renderer, ToneIndex, render, tone_index
+from .tone import Rendered, Renderer, ToneIndex, rendering, tone_index
 
 MODEL_FORMAT_VERSION = 2
 MAX_TONE_PIXELS = 4096 * 4096
@@ -130,9 +130,18 @@ class PhotoModel:
         if not tone or self.tone is None:
             image = self.palette[levels]
             return image[..., 0].copy() if self._grey_palette() else image
-        grey, colour = render(levels, self.levels, self.tone.levels, self.tone.grey,
-                              self.tone.colour, seed=seed, index=self._index(), wrap=wrap)
-        return grey if colour is None else colour
+        return self.rendering(levels, seed=seed, wrap=wrap).picture
+
+    def rendering(self, levels, *, seed: int = 0, wrap: bool = False,
+                  before: Rendered | None = None) -> Rendered:
+        """The tone picture of ``levels`` (``.picture``) with what a next rendering after an
+        edit starts from: ``before``, this model's rendering of the levels before the edit
+        (see tone.rendering)."""
+        if self.tone is None:
+            raise InputError("this photo model has no tone")
+        return rendering(levels, self.levels, self.tone.levels, self.tone.grey,
+                         self.tone.colour, seed=seed, index=self._index(), wrap=wrap,
+                         before=before)
 
     def _grey_palette(self) -> bool:
         return bool(np.all(self.palette == self.palette[:, :1]))

@@ -95,11 +95,62 @@ def render(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=None,
     and ``photo_pixels`` its colours (h, w, 3) uint8, or None for a grey photo. ``wrap``: the
     levels tile, and so does the picture (contexts and matches read across the seams).
     """
+    drawn = rendering(levels, num_levels, photo_levels, photo_grey, photo_pixels, seed=seed,
+                      index=index, wrap=wrap)
+    return drawn.grey, drawn.pixels
+
+
+class Rendered(NamedTuple):
+    """A tone picture and what it was drawn from."""
+
+    grey: np.ndarray
+    pixels: np.ndarray | None
+    source: np.ndarray       # the photo point (row-major index) each point shows
+    levels: np.ndarray       # the levels drawn
+    seed: int
+    wrap: bool
+
+    @property
+    def picture(self) -> np.ndarray:
+        """The colours when the photo has them, else the greys."""
+        return self.grey if self.pixels is None else self.pixels
+
+
+def rendering(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=None, *,
+              seed: int = 0, index: ToneIndex | None = None, wrap: bool = False,
+              before: Rendered | None = None) -> Rendered:
+    """:func:`render`, keeping what the next rendering can start from. ``before``: the same
+    photo's rendering of levels that differ from these only from some row on (an edit): the
+    rows above it come out the same (a point reads only the points before it in scan order,
+    and its random numbers are fixed by its place), so they are copied, not drawn again."""
     levels = np.ascontiguousarray(levels, dtype=np.uint8)
+    start = first_row_to_draw(before, levels, seed, wrap)
+    if start == len(levels):
+        return before
     renderer = Renderer(levels.shape, num_levels, photo_levels, photo_grey, photo_pixels,
                         seed=seed, index=index, wrap=wrap)
+    if start:
+        renderer.resume(before, start)
     renderer.advance(levels, len(levels))
-    return renderer.result()
+    grey, pixels = renderer.result()
+    return Rendered(grey, pixels, renderer.source, levels.copy(), int(seed), bool(wrap))
+
+
+def first_row_to_draw(before: Rendered | None, levels: np.ndarray, seed: int,
+                      wrap: bool) -> int:
+    """The first row whose picture a change of levels since ``before`` can alter: the row
+    above the first changed one (its 3×3 context reads it); on a tiling picture, the first
+    row when the change reaches the first or last row (each is the other's context). The
+    height: nothing changed."""
+    if (before is None or before.levels.shape != levels.shape or before.seed != int(seed)
+            or before.wrap != bool(wrap)):
+        return 0
+    rows = np.flatnonzero((before.levels != levels).any(axis=1))
+    if rows.size == 0:
+        return len(levels)
+    if wrap and (rows[0] == 0 or rows[-1] == len(levels) - 1):
+        return 0
+    return max(0, int(rows[0]) - 1)
 
 
 class Renderer:
@@ -120,6 +171,12 @@ class Renderer:
         self.grey = np.empty(shape, np.uint8)
         self.done = 0
         self.wrap = bool(wrap)
+
+    def resume(self, before: Rendered, start: int) -> None:
+        """Take rows 0..start-1 as ``before`` drew them (see :func:`rendering`)."""
+        self.source[:start] = before.source[:start]
+        self.grey[:start] = before.grey[:start]
+        self.done = start
 
     def advance(self, levels, final: int) -> None:
         """Render the rows whose 3×3 context lies in ``levels``' rows 0..final-1 (all of them
