@@ -102,6 +102,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self.doubling_dialog = None
         self.photo_model = None    # the photo model acquired or opened last (app.photo_ops)
         self._tone_cache = None    # (model, key, tone.Rendered) of the last tone rendering
+        self._tone_drawing = False   # a tone is being drawn on a thread (app.photo_ops)
+        self._tone_arrival = None    # its ToneArrival, made on first use
         self._step_model = None    # (synthesis step, the photo model its tone names)
         self.tone_seconds = 0.0    # how long the last tone rendering took
 
@@ -493,7 +495,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
     def _show_document(self, doc, change) -> None:
         """Redraw the canvas as little as the change allows: a box of cells, a recolouring,
         or (a new matrix, a replay) the whole picture."""
-        picture = self.display_picture() if doc.levels.size else None
+        picture = self.display_picture(wait=False) if doc.levels.size else None
         if not doc.levels.size:
             self.canvas.image.clear()
         elif picture is not None:       # tone, plates: the whole picture is drawn again

@@ -10,11 +10,12 @@ any document whose levels it can draw with the photo's greys and colours instead
 from __future__ import annotations
 
 import hashlib
+import threading
 import time
 from pathlib import Path
 
 import numpy as np
-from PySide6 import QtWidgets
+from PySide6 import QtCore, QtWidgets
 
 from texeditor.errors import TexeditorError
 from texeditor.markov.dpj import DPJ
@@ -26,7 +27,16 @@ from .synthesis_dock import synthesis_step
 DPJ_FILTER = "DPJ files and photo models (*.dpj);;All files (*)"
 
 
+class ToneArrival(QtCore.QObject):
+    """Carries a tone drawn on a background thread to the GUI thread (a queued signal)."""
+
+    drawn = QtCore.Signal(object)
+
+
 class PhotoOps:
+    TONE_IN_BACKGROUND = 1 << 20      # points: a larger picture's tone is drawn off the GUI
+                                      # thread (about 0.3 s and more), the edit shown at once
+
     """Attach a photo model, find the current DPJ's scales, render tone (needs history, canvas,
     act_tone, photo_model, synthesis_dock)."""
 
@@ -115,10 +125,12 @@ class PhotoOps:
         return (model is not None and model.tone is not None and doc.levels.size > 0
                 and doc.num_levels <= model.levels)
 
-    def tone_picture(self) -> np.ndarray | None:
+    def tone_picture(self, wait: bool = True) -> np.ndarray | None:
         """The document's levels drawn with the photo's tone when tone is on and available
         (seeded by the synthesis that made the texture, so a picture is the same each time it is
-        shown); None: the palette's colours are shown."""
+        shown); None: the palette's colours are shown. ``wait`` False (the canvas after an
+        edit): a large picture's tone is drawn on a background thread, and meanwhile the last
+        tone is shown with the points that changed in their palette colours."""
         if not (self.act_tone.isChecked() and self.tone_available()):
             return None
         doc, model = self.history.document, self.tone_model()
@@ -131,13 +143,63 @@ class PhotoOps:
         same_model = cached is not None and cached[0] is model
         if same_model and cached[1] == key:
             return cached[2].picture
-        # after an edit, the rows above the first changed one are kept
+        before = cached[2] if same_model else None  # the rows above the first edited one stay
+        if not wait and doc.levels.size >= self.TONE_IN_BACKGROUND:
+            self._draw_tone_later(model, key, doc.levels, seed, wrap, before)
+            return self._tone_meanwhile(before, doc)
         start = time.perf_counter()
-        drawn = model.rendering(doc.levels, seed=seed, wrap=wrap,
-                                before=cached[2] if same_model else None)
+        drawn = model.rendering(doc.levels, seed=seed, wrap=wrap, before=before)
         self.tone_seconds = time.perf_counter() - start
         self._tone_cache = (model, key, drawn)
         return drawn.picture
+
+    def _draw_tone_later(self, model, key, levels, seed, wrap, before) -> None:
+        """Start drawing the tone on a thread, unless one is drawing: when it is done, the
+        canvas asks again and the latest levels are drawn next (from the last rendering)."""
+        if self._tone_drawing:
+            return
+        if self._tone_arrival is None:
+            self._tone_arrival = ToneArrival(self)
+            self._tone_arrival.drawn.connect(self._tone_drawn, QtCore.Qt.QueuedConnection)
+        self._tone_drawing = True
+        arrival, levels = self._tone_arrival, levels.copy()
+
+        def draw():
+            start = time.perf_counter()
+            try:
+                drawn = model.rendering(levels, seed=seed, wrap=wrap, before=before)
+            except Exception as error:                 # shown on the GUI thread
+                drawn = error
+            try:
+                arrival.drawn.emit((model, key, drawn, time.perf_counter() - start))
+            except RuntimeError:                       # the window is gone
+                pass
+        threading.Thread(target=draw, name="tone", daemon=True).start()
+
+    def _tone_drawn(self, payload) -> None:
+        model, key, drawn, seconds = payload
+        self._tone_drawing = False
+        if isinstance(drawn, Exception):
+            self.statusBar().showMessage(f"The photo's tone could not be drawn: {drawn}", 10_000)
+            return
+        self._tone_cache, self.tone_seconds = (model, key, drawn), seconds
+        if self.history is not None and self.history.document.levels.size:
+            self._show_document(self.history.document, None)     # the tone, or the next one
+
+    @staticmethod
+    def _tone_meanwhile(before, doc) -> np.ndarray | None:
+        """The last tone with the points whose level changed since in their palette colours
+        (None, the palette, when there is no tone of this shape yet)."""
+        if before is None or before.levels.shape != doc.shape:
+            return None
+        picture = before.picture
+        if picture.ndim == 2:
+            picture = np.repeat(picture[..., None], 3, axis=2)
+        else:
+            picture = picture.copy()
+        changed = before.levels != doc.levels
+        picture[changed] = np.asarray(doc.palette)[doc.levels[changed], :3]
+        return picture
 
     def tone_refs(self, refs) -> tuple[str | None, str | None]:
         """The attached model's tone added to the document as two exemplars (photo, levels),

@@ -120,13 +120,14 @@ class PlateOps:
         self.palette_dock.set_plates_mode(self.painting_plates())
 
     # -- pictures ---------------------------------------------------------------------------------------
-    def display_picture(self, palette=None, colours=None) -> np.ndarray | None:
+    def display_picture(self, palette=None, colours=None, wait: bool = True) -> np.ndarray | None:
         """The picture on show (and exported): the photo's tone or the palette's colours, laid
         on the plates when there are some and View ▸ Show plates is on; None when the palette's
         colours alone are shown (the canvas then draws levels through the palette).
-        ``palette``/``colours``: a palette or plate colours previewed instead of the document's."""
+        ``palette``/``colours``: a palette or plate colours previewed instead of the document's.
+        ``wait`` False: a large tone may come later (see tone_picture)."""
         doc = self.document
-        tone = self.tone_picture()
+        tone = self.tone_picture(wait)
         if doc.plates is None or not self.act_plates.isChecked() or not doc.levels.size:
             return tone
         colours = doc.plate_colours if colours is None else colours

@@ -6,8 +6,10 @@ longest gap between ticks is how long the window froze (target ≤ 100 ms). The 
 through the window's own paths: an edit of step 1 of that log at 512² (click the step, new seed,
 Apply & replay, until the new document is in), and File ▸ Acquire on a 3000×2000 photo (read,
 quantise, count, until the result is shown). Then Cancel: a 4096² synthesis is cancelled after
-0.3 s, and the time until the runner reports it stopped is measured (target ≤ 200 ms). Prints
-figures; passes or fails nothing.
+0.3 s, and the time until the runner reports it stopped is measured (target ≤ 200 ms). Last,
+fills on a 2048² texture shown with a photo's tone (gravel, plain and tileable): the stall with
+the tone drawn on a thread (the default for a million points or more) and drawn on the GUI
+thread. Prints figures; passes or fails nothing.
 
     QT_QPA_PLATFORM=offscreen python3 benchmarks/bench_responsiveness.py
 """
@@ -148,6 +150,40 @@ def cancel_latency(app, window) -> float:
     return 1000 * (stopped[0] - asked)
 
 
+def toned_fills(app, window, tileable: bool, background: bool) -> list[tuple[float, float]]:
+    """A 2048² texture from gravel's photo model, shown with its tone; then fills near the
+    bottom, the middle and the top: (seconds until the new tone is shown, longest stall)."""
+    import numpy as np
+    from skimage import data
+
+    from texeditor.photo import acquire_model
+    from texeditor.recipe.history import History
+    from texeditor.regions.actions import Fill
+
+    window.set_history(History())
+    window.TONE_IN_BACKGROUND = 1 << 20 if background else 1 << 62
+    window.attach_model(acquire_model(data.gravel()))
+    dock = window.synthesis_dock
+    dock.width_box.setValue(2048)
+    dock.height_box.setValue(2048)
+    dock.seed.set_value(3)
+    dock.tileable_box.setChecked(tileable)
+    stall(app, dock.button.click, lambda: not window.runner.busy and not window._tone_drawing)
+    assert window.document.shape == (2048, 2048) and window.canvas.picture is not None
+    out = []
+    for row in (1900, 1024, 40):
+        doc = window.document
+        value = (int(doc.levels[row, 100]) + 1) % doc.num_levels
+
+        def shown():
+            cached = window._tone_cache
+            return not window._tone_drawing and cached is not None and np.array_equal(
+                cached[2].levels, window.document.levels)
+        out.append(stall(app, lambda: window.submit(Fill(row=row, col=100, value=value)), shown))
+    window.mark_clean()
+    return out
+
+
 def main() -> int:
     from PySide6 import QtWidgets
 
@@ -191,6 +227,13 @@ def main() -> int:
                   f"{gap:5.0f} ms (target ≤ 100)")
     print(f"Cancel of a 4096² synthesis: stopped {cancel_latency(app, window):.0f} ms after the "
           f"request (target ≤ 200)")
+    for tileable in (False, True):
+        for background in (True, False):
+            figures = toned_fills(app, window, tileable, background)
+            where = "on a thread" if background else "on the GUI thread"
+            print(f"fill on a toned 2048² {'tileable ' if tileable else ''}texture, tone {where}: "
+                  + ", ".join(f"row {r}: {s:.2f} s, stall {g:.0f} ms"
+                              for r, (s, g) in zip((1900, 1024, 40), figures)))
     window.mark_clean()
     window.close()
     return 0

@@ -296,3 +296,72 @@ def test_a_toned_texture_reopened_in_a_fresh_session_shows_its_tone(qtbot, windo
     redo_to_end(qtbot, window)
     qtbot.keyClick(window, Key.Key_Z, CTRL)
     assert np.array_equal(window.canvas.picture, toned)
+
+
+def test_a_large_tone_is_drawn_in_the_background_and_each_edit_shows_at_once(
+        qtbot, window, photo_path, monkeypatch, tmp_path):
+    """A picture of a million points or more has its tone drawn on a thread: after an edit
+    the canvas shows at once the last tone with the changed points in their palette colours,
+    then the new tone; edits made meanwhile are drawn next, undo and closing stay safe."""
+    import threading
+    window.attach_model(acquire_model(load_image(photo_path), scales=2))
+    start = window.document.levels.copy()
+    start_seed = window.history.actions[0].seed
+    synthesise(qtbot, window, 160, 120, 4)
+    assert np.array_equal(window.canvas.picture, tone_of(window, 4))   # small: drawn at once
+
+    gate, real = threading.Event(), PhotoModel.rendering
+    drawn_on = []
+
+    def gated(self, *args, **kwargs):
+        if threading.current_thread() is not threading.main_thread():
+            drawn_on.append(threading.current_thread().name)
+            assert gate.wait(30)
+        return real(self, *args, **kwargs)
+    monkeypatch.setattr(PhotoModel, "rendering", gated)
+    window.TONE_IN_BACKGROUND = 0                    # every picture counts as large
+
+    def meanwhile(before_levels, before_picture):
+        doc = window.document
+        changed = doc.levels != before_levels
+        assert changed.any()
+        picture = window.canvas.picture
+        assert np.array_equal(picture[~changed], before_picture[~changed])
+        assert np.array_equal(picture[changed], doc.palette[doc.levels[changed]])
+
+    toned_levels, toned = window.document.levels.copy(), window.canvas.picture.copy()
+    fill_a_cell(qtbot, window)
+    meanwhile(toned_levels, toned)                   # the tone is held at the gate
+    fill_a_cell(qtbot, window)                       # a second edit while it is drawn
+    meanwhile(toned_levels, toned)
+    assert drawn_on == ["tone"]                      # one drawing at a time
+    gate.set()
+    qtbot.waitUntil(lambda: np.array_equal(window.canvas.picture, tone_of(window, 4)),
+                    timeout=30_000)
+    assert len(drawn_on) == 2                        # the second edit's tone came next
+    filled = window.document.levels.copy()
+
+    undo_to_start(qtbot, window)
+    assert np.array_equal(window.document.levels, start)
+    qtbot.waitUntil(lambda: np.array_equal(window.canvas.picture, tone_of(window, start_seed)),
+                    timeout=30_000)
+    redo_to_end(qtbot, window)
+    assert np.array_equal(window.document.levels, filled)
+    qtbot.waitUntil(lambda: np.array_equal(window.canvas.picture, tone_of(window, 4)),
+                    timeout=30_000)
+
+    # an export while the tone is drawn writes the tone, not the picture shown meanwhile
+    gate.clear()
+    fill_a_cell(qtbot, window)
+    png = tmp_path / "exported-meanwhile.png"
+    assert window.export_to(png)
+    assert np.array_equal(rgb(iio.imread(png)), tone_of(window, 4))
+    gate.set()
+    qtbot.waitUntil(lambda: not window._tone_drawing, timeout=30_000)
+    gate.clear()
+    fill_a_cell(qtbot, window)                       # closed with a tone being drawn
+    window.mark_clean()
+    window.close()
+    gate.set()
+    qtbot.waitUntil(lambda: not window._tone_drawing, timeout=30_000)
+    assert not window.errors
