@@ -281,10 +281,3 @@ class FlowDialog(StepDialog):
     def before_apply(self, action) -> None:
         if action.exemplar is not None:
             self.main_window.history.add_exemplar(self.exemplar)
-
-
-def open_flow(window) -> FlowDialog:
-    dialog = FlowDialog(window)
-    dialog.finished.connect(dialog.deleteLater)
-    dialog.open()
-    return dialog

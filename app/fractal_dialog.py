@@ -129,14 +129,3 @@ class FractalDialog(StepDialog):
                                                             size=PREVIEW), PREVIEW))
         self.info.setText(f"Result {scratch.shape[1]}×{scratch.shape[0]}, G = "
                           f"{scratch.num_levels}. OK adds one step (undo takes it back).")
-
-
-def open_fractal(window, model: str) -> FractalDialog | None:
-    """The dialog of one fractal model (a motif needs a texture to be stamped on)."""
-    if model == "ifs_motif" and not window.document.levels.size:
-        window.statusBar().showMessage("IFS motif: make or open a texture first.", 5000)
-        return None
-    dialog = FractalDialog(window, model)
-    dialog.finished.connect(dialog.deleteLater)
-    dialog.open()
-    return dialog

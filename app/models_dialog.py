@@ -142,17 +142,21 @@ class ModelDialog(StepDialog):
 
 
 def open_model(window, model: str):
-    """The dialog of one model (histogram matching needs a texture to recolour)."""
-    if model in ("fractal_relief", "ifs_motif"):            # no photo: their own dialog
-        from .fractal_dialog import open_fractal
-        return open_fractal(window, model)
-    if model == "flow_texture":
-        from .flow_dialog import open_flow
-        return open_flow(window)
-    if model == "match_histogram" and not window.document.levels.size:
-        window.statusBar().showMessage("Match histogram: make or open a texture first.", 5000)
+    """The dialog of one model, deleted once closed; a model that works on the current texture
+    (histogram matching recolours it, a motif is stamped on it) needs one first."""
+    needs_texture = {"match_histogram": "Match histogram", "ifs_motif": "IFS motif"}
+    if model in needs_texture and not window.document.levels.size:
+        window.statusBar().showMessage(f"{needs_texture[model]}: make or open a texture first.",
+                                       5000)
         return None
-    dialog = ModelDialog(window, model)
+    if model in ("fractal_relief", "ifs_motif"):            # no photo: their own dialog
+        from .fractal_dialog import FractalDialog
+        dialog = FractalDialog(window, model)
+    elif model == "flow_texture":
+        from .flow_dialog import FlowDialog
+        dialog = FlowDialog(window)
+    else:
+        dialog = ModelDialog(window, model)
     dialog.finished.connect(dialog.deleteLater)
     dialog.open()
     return dialog
