@@ -19,7 +19,7 @@ from PySide6 import QtCore, QtWidgets
 
 from texeditor.errors import TexeditorError
 from texeditor.markov.dpj import DPJ
-from texeditor.photo import PhotoModel, document_model, load_model
+from texeditor.photo import PhotoModel, document_model, load_model, step_wrap
 
 from .acquire_dialog import named_scales
 from .synthesis_dock import synthesis_step
@@ -136,7 +136,7 @@ class PhotoOps:
         doc, model = self.history.document, self.tone_model()
         step = synthesis_step(self.history)
         seed = int(step.seed) if step is not None else 0
-        wrap = bool(getattr(step, "tileable", False))
+        wrap = step_wrap(step)
         key = (seed, wrap, doc.shape,
                hashlib.blake2b(np.ascontiguousarray(doc.levels).data, digest_size=16).digest())
         cached = self._tone_cache                   # (model, key, its tone.Rendered)

@@ -8,6 +8,7 @@ import skimage as ski
 from numpy.lib.stride_tricks import sliding_window_view
 
 from texeditor import DPJ, estimate_dpj, quantize, synthesize
+from texeditor.errors import InputError
 from texeditor.markov.dpj import encode
 from texeditor.markov import multiscale
 from texeditor.markov.multiscale import estimate_scales, synthesize_scales
@@ -178,6 +179,53 @@ def test_the_back_off_picks_the_law_one_window_after_another_would(name):
     assert len(windows) >= 2
 
 
+@pytest.mark.parametrize("name", ["brick", "moon"])
+def test_closure_3_stops_failing_coarsest_draws_early_and_picks_the_same_law(name,
+                                                                            monkeypatch):
+    """Closure 3 judges each coarsest law on a draw stopped once it redraws more than
+    TORUS_BUDGET per point: draws that close stay well under it, so the same law comes out as
+    from whole draws (closure 2's way: the coarsest scale is closed alike by both)."""
+    coarse = acquire_model(getattr(ski.data, name)()).scales.dpjs[0]
+    laws = [multiscale._coarsest_on_torus(coarse, (32, 40), seed, 3) for seed in range(6)]
+    assert laws == [multiscale._coarsest_on_torus(coarse, (32, 40), seed, 2)
+                    for seed in range(6)]
+    monkeypatch.setattr(multiscale, "TORUS_BUDGET", 10 ** 9)
+    assert laws == [multiscale._coarsest_on_torus(coarse, (32, 40), seed, 3)
+                    for seed in range(6)]
+
+
+def test_a_redraw_budget_stops_a_draw_that_meets_dead_ends_everywhere():
+    coarse = acquire_model(ski.data.brick()).scales.dpjs[0]
+    budget = int(multiscale.TORUS_BUDGET * 64 * 64)
+    full = synthesize(coarse, (64, 64), seed=0, tileable=True)
+    assert full.redraws > 2 * budget                    # its 5×5 law does not close at 64²
+    cut = synthesize(coarse, (64, 64), seed=0, tileable=True, redraw_budget=budget)
+    assert budget < cut.redraws < full.redraws / 2
+    three = coarse.marginal(rows=slice(0, 3), cols=slice(0, 3))     # its 3×3 law closes
+    closing = synthesize(three, (64, 64), seed=0, tileable=True, redraw_budget=budget)
+    assert closing.redraws <= budget and off_the_dpj(closing.levels, three) < 0.01
+    assert np.array_equal(closing.levels, synthesize(three, (64, 64), seed=0, tileable=True).levels)
+
+
+def test_closure_3_draws_a_photo_model_that_tiles_with_fewer_tries():
+    """Multi-scale textures recorded with closure 3 differ from closure 2's (a new way, so a
+    new step version) but tile as well: seams no more visible, the same seed the same texture."""
+    model = acquire_model(ski.data.gravel())
+    jumps = {2: [], 3: []}
+    for seed in range(3):
+        for closure in (2, 3):
+            image = model.synthesize((96, 128), seed=seed, tileable=True,
+                                     closure=closure).image
+            jumps[closure].append([seam_jump(image, 0), seam_jump(image, 1)])
+    assert np.all(np.mean(jumps[3], axis=0) < 1.3 * np.mean(jumps[2], axis=0))
+    a = model.synthesize((96, 128), seed=1, tileable=True)
+    assert np.array_equal(a.image, model.synthesize((96, 128), seed=1, tileable=True).image)
+    assert not np.array_equal(a.levels, model.synthesize((96, 128), seed=1, tileable=True,
+                                                         closure=2).levels)
+    with pytest.raises(InputError):
+        synthesize_scales(model.scales, (20, 20), tileable=True, closure=4)
+
+
 def test_tone_contexts_read_across_the_seams_when_the_levels_tile():
     levels = np.random.default_rng(0).integers(0, 3, (5, 7)).astype(np.uint8)
     nine, five, own = context_codes(levels, 3, wrap=True)
@@ -223,7 +271,8 @@ def test_closing_the_bottom_seam_redraws_only_near_it(name):
     for seed in range(10):
         state = np.random.SeedSequence(seed).generate_state(1, np.uint64)
         torus = np.pad(np.zeros((h, w), np.uint8), ((0, 2), (0, 2)), mode="wrap")
-        S._sample_rows(torus, 0, h, rows, state, 64, np.int64(h), np.int64(w), np.int64(2))
+        S._sample_rows(torus, 0, h, rows, state, 64, np.int64(h), np.int64(w), np.int64(2),
+                       np.int64(S.NO_BUDGET))
         across = np.ascontiguousarray(torus.T)
         before = across.copy()
         S._close_columns(across, columns, state, np.int64(w), np.int64(h), np.int64(2))

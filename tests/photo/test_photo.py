@@ -79,6 +79,39 @@ def test_a_texture_file_replays_a_multiscale_synthesis(model, tmp_path):
     assert doc.actions[-1].TYPE == "synthesize_scales"
 
 
+def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_as_it_did():
+    """A file written before closure 3 (tests/data/scales-v2): its levels and its tone picture
+    come out bit-identical (closure 2, the first tiling tone); a new step records closure 3."""
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_tone, step_wrap
+    from texeditor.recipe.actions import SynthesizeScales
+    expected = json.loads((DATA / "scales-v2" / "expected.json").read_text())
+    doc = render_texture(DATA / "scales-v2" / "tileable-tone.texture")
+    step = doc.actions[-1]
+    assert step.closure == expected["closure"] == 2 and step_wrap(step) == tone.TILED
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
+    new = SynthesizeScales(step.dpjs, 80, 60, seed=7, tileable=True,
+                           tone_photo=step.tone_photo, tone_levels=step.tone_levels)
+    assert new.to_json()["version"] == 3 and new.closure == 3
+    assert step_wrap(new) == tone.TILED_LANES
+
+
+@pytest.mark.parametrize("obj, closure", [({"closure": 2}, 2), ({"closure": 1}, 1), ({}, 2),
+                                          ({"closure": 3}, None), ({"closure": "2"}, None)])
+def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
+    from texeditor.recipe.codec import action_from_json
+    step = {"type": "synthesize_scales", "version": 2, "dpjs": ["0123456789abcdef"],
+            "width": 30, "height": 20, "seed": 1, "tileable": True, **obj}
+    if closure is None:
+        with pytest.raises(FormatError):
+            action_from_json(step)
+    else:
+        assert action_from_json(step).closure == closure
+
+
 def _rezip(data: bytes, change) -> bytes:
     src = zipfile.ZipFile(io.BytesIO(data))
     members = {i.filename: src.read(i) for i in src.infolist()}
@@ -149,6 +182,104 @@ def test_tone_drawn_beside_the_synthesis_is_the_tone_of_the_finished_levels(colo
     assert np.array_equal(final, result.levels)
 
 
+@pytest.mark.parametrize("colour, shape", [(False, (300, 170)), (True, (97, 260))])
+def test_a_tiling_tone_drawn_beside_the_synthesis_is_the_tone_of_the_closed_torus(colour, shape):
+    """Closure 3: the tone follows the rows of a torus before it is closed (the closure may
+    change them after) and still gives the tone of the closed levels, drawn TILED_LANES."""
+    model = acquire_model(speckle((256, 256), seed=2, colour=colour), scales=3)
+    for size in (shape, (900, 100)):             # the second told of rows before it closes
+        result = model.synthesize(size, seed=5, tileable=True)
+        assert np.array_equal(result.image, model.render(result.levels, seed=5,
+                                                         wrap=tone.TILED_LANES))
+    told = []
+    from texeditor.markov.multiscale import synthesize_scales
+    final = synthesize_scales(model.scales, (900, 100), seed=5, tileable=True,
+                              rows_final=lambda lv, n: told.append(n)).levels
+    assert len(told) > 1 and told[-1] == 900
+    assert np.array_equal(final, result.levels)
+    older = model.synthesize(shape, seed=5, tileable=True, closure=2)
+    assert np.array_equal(older.image, model.render(older.levels, seed=5, wrap=tone.TILED))
+
+
+@pytest.mark.parametrize("rows, columns", [(8, 128), (3, 5)])
+def test_a_tiling_tone_on_two_lanes_is_the_picture_of_one_scan(model, monkeypatch, rows,
+                                                                 columns):
+    levels = model.synthesize((150, 301), seed=3, tileable=True).levels
+    args = (levels, 4, model.tone.levels, model.tone.grey)
+    monkeypatch.setattr(tone, "LANE_ROWS", 10 ** 6)
+    one = tone.render(*args, seed=8, wrap=tone.TILED_LANES)[0]
+    monkeypatch.setattr(tone, "LANE_ROWS", rows)
+    monkeypatch.setattr(tone, "LANE_COLUMNS", columns)
+    lanes = []
+    real = tone._two_lanes
+    monkeypatch.setattr(tone, "_two_lanes", lambda *a: lanes.append(1) or real(*a))
+    two = tone.render(*args, seed=8, wrap=tone.TILED_LANES)[0]
+    assert lanes and np.array_equal(one, two)
+    assert not np.array_equal(two, tone.render(*args, seed=8, wrap=tone.TILED)[0])
+
+
+def seam_jumps(picture):
+    """Mean grey jump across the bottom-top and the right-left seams over that inside."""
+    g = picture.astype(float)
+    return [np.abs(np.take(g, 0, axis=a) - np.take(g, -1, axis=a)).mean()
+            / np.abs(np.diff(g, axis=a)).mean() for a in (0, 1)]
+
+
+def test_a_tiling_tone_on_two_lanes_shows_no_seam(model):
+    """Its seam columns, drawn last, match the points on both sides: the jumps across both
+    seams are those of the first tiling tone, well under a tone that does not tile."""
+    jumps = {wrap: [] for wrap in (tone.PLAIN, tone.TILED, tone.TILED_LANES)}
+    for seed in range(4):
+        levels = model.synthesize((96, 128), seed=seed, tileable=True).levels
+        for wrap in jumps:
+            picture = tone.render(levels, 4, model.tone.levels, model.tone.grey, seed=seed,
+                                  wrap=wrap)[0]
+            jumps[wrap].append(seam_jumps(picture))
+    plain, tiled, lanes = (np.mean(jumps[w], axis=0) for w in jumps)
+    assert np.all(lanes < 0.7 * plain) and np.all(lanes < 1.25 * tiled)
+
+
+@pytest.mark.parametrize("change, redrawn_from", [("seam columns", None), ("last rows", 88),
+                                                  ("a middle row", 49), ("row 99", 97),
+                                                  ("row 0", 0)])
+def test_a_tiling_tone_drawn_before_the_closure_draws_again_only_what_it_changed(
+        model, monkeypatch, change, redrawn_from):
+    """Levels told of, then changed where a torus's closure changes them: the picture is that
+    of the final levels; changes in the seam columns leave the rest as drawn, a change in a
+    row has the rows from the one above it drawn again (drawing order: picture row k + 1)."""
+    final = model.synthesize((100, 300), seed=1, tileable=True).levels
+    told = final.copy()
+    if change == "seam columns":
+        told[:, -5:] = (told[:, -5:] + 1) % 4
+    elif change == "last rows":
+        told[90:] = (told[90:] + 1) % 4
+    elif change == "a middle row":
+        told[51, 100:140] = (told[51, 100:140] + 1) % 4
+    else:                                            # row 0 is drawn last, row 1 first
+        row = int(change.split()[1])
+        told[row, :30] = (told[row, :30] + 1) % 4
+    fresh = tone.rendering(final, 4, model.tone.levels, model.tone.grey, seed=6,
+                           wrap=tone.TILED_LANES)
+    renderer = tone.Renderer(final.shape, 4, model.tone.levels, model.tone.grey, seed=6,
+                             wrap=tone.TILED_LANES)
+    for n in range(10, 100, 30):
+        renderer.advance(told, n)
+    assert 0 < renderer.done < 100
+    starts = []
+    real = tone.Renderer._rows
+    monkeypatch.setattr(tone.Renderer, "_rows",
+                        lambda self, codes, stop, width: starts.append(self.done)
+                        or real(self, codes, stop, width))
+    renderer.advance(told, 100)                        # told rows drawn to the end first
+    starts.clear()
+    renderer.advance(final, 100)
+    assert np.array_equal(renderer.result()[0], fresh.grey)
+    assert np.array_equal(renderer.sources(), fresh.source)
+    assert starts == ([] if redrawn_from is None else [redrawn_from])
+    renderer.advance(final, 100)                       # the same levels again: nothing drawn
+    assert starts == ([] if redrawn_from is None else [redrawn_from])
+
+
 def test_cancel_stops_the_synthesis_and_its_tone(model):
     from texeditor.errors import Cancelled
     calls = []
@@ -208,7 +339,7 @@ def test_an_error_in_a_tone_lane_reaches_the_caller(monkeypatch):
     assert len(calls) < 64 // tone.LANE_ROWS * 8         # the other lane stopped too
 
 
-@pytest.mark.parametrize("wrap", [False, True])
+@pytest.mark.parametrize("wrap", [False, True, tone.TILED_LANES])
 @pytest.mark.parametrize("colour", [False, True])
 def test_a_rendering_after_an_edit_keeps_the_rows_above_and_matches_a_fresh_one(wrap, colour,
                                                                                  monkeypatch):
@@ -221,7 +352,9 @@ def test_a_rendering_after_an_edit_keeps_the_rows_above_and_matches_a_fresh_one(
     real = tone.Renderer.resume
     monkeypatch.setattr(tone.Renderer, "resume",
                         lambda self, before, start: starts.append(start) or real(self, before, start))
-    for top, expected_start in ((60, 59), (30, 29), (2, 1), (0, 0), (89, 0 if wrap else 88)):
+    expected = {False: (59, 29, 1, 0, 88), True: (59, 29, 1, 0, 0),
+                tone.TILED_LANES: (58, 28, 0, 0, 87)}[wrap]    # the last: picture row 0 first
+    for top, expected_start in zip((60, 30, 2, 0, 89), expected):
         edited = drawn.levels.copy()
         edited[top:top + 1, 20:70] = (edited[top:top + 1, 20:70] + 1) % 4
         again = model.rendering(edited, seed=2, wrap=wrap, before=drawn)
@@ -230,7 +363,7 @@ def test_a_rendering_after_an_edit_keeps_the_rows_above_and_matches_a_fresh_one(
         assert np.array_equal(again.source, fresh.source)
         assert tone.first_row_to_draw(drawn, edited, 2, wrap) == expected_start
         drawn = again
-    assert starts == [59, 29, 1] + ([] if wrap else [88])   # from 0: everything drawn
+    assert starts == [start for start in expected if start]   # from 0: everything drawn
     assert model.rendering(drawn.levels, seed=2, wrap=wrap, before=drawn) is drawn
     other_seed = model.rendering(drawn.levels, seed=3, wrap=wrap, before=drawn)
     assert np.array_equal(other_seed.picture, model.render(drawn.levels, seed=3, wrap=wrap))

@@ -26,7 +26,7 @@ from ..errors import Cancelled, InputError
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import has_colour, quantize, to_grey
-from .synthesis import CLOSURE, SynthesisResult, synthesize, synthesize_given
+from .synthesis import SynthesisResult, synthesize, synthesize_given
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
 MAX_SCALES = 6
@@ -37,6 +37,14 @@ LEVELS = 4
 FREQUENCY_TOLERANCE = 0.01  # a coarse scale is redrawn while a level's share is further off
 COARSE_TRIES = 8            # draws of a coarse scale (the next-to-finest: 2; the finest: 1)
 TORUS_TOLERANCE = 0.01      # a tileable coarsest draw may leave this share of windows off its DPJ
+TORUS_BUDGET = 0.5          # closure 3: a trial coarsest draw redrawing rows more often than this
+                            # per point will not close (those that close: ≤ 0.22; the others
+                            # 1.5–11 on stochastic photos), so it is stopped there
+SCALES_CLOSURE = 3          # the seam closure of a tileable multi-scale synthesis: 3 closes every
+                            # scale with fewer tries than 2 (synthesis.CLOSE_TRIES_3), stops the
+                            # coarsest law's failing trial draws early (TORUS_BUDGET) and has its
+                            # tone drawn beside the levels (photo.tone.TILED_LANES); 2 and 1 are
+                            # kept for older recipes
 
 
 @dataclass(frozen=True)
@@ -174,10 +182,12 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       progress: Callable[[float], None] | None = None,
                       cancel: Callable[[], bool] | None = None,
                       rows_final: Callable[[np.ndarray, int], None] | None = None,
-                      tileable: bool = False, closure: int = CLOSURE) -> SynthesisResult:
+                      tileable: bool = False,
+                      closure: int = SCALES_CLOSURE) -> SynthesisResult:
     """Draw the coarsest scale, then each finer one given the one under it; the finest levels
     (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
-    ``tileable``: every scale is drawn on the torus (``closure``: which seam closure).
+    ``tileable``: every scale is drawn on the torus (``closure``: which seam closure, 1 to
+    SCALES_CLOSURE, see synthesize).
 
     A coarse scale's field has long-range correlations: one draw of it can hold a level's share
     a tenth off the model's, and every finer scale inherits it. So a coarse scale is drawn again
@@ -185,6 +195,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     within FREQUENCY_TOLERANCE of its DPJ's: the field conditioned on its level histogram (the
     closest draw is kept if none is). The same model and seed give the same matrix."""
     shapes = scale_shapes(shape, model.scales)
+    closure = check_scales_closure(closure)
     if tileable and closure >= 2:
         model = MultiScaleDPJ((_coarsest_on_torus(model.dpjs[0], shapes[0], seed, closure),)
                               + model.dpjs[1:])
@@ -274,17 +285,21 @@ def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int) -> DPJ:
     size, the seams then meet dead ends everywhere (grass, gravel: 50–90 % of the windows
     outside the DPJ, a band the finer scales inherit). A smaller window branches more and
     closes; the first draw that leaves at most TORUS_TOLERANCE of its windows outside says
-    which (judged on ``scale_seed(seed, 0)``, so the same seed picks the same window)."""
+    which (judged on ``scale_seed(seed, 0)``, so the same seed picks the same window;
+    closure 3 stops a draw past TORUS_BUDGET redraws a point: it does not close)."""
     laws = [dpj]
     while min(laws[-1].window) > 2:
         (u, v) = laws[-1].window
         laws.append(laws[-1].marginal(rows=slice(0, v - 1), cols=slice(0, u - 1)))
+    budget = int(TORUS_BUDGET * shape[0] * shape[1]) if closure >= 3 else None
 
     def closes(t, progress, cancel):
         law = laws[t]
-        levels = synthesize(law, shape, seed=scale_seed(seed, 0), tileable=True,
-                            closure=closure, cancel=cancel).levels
-        seen = estimate_dpj(levels, law.window, law.levels, wrap=True)
+        drawn = synthesize(law, shape, seed=scale_seed(seed, 0), tileable=True,
+                           closure=closure, cancel=cancel, redraw_budget=budget)
+        if budget is not None and drawn.redraws > budget:
+            return False
+        seen = estimate_dpj(drawn.levels, law.window, law.levels, wrap=True)
         return seen.probs[~np.isin(seen.codes, law.codes)].sum() <= TORUS_TOLERANCE
 
     with closing(_in_order(closes, len(laws) - 1)) as tried:   # the last law is the last resort
@@ -292,6 +307,13 @@ def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int) -> DPJ:
             if closed:
                 return law
     return laws[-1]
+
+
+def check_scales_closure(closure) -> int:
+    if closure not in range(1, SCALES_CLOSURE + 1) or isinstance(closure, bool):
+        raise InputError(f"seam closure {closure!r} does not exist: choose 1 to "
+                         f"{SCALES_CLOSURE}")
+    return int(closure)
 
 
 def _tries(k: int, scales: int) -> int:

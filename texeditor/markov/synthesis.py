@@ -28,6 +28,7 @@ from .dpj import DPJ, encode
 from ..errors import Cancelled, InputError
 
 MAX_PIXELS = 2**28
+NO_BUDGET = 2**62              # redraws: no limit
 ROWS_PER_CALL_PIXELS = 2**16   # work per kernel call: how often progress and cancel are checked
 DIRECT_INDEX_MAX = 2**20       # context spaces up to this size get a direct look-up table
 MAX_REDRAW_DEPTH = 4           # rows above a dead end that may be redrawn together
@@ -35,7 +36,11 @@ CLOSE_TRIES = 8                # closure 2 of a seam: tries, redrawing the rows 
                                # falls back on closure 1's widening and back-off
 SPAN_TRIES = 4                 # ... and tries at one stretch before it doubles
 CLOSE_SPAN = 4                 # closure 2: the shortest stretch redrawn, in windows
-CLOSURE = 2                    # the seam closure tileable synthesis uses (1: the first one)
+CLOSE_TRIES_3 = 2              # closure 3: as 2, but a scale drawn given its parents has this
+                               # many tries (its tries, redrawing ever wider, cascade from
+                               # column to column)
+CLOSURE = 2                    # the seam closure tileable synthesis uses (1: the first one;
+                               # 3: that of multi-scale synthesis, markov.multiscale)
 
 
 @dataclass(frozen=True)
@@ -50,7 +55,8 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
                progress: Callable[[float], None] | None = None,
                cancel: Callable[[], bool] | None = None, max_redraws: int = 16,
                rows_final: Callable[[np.ndarray, int], None] | None = None,
-               tileable: bool = False, closure: int = CLOSURE) -> SynthesisResult:
+               tileable: bool = False, closure: int = CLOSURE,
+               redraw_budget: int | None = None) -> SynthesisResult:
     """Draw an (H, W) level matrix from ``dpj``; same DPJ and seed → same matrix.
 
     ``progress(fraction)`` is called between bands of rows; ``cancel()`` returning True stops the
@@ -60,15 +66,22 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
 
     ``tileable``: drawn on the torus, so the texture repeats without a seam: each row's last
     points are redrawn from their law given its first ones, then each column's last points
-    given its first ones (the same with the DPJ transposed); nothing is blended. ``closure``
-    picks the seam closure: 2 (the current one) or 1 (the first, which left a few windows
-    across the seams outside the DPJ; kept so older recipes replay the same).
+    given its first ones (the same with the DPJ transposed); nothing is blended. Its rows are
+    final only once the columns are closed, which may change any row: ``rows_final`` is told
+    of the rows as the rows' pass leaves them, and its last call (n = H) gives the closed
+    torus, to be compared with what it was told before. ``closure``
+    picks the seam closure: 2 (the current one; 3 is the same here, see synthesize_given) or
+    1 (the first, which left a few windows across the seams outside the DPJ; kept so older
+    recipes replay the same).
+
+    ``redraw_budget``: give up once the rows have been redrawn more often than this (the
+    result then has ``redraws`` above it and is not a texture): a quick "will it close?".
     """
     h, w = _check_request(dpj, shape)
     out = np.zeros((h, w), dtype=np.uint8)
     across = _tables(_transposed(dpj)) if tileable else None
     return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws, rows_final, across,
-                 _check_closure(closure))
+                 _check_closure(closure), redraw_budget)
 
 
 def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed: int = 0,
@@ -81,7 +94,8 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     one under it, markov.multiscale): ``dpj``'s levels are composite, parent · G + level, with
     G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
     parents, as :func:`synthesize`; the result holds the G-levels alone (so do the rows
-    ``rows_final`` is told of). ``tileable``: on the torus, the parents tiling too."""
+    ``rows_final`` is told of). ``tileable``: on the torus, the parents tiling too
+    (``closure`` 3: as 2 with CLOSE_TRIES_3 tries a seam, what multi-scale synthesis uses)."""
     gp = int(parent_levels)
     if gp < 2 or dpj.levels % gp:
         raise InputError(f"a DPJ of {dpj.levels} composite levels cannot have {gp} parent levels")
@@ -106,19 +120,21 @@ def _own_levels(out, gx, rows_final):
     levels, done = np.empty_like(out), [0]     # out: the shape
 
     def report(composite, n):
-        np.remainder(composite[done[0]:n], gx, out=levels[done[0]:n])
+        first = 0 if n == len(out) else done[0]     # a torus's rows change at its closure
+        np.remainder(composite[first:n], gx, out=levels[first:n])
         done[0] = max(done[0], n)
         rows_final(levels, n)
     return report
 
 
 def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
-          across=None, closure=CLOSURE) -> SynthesisResult:
+          across=None, closure=CLOSURE, budget=None) -> SynthesisResult:
     """Fill ``out`` band by band (progress, cancel and the rows now final between bands).
 
     Tileable (``across``: the tables of the DPJ transposed): drawn on the torus — in a copy of
     ``out`` whose first v-1 rows and u-1 columns are repeated after its last, so every window
-    across a seam is an ordinary window; the rows are final only once the columns are closed."""
+    across a seam is an ordinary window; the rows are final only once the columns are closed
+    (``rows_final`` hears of them before, see synthesize)."""
     h, w = out.shape
     tileable = across is not None
     state = np.random.SeedSequence(_check_seed(seed)).generate_state(1, np.uint64)
@@ -129,14 +145,19 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
     for r0 in range(0, h, band):
         if cancel is not None and cancel():
             raise Cancelled("synthesis cancelled")
+        left = np.int64(NO_BUDGET if budget is None else budget - redraws)
         rep, red = _sample_rows(work, r0, min(h, r0 + band), t, state, max_redraws, tile_h,
-                                tile_w, np.int64(closure))
+                                tile_w, np.int64(closure), left)
         repairs += rep
         redraws += red
+        if budget is not None and redraws > budget:
+            return SynthesisResult(out, int(repairs), int(redraws), int(seed))
         if progress is not None:
             progress(min(h, r0 + band) / h)
-        if rows_final is not None and not tileable:
-            rows_final(out, h if r0 + band >= h else max(0, r0 + band - MAX_REDRAW_DEPTH))
+        if rows_final is not None and r0 + band < h:
+            rows_final(work[:h, :w] if tileable else out, max(0, r0 + band - MAX_REDRAW_DEPTH))
+        elif rows_final is not None and not tileable:
+            rows_final(out, h)
     if tileable:
         turned = np.ascontiguousarray(work.T)
         repairs += _close_columns(turned, across, state, tile_w, tile_h, np.int64(closure))
@@ -165,8 +186,8 @@ def _transposed(dpj: DPJ) -> DPJ:
 
 
 def _check_closure(closure) -> int:
-    if closure not in (1, 2) or isinstance(closure, bool):
-        raise InputError(f"seam closure {closure!r} does not exist: choose 1 or 2")
+    if closure not in (1, 2, 3) or isinstance(closure, bool):
+        raise InputError(f"seam closure {closure!r} does not exist: choose 1, 2 or 3")
     return int(closure)
 
 
@@ -788,9 +809,10 @@ def _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws):
 
 
 @njit(cache=True, nogil=True)
-def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w, closure):
+def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w, closure, budget):
     """Rows r0..r1-1. Without parents the first call (r0 = 0) draws the first v rows as the
-    chain of column states; with parents each of them is drawn with the rows above it.
+    chain of column states; with parents each of them is drawn with the rows above it. Stops
+    after the row that takes the redraws past ``budget``.
 
     Tileable (tile_h > 0): ``out`` is the (tile_h, tile_w) torus with its first v-1 rows and
     u-1 columns copied after its last (see _draw); each row is drawn, then closed across the
@@ -821,6 +843,8 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w, closure):
         if tile_h > 0:
             repairs += _close_row(out, r, kmin, tile_w, tile_w, t, seg, state, closure,
                                   np.int64(0), np.int64(0)) < 0
+        if redraws > budget:
+            break
     return repairs, redraws
 
 
@@ -872,7 +896,8 @@ def _close_row(out, r, kmin, tile_w, reach, t, seg, state, closure, below, below
     if u == 1:
         return tile_w
     if closure > 1:
-        c0 = _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below, below_to)
+        c0 = _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below, below_to,
+                            CLOSE_TRIES if closure == 2 or t.gp == 1 else CLOSE_TRIES_3)
         if c0 >= 0:
             return c0
         c0 = -1 - c0                   # back off where needed, over what the tries changed
@@ -893,16 +918,16 @@ def _close_row(out, r, kmin, tile_w, reach, t, seg, state, closure, below, below
 
 
 @njit(cache=True, nogil=True)
-def _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below, below_to):
-    """Closure 2 of row r: at a dead end, the rows above are redrawn around it too (as a dead
-    end inside the texture does, see _redraw_above, but within the stretch), deeper and wider
-    as tries fail, then the row's stretch again, longer every fourth try. Returns the first
-    column redrawn c0, or -1 - c0 when no try closed the row (the rows above may have
-    changed from c0 on)."""
+def _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below, below_to, most):
+    """Closure 2 (and 3) of row r: at a dead end, the rows above are redrawn around it too (as
+    a dead end inside the texture does, see _redraw_above, but within the stretch), deeper and
+    wider as tries fail, then the row's stretch again, longer every fourth try; ``most``
+    tries. Returns the first column redrawn c0, or -1 - c0 when no try closed the row (the
+    rows above may have changed from c0 on)."""
     u = t.u
     span = max(CLOSE_SPAN * u, tile_w - reach)
     c0 = max(u - 1, tile_w - span)
-    for tries in range(CLOSE_TRIES):
+    for tries in range(most):
         c0 = max(u - 1, tile_w - span)
         n = _redraw_segment(out, r, c0, tile_w, kmin, t, seg, state, False, below, below_to)
         if n < 0:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from . import tone
 from .model import (PhotoModel, Resynthesis, Tone, acquire_model, document_model,
-                    document_tone, load_model, model_from_bytes, photo_tone)
+                    document_tone, load_model, model_from_bytes, photo_tone, step_wrap)
 
 
 def resynthesize(photo, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
@@ -25,4 +25,5 @@ def resynthesize(photo, shape, *, seed: int = 0, tone: bool = True, tileable: bo
 
 
 __all__ = ["tone", "PhotoModel", "Resynthesis", "Tone", "acquire_model", "document_model",
-           "document_tone", "load_model", "model_from_bytes", "photo_tone", "resynthesize"]
+           "document_tone", "load_model", "model_from_bytes", "photo_tone", "resynthesize",
+           "step_wrap"]

@@ -22,11 +22,12 @@ from ..errors import FormatError, InputError
 from ..fileio import load_json, read_limited, write_file
 from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers
 from ..markov.levels import to_grey
-from ..markov.synthesis import CLOSURE
-from ..markov.multiscale import (COARSE_LEVELS, COARSE_WINDOW, LEVELS, WINDOW, MultiScaleDPJ,
-                                 estimate_scales, synthesize_scales)
+from ..markov.multiscale import (COARSE_LEVELS, COARSE_WINDOW, LEVELS, SCALES_CLOSURE, WINDOW,
+                                 MultiScaleDPJ, check_scales_closure, estimate_scales,
+                                 synthesize_scales)
 from ..recipe.exemplars import MAX_SIDE
-from .tone import Rendered, Renderer, ToneIndex, rendering, tone_index
+from .tone import (PLAIN, TILED, TILED_LANES, Rendered, Renderer, ToneIndex, rendering,
+                   tone_index)
 
 MODEL_FORMAT_VERSION = 2
 MAX_TONE_PIXELS = 4096 * 4096
@@ -74,13 +75,14 @@ class PhotoModel:
         return self.scales.frequencies(self.scales.scales - 1)
 
     def synthesize(self, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
-                   closure: int = CLOSURE, progress: Callable[[float], None] | None = None,
+                   closure: int = SCALES_CLOSURE,
+                   progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
         drawn on a second thread as the finest rows come out (the same picture as
-        ``render(levels)`` afterwards, in about half the time on two cores). ``tileable``: the
-        levels and the picture repeat without a seam (``closure``: which seam closure, see
-        markov.synthesize)."""
+        ``render(levels, wrap=tone_wrap(tileable, closure))`` afterwards, in about half the
+        time on two cores). ``tileable``: the levels and the picture repeat without a seam
+        (``closure``: which seam closure, see markov.multiscale.synthesize_scales)."""
         if not tone or self.tone is None:
             result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
                                        cancel=cancel, tileable=tileable, closure=closure)
@@ -91,24 +93,25 @@ class PhotoModel:
         return Resynthesis(image, result.levels, self.frequencies(), result.repairs, int(seed))
 
     def _synthesize_with_tone(self, shape, seed, progress, cancel, tileable, closure):
-        renderer, final = [], [0]
+        renderer, latest = [], [None]
+        wrap = tone_wrap(tileable, closure)
         with ThreadPoolExecutor(1, thread_name_prefix="tone") as worker:
             jobs = []
 
-            def catch_up(levels):
+            def catch_up():
                 """Render every row final by now (a tone behind the levels takes all the rows
                 that are ready at once, which its two lanes share better)."""
-                renderer[0].advance(levels, final[0])
+                renderer[0].advance(*latest[0])
 
             def rows_final(levels, n):
                 if not renderer:
                     renderer.append(Renderer(levels.shape, self.levels, self.tone.levels,
                                              self.tone.grey, self.tone.colour, seed=seed,
-                                             index=self._index(), wrap=tileable))
+                                             index=self._index(), wrap=wrap))
                 if jobs and jobs[-1].done():
                     jobs[-1].result()                   # a tone error stops the synthesis
-                final[0] = n
-                jobs.append(worker.submit(catch_up, levels))
+                latest[0] = (levels, n)
+                jobs.append(worker.submit(catch_up))
             try:
                 result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
                                            cancel=cancel, rows_final=rows_final,
@@ -122,17 +125,16 @@ class PhotoModel:
         grey, colour = renderer[0].result()
         return result, (grey if colour is None else colour)
 
-    def render(self, levels, *, seed: int = 0, tone: bool = True,
-               wrap: bool = False) -> np.ndarray:
+    def render(self, levels, *, seed: int = 0, tone: bool = True, wrap=False) -> np.ndarray:
         """The picture of a level matrix: tone when the model has it, else the palette;
-        ``wrap``: tiling levels give a tiling picture."""
+        ``wrap``: tiling levels give a tiling picture (drawn the way tone_wrap says)."""
         levels = np.asarray(levels)
         if not tone or self.tone is None:
             image = self.palette[levels]
             return image[..., 0].copy() if self._grey_palette() else image
         return self.rendering(levels, seed=seed, wrap=wrap).picture
 
-    def rendering(self, levels, *, seed: int = 0, wrap: bool = False,
+    def rendering(self, levels, *, seed: int = 0, wrap=False,
                   before: Rendered | None = None) -> Rendered:
         """The tone picture of ``levels`` (``.picture``) with what a next rendering after an
         edit starts from: ``before``, this model's rendering of the levels before the edit
@@ -188,7 +190,20 @@ def document_tone(doc) -> np.ndarray | None:
     model = document_model(doc, step)
     if model is None:
         return None
-    return model.render(doc.levels, seed=int(step.seed), wrap=bool(step.tileable))
+    return model.render(doc.levels, seed=int(step.seed), wrap=step_wrap(step))
+
+
+def tone_wrap(tileable: bool, closure: int = SCALES_CLOSURE) -> int:
+    """How a synthesis's tone tiles: not at all, or as its seam closure says (3: drawn on two
+    lanes beside the levels, tone.TILED_LANES; 1 and 2: tone.TILED)."""
+    if not tileable:
+        return PLAIN
+    return TILED_LANES if check_scales_closure(closure) >= 3 else TILED
+
+
+def step_wrap(step) -> int:
+    """tone_wrap of a recorded synthesis step (PLAIN for a step that does not tile)."""
+    return tone_wrap(bool(getattr(step, "tileable", False)), getattr(step, "closure", 1))
 
 
 def document_model(doc, step=None) -> PhotoModel | None:

@@ -7,6 +7,17 @@ runs on smoothly across a level region) and a few drawn at random from the photo
 that context (so no region is one long copy) — by the best match with the greys already
 rendered around it. A context the photo never showed backs off to the 4 edge neighbours, then
 to the point's own level. Seeded and exact: the same levels, tone and seed give the same image.
+
+A tiling picture (``wrap``) reads its neighbours across the seams. It is drawn one of two ways,
+kept apart so older recipes show the same picture (the synthesis's seam closure says which):
+TILED scans from row 0 and reads the end of the row above at each row's start, so every point
+waits for the one before it: one core, once the levels are closed. TILED_LANES scans a torus
+turned one row and one column (so its first row and column have final contexts first) and
+leaves its last EDGE_COLUMNS columns, which hold the side seam, for the end: the rest runs on two
+lanes beside the synthesis as a plain picture does, and the seam columns then match the points
+on both sides of them. (A torus's closure redraws the side seam's columns from top to bottom
+and the last rows, after every row is drawn: rows drawn before from levels that changed are
+drawn again.)
 """
 
 from __future__ import annotations
@@ -26,6 +37,9 @@ COHERENCE = 0.5           # a continuing candidate's mismatch counts this much (
 HALF = 2                   # the causal neighbourhood compared: rows above and left, ±HALF
 DRAWS = 1 + RANDOM_CANDIDATES   # random numbers per point, so point n starts at draw DRAWS·n
 GAMMA = 0x9E3779B97F4A7C15  # SplitMix64's step (markov.synthesis.uniform)
+PLAIN, TILED, TILED_LANES = 0, 1, 2   # ``wrap``: how (and whether) a picture tiles
+EDGE_COLUMNS = 12          # TILED_LANES: the columns drawn last (a torus's closure redraws the
+                           # last 6 from top to bottom; one more is read by the first's context)
 LANE_ROWS = 8              # the two-lane wavefront: strips of this many rows,
 LANE_COLUMNS = 128         # cut in chunks this wide (each row's chunk HALF columns left of
                            # the row above's: a point reads the row above up to HALF columns on)
@@ -93,7 +107,8 @@ def render(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=None,
 
     ``photo_levels`` (h, w) are the photo's levels at the same G, ``photo_grey`` its greys (uint8)
     and ``photo_pixels`` its colours (h, w, 3) uint8, or None for a grey photo. ``wrap``: the
-    levels tile, and so does the picture (contexts and matches read across the seams).
+    levels tile, and so does the picture (contexts and matches read across the seams; TILED or
+    TILED_LANES say which way, True is TILED).
     """
     drawn = rendering(levels, num_levels, photo_levels, photo_grey, photo_pixels, seed=seed,
                       index=index, wrap=wrap)
@@ -108,7 +123,7 @@ class Rendered(NamedTuple):
     source: np.ndarray       # the photo point (row-major index) each point shows
     levels: np.ndarray       # the levels drawn
     seed: int
-    wrap: bool
+    wrap: int                # PLAIN, TILED or TILED_LANES
 
     @property
     def picture(self) -> np.ndarray:
@@ -125,7 +140,7 @@ def rendering(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=No
     and its random numbers are fixed by its place), so they are copied, not drawn again."""
     levels = np.ascontiguousarray(levels, dtype=np.uint8)
     start = first_row_to_draw(before, levels, seed, wrap)
-    if start == len(levels):
+    if start == len(levels) and np.array_equal(before.levels, levels):
         return before
     renderer = Renderer(levels.shape, num_levels, photo_levels, photo_grey, photo_pixels,
                         seed=seed, index=index, wrap=wrap)
@@ -133,35 +148,68 @@ def rendering(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=No
         renderer.resume(before, start)
     renderer.advance(levels, len(levels))
     grey, pixels = renderer.result()
-    return Rendered(grey, pixels, renderer.source, levels.copy(), int(seed), bool(wrap))
+    return Rendered(grey, pixels, renderer.sources(), levels.copy(), int(seed), int(wrap))
 
 
-def first_row_to_draw(before: Rendered | None, levels: np.ndarray, seed: int,
-                      wrap: bool) -> int:
-    """The first row whose picture a change of levels since ``before`` can alter: the row
-    above the first changed one (its 3×3 context reads it); on a tiling picture, the first
-    row when the change reaches the first or last row (each is the other's context). The
-    height: nothing changed."""
+def first_row_to_draw(before: Rendered | None, levels: np.ndarray, seed: int, wrap) -> int:
+    """The first row, in drawing order, whose picture a change of levels since ``before``
+    can alter: the row above the first changed one (its 3×3 context reads it); on a tiling
+    picture, the first row when the change reaches the first or last row drawn (each is the
+    other's context). The height: nothing changed. (TILED_LANES: of the points drawn before
+    the seam columns, which are drawn again after any change.)"""
     if (before is None or before.levels.shape != levels.shape or before.seed != int(seed)
-            or before.wrap != bool(wrap)):
+            or before.wrap != int(wrap)):
         return 0
-    rows = np.flatnonzero((before.levels != levels).any(axis=1))
+    if int(wrap) != TILED_LANES:
+        return _first_to_redraw((before.levels != levels).any(axis=1), bool(wrap))
+    read = _read_before_seam(levels.shape[1])
+    changed = (_turned(before.levels) != _turned(levels))[:, read].any(axis=1)
+    return _first_to_redraw(changed, True)
+
+
+def _first_to_redraw(changed: np.ndarray, wrap: bool) -> int:
+    """first_row_to_draw, from which rows (in drawing order) changed."""
+    rows = np.flatnonzero(changed)
     if rows.size == 0:
-        return len(levels)
-    if wrap and (rows[0] == 0 or rows[-1] == len(levels) - 1):
+        return len(changed)
+    if wrap and (rows[0] == 0 or rows[-1] == len(changed) - 1):
         return 0
     return max(0, int(rows[0]) - 1)
 
 
+def _seam_start(w: int) -> int:
+    """TILED_LANES: the first of the columns drawn last, in drawing order."""
+    return max(0, w - EDGE_COLUMNS)
+
+
+def _read_before_seam(w: int) -> np.ndarray:
+    """TILED_LANES: the columns (drawing order) whose levels the points drawn before the seam
+    columns read: their own, the next one, and the last (the first column's left neighbour)."""
+    return np.unique(np.r_[0:min(w, _seam_start(w) + 1), w - 1])
+
+
+def _turned(a: np.ndarray) -> np.ndarray:
+    """TILED_LANES's drawing order: the picture turned one row and one column."""
+    return np.roll(a, (-1, -1), axis=(0, 1))
+
+
+def _unturned(a: np.ndarray) -> np.ndarray:
+    return np.roll(a, (1, 1), axis=(0, 1))
+
+
 class Renderer:
     """The tone drawn band by band, as a synthesis makes rows final: the picture is the same
-    as one :func:`render` of the finished levels, and the work can run beside the synthesis."""
+    as one :func:`render` of the finished levels, and the work can run beside the synthesis.
+
+    Its arrays hold the points in drawing order (TILED_LANES: the picture turned, _turned)."""
 
     def __init__(self, shape, num_levels: int, photo_levels, photo_grey, photo_pixels=None, *,
-                 seed: int = 0, index: ToneIndex | None = None, wrap: bool = False):
+                 seed: int = 0, index: ToneIndex | None = None, wrap=False):
         shape = tuple(shape)
         if len(shape) != 2 or 0 in shape:
             raise InputError(f"tone needs a non-empty matrix of levels 0..{num_levels - 1}")
+        if int(wrap) not in (PLAIN, TILED, TILED_LANES):
+            raise InputError(f"a tone tiles in no way {wrap!r}")
         self.num_levels = num_levels
         self.photo_grey = np.ascontiguousarray(photo_grey, dtype=np.uint8)
         self.photo_pixels = photo_pixels
@@ -170,51 +218,117 @@ class Renderer:
         self.source = np.empty(shape, np.int64)
         self.grey = np.empty(shape, np.uint8)
         self.done = 0
-        self.wrap = bool(wrap)
+        self.wrap = int(wrap)
+        self.turned = self.wrap == TILED_LANES
+        self.seam = _seam_start(shape[1]) if self.turned else shape[1]
+        self.seen = np.zeros(shape, np.uint8)        # TILED_LANES: the levels drawn from
+        self.seen_rows = np.zeros(shape[0], bool)    # (drawing order), checked at the end
+        self.closed = None                           # the levels the seam columns were drawn for
 
     def resume(self, before: Rendered, start: int) -> None:
-        """Take rows 0..start-1 as ``before`` drew them (see :func:`rendering`)."""
-        self.source[:start] = before.source[:start]
-        self.grey[:start] = before.grey[:start]
+        """Take rows 0..start-1 (drawing order) as ``before`` drew them (see rendering)."""
+        source, grey = before.source, before.grey
+        if self.turned:
+            source, grey = _turned(source), _turned(grey)
+            self.seen[:] = _turned(before.levels)
+            self.seen_rows[:] = True
+        self.source[:start] = source[:start]
+        self.grey[:start] = grey[:start]
         self.done = start
 
     def advance(self, levels, final: int) -> None:
         """Render the rows whose 3×3 context lies in ``levels``' rows 0..final-1 (all of them
-        once ``final`` is the height; a tiling picture waits for that: its first row's context
-        holds the last row)."""
+        once ``final`` is the height). TILED waits for that (its first row's context holds the
+        last row). TILED_LANES draws on; once ``final`` is the height, the rows drawn from
+        levels that changed since are drawn again, then the seam columns."""
         h = len(self.grey)
+        if self.turned:
+            self._advance_turned(levels, final)
+            return
         stop = h if final >= h else self.done if self.wrap else max(self.done, final - 1)
         if stop <= self.done:
             return
         a, b = (0, h) if self.wrap else (max(0, self.done - 1), min(h, stop + 1))
-        band = np.ascontiguousarray(levels[a:b], dtype=np.uint8)
-        if band.max() >= self.num_levels:
-            raise InputError(f"tone needs a matrix of levels 0..{self.num_levels - 1}")
+        band = self._checked(levels[a:b])
         w = band.shape[1]
         first, last = (self.done - a) * w, (stop - a) * w
         codes = tuple(c[first:last] for c in context_codes(band, self.num_levels, self.wrap))
-        rows, base = (self.done, stop), self.done
-        if self.wrap or stop - self.done < 2 * LANE_ROWS or w < 2 * LANE_COLUMNS:
-            self._chunk(codes, base, rows, (0, w), 0)
+        if self.wrap:                               # TILED: one scan
+            self._chunk(codes, (self.done, 0, w), (self.done, stop), (0, w), 0)
+            self.done = stop
         else:
-            _two_lanes(lambda r, c: self._chunk(codes, base, r, c, HALF), rows, w)
+            self._rows(codes, stop, w)
+
+    def _advance_turned(self, levels, final: int) -> None:
+        h, w = self.grey.shape
+        if final >= h:
+            now = _turned(levels)
+            if self.closed is not None and np.array_equal(now, self.closed):
+                return                             # drawn from these very levels
+            read = _read_before_seam(w)
+            changed = self.seen_rows & (now[:, read] != self.seen[:, read]).any(axis=1)
+            self.done = min(self.done, _first_to_redraw(changed, True))
+        stop = h if final >= h else max(self.done, final - 2)
+        if stop > self.done and self.seam > 0:
+            order = np.arange(self.done - 1, stop + 1) % h   # the rows drawn, one either side
+            band = self._checked(_turned_rows(levels, order))
+            self.seen[order], self.seen_rows[order] = band, True
+            codes = tuple(c[w:-w] for c in context_codes(band, self.num_levels, True))
+            self._rows(codes, stop, self.seam)
+        self.done = max(self.done, stop)
+        if final >= h:                             # the seam columns, top to bottom
+            columns = np.arange(self.seam - 1, w + 1) % w
+            band = self._checked(now[:, columns])
+            width = w - self.seam
+            codes = tuple(c.reshape(h, -1)[:, 1:-1].ravel()
+                          for c in context_codes(band, self.num_levels, True))
+            self._chunk(codes, (0, self.seam, width), (0, h), (self.seam, w), 0)
+            self.closed = now
+
+    def _checked(self, band) -> np.ndarray:
+        band = np.ascontiguousarray(band, dtype=np.uint8)
+        if band.max() >= self.num_levels:
+            raise InputError(f"tone needs a matrix of levels 0..{self.num_levels - 1}")
+        return band
+
+    def _rows(self, codes, stop: int, width: int) -> None:
+        """Rows done..stop-1 over columns 0..width-1 (``codes``: their contexts, a full row
+        each), on two lanes when they are many."""
+        rows, at = (self.done, stop), (self.done, 0, len(self.grey[0]))
+        if stop - self.done < 2 * LANE_ROWS or width < 2 * LANE_COLUMNS:
+            self._chunk(codes, at, rows, (0, width), 0)
+        else:
+            _two_lanes(lambda r, c: self._chunk(codes, at, r, c, HALF), rows, width)
         self.done = stop
 
-    def _chunk(self, codes, base, rows, columns, skew) -> None:
-        """Render rows (i0, i1), row i0 + k over columns (j0, j1) moved ``skew``·k left
-        (``codes``: the contexts from row ``base`` on)."""
+    def _chunk(self, codes, at, rows, columns, skew) -> None:
+        """Render rows (i0, i1), row i0 + k over columns (j0, j1) moved ``skew``·k left and
+        clipped to them (``codes``: the contexts of the rows from ``at`` = (row, column,
+        width) on)."""
         ix = self.index
         _render(codes, ix.codes, ix.keys, ix.starts, ix.points, self.photo_grey, self.source,
-                self.grey, self.state0, base, rows[0], rows[1], columns[0], columns[1], skew,
-                self.wrap)
+                self.grey, self.state0, at[0], at[1], at[2], rows[0], rows[1], columns[0],
+                columns[1], skew, self.wrap, self.seam)
+
+    def sources(self) -> np.ndarray:
+        """The photo point each picture point shows (row-major index), in picture order."""
+        return _unturned(self.source) if self.turned else self.source
 
     def result(self):
-        """(grey, pixels or None) of the rows rendered so far (all, after the last advance)."""
+        """(grey, pixels or None) of the rows rendered so far (all, after the last advance),
+        in picture order."""
+        grey = _unturned(self.grey) if self.turned else self.grey
         pixels = None
         if self.photo_pixels is not None:
             flat = np.asarray(self.photo_pixels).reshape(-1, self.photo_pixels.shape[-1])
-            pixels = flat[self.source.ravel()].reshape(*self.grey.shape, flat.shape[-1])
-        return self.grey, pixels
+            pixels = flat[self.sources().ravel()].reshape(*grey.shape, flat.shape[-1])
+        return grey, pixels
+
+
+def _turned_rows(levels: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """Rows ``order`` of the turned levels (_turned), without turning all of them."""
+    h = len(levels)
+    return np.roll(levels[(order + 1) % h], -1, axis=1)
 
 
 def _two_lanes(run, rows, width: int) -> None:
@@ -268,11 +382,19 @@ def _bucket(keys, starts, key):
     return 0, 0
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _before(y, x, i, j, w, seam):
+    """Whether point (y, x) is drawn before (i, j): the columns from ``seam`` on come after
+    all the others (TILED_LANES; else ``seam`` is the width), each part in scan order."""
+    late, now_late = x >= seam, j >= seam
+    return late < now_late or (late == now_late and y * w + x < i * w + j)
+
+
 @njit(cache=True, nogil=True)
-def _distance(grey, i, j, photo, pi, pj, best):
-    """Squared grey differences over the rendered causal neighbourhood of (i, j), against the
-    photo around (pi, pj); stops once past ``best``. Points off either picture are skipped."""
-    w = grey.shape[1]
+def _distance(grey, i, j, photo, pi, pj, best, limit):
+    """Squared grey differences over the rendered causal neighbourhood of (i, j) (columns
+    before ``limit``), against the photo around (pi, pj); stops once past ``best``. Points off
+    either picture are skipped."""
     pw = photo.shape[1]
     total = np.int64(0)
     for di in range(-HALF, 1):
@@ -281,7 +403,7 @@ def _distance(grey, i, j, photo, pi, pj, best):
             continue
         for dj in range(-HALF, HALF + 1 if di < 0 else 0):
             x, px = j + dj, pj + dj
-            if 0 <= x < w and 0 <= px < pw:
+            if 0 <= x < limit and 0 <= px < pw:
                 d = np.int64(grey[y, x]) - np.int64(photo[py, px])
                 total += d * d
         if total > best:
@@ -290,15 +412,18 @@ def _distance(grey, i, j, photo, pi, pj, best):
 
 
 @njit(cache=True, nogil=True)
-def _distance_wrap(grey, i, j, photo, pi, pj, best):
-    """_distance on a tiling picture: every rendered point of the (2·HALF+1)² square around
-    (i, j), read across the seams (the last rows and columns meet the first ones). Away from
-    the seams the rendered points are the causal half, so _distance gives the same total."""
+def _distance_wrap(grey, i, j, photo, pi, pj, best, wrap, seam):
+    """_distance on a tiling picture: every point of the (2·HALF+1)² square around (i, j)
+    drawn before it (_before), read across the seams (the last rows and columns meet the first
+    ones). Where none is across a seam, or drawn later but in the causal half, _distance
+    gives the same total."""
     h, w = grey.shape
-    if HALF <= i < h - HALF and HALF <= j < w - HALF:
-        return _distance(grey, i, j, photo, pi, pj, best)
+    if wrap == TILED_LANES:
+        if j < seam and i < h - HALF:
+            return _distance(grey, i, j, photo, pi, pj, best, seam)
+    elif HALF <= i < h - HALF and HALF <= j < w - HALF:
+        return _distance(grey, i, j, photo, pi, pj, best, w)
     ph, pw = photo.shape
-    here = i * w + j
     total = np.int64(0)
     for di in range(-HALF, HALF + 1):
         py = pi + di
@@ -308,7 +433,7 @@ def _distance_wrap(grey, i, j, photo, pi, pj, best):
         for dj in range(-HALF, HALF + 1):
             px = pj + dj
             x = (j + dj) % w
-            if 0 <= px < pw and y * w + x < here:
+            if 0 <= px < pw and _before(y, x, i, j, w, seam):
                 d = np.int64(grey[y, x]) - np.int64(photo[py, px])
                 total += d * d
         if total > best:
@@ -318,21 +443,23 @@ def _distance_wrap(grey, i, j, photo, pi, pj, best):
 
 @njit(cache=True, nogil=True)
 def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, state0, base,
-            i0, i1, j0, j1, skew, wrap):
+            base_col, codes_width, i0, i1, j0, j1, skew, wrap, seam):
     """Rows i0..i1-1, row i0 + k over columns j0..j1-1 moved skew·k left (clipped to the
-    picture), in scan order: coherent and fresh candidates of the right context, the best
-    match wins. ``out_codes`` hold the contexts from row ``base`` on. Point n = i·w + j draws
-    from SplitMix64 at state0 + DRAWS·n·GAMMA, whichever order the chunks run in. ``wrap``:
-    neighbours across the seams count once rendered."""
+    columns before ``seam`` or, from j0 = seam on, to the last ones), in scan order: coherent
+    and fresh candidates of the right context, the best match wins. ``out_codes`` hold the
+    contexts of rows ``base`` on and columns ``base_col`` .. ``base_col + codes_width - 1``.
+    Point n = i·w + j draws from SplitMix64 at state0 + DRAWS·n·GAMMA, whichever order the
+    chunks run in. ``wrap``: neighbours across the seams count once drawn (_before)."""
     h, w = grey.shape
     ph, pw = photo.shape
+    lo, hi = (0, seam) if j0 < seam else (seam, w)
     cand = np.empty(4 + RANDOM_CANDIDATES, np.int64)
     state = np.empty(1, np.uint64)
     for i in range(i0, i1):
-        ja, jb = max(0, j0 - skew * (i - i0)), min(w, j1 - skew * (i - i0))
+        ja, jb = max(lo, j0 - skew * (i - i0)), min(hi, j1 - skew * (i - i0))
         state[0] = state0 + np.uint64(DRAWS) * np.uint64(i * w + ja) * np.uint64(GAMMA)
         for j in range(ja, jb):
-            n = (i - base) * w + j
+            n = (i - base) * codes_width + j - base_col
             level, a, b = 0, 0, 0
             while level < 3:
                 a, b = _bucket(keys[level], starts[level], out_codes[level][n])
@@ -343,9 +470,9 @@ def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, s
             if uniform(state) >= FRESH_START:       # continue the neighbours' photo pixels
                 for di, dj in ((0, -1), (-1, 0), (-1, -1), (-1, 1)):
                     y, x = i + di, j + dj
-                    if wrap:
+                    if wrap and (x < 0 or x >= w or y < 0):    # across a seam
                         y, x = y % h, x % w
-                    if 0 <= y and 0 <= x < w and y * w + x < i * w + j:
+                    if 0 <= y and 0 <= x < w and _before(y, x, i, j, w, seam):
                         py, px = source[y, x] // pw - di, source[y, x] % pw - dj
                         if 0 <= py < ph and 0 <= px < pw:
                             s = py * pw + px
@@ -364,10 +491,10 @@ def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, s
                 weight = COHERENCE if k < coherent else 1.0
                 if wrap:
                     d = weight * _distance_wrap(grey, i, j, photo, cand[k] // pw, cand[k] % pw,
-                                                best / weight)
+                                                best / weight, wrap, seam)
                 else:
                     d = weight * _distance(grey, i, j, photo, cand[k] // pw, cand[k] % pw,
-                                           best / weight)
+                                           best / weight, w)
                 if d < best:
                     best, chosen = d, cand[k]
             source[i, j] = chosen

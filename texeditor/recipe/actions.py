@@ -15,6 +15,7 @@ import numpy as np
 
 from ..markov.dpj import MAX_LEVELS, grey_ramp
 from ..markov.scan import ROWS, SCANS, check_scan
+from ..markov.multiscale import SCALES_CLOSURE
 from ..markov.synthesis import CLOSURE
 from ..errors import FormatError, InputError, check_unicode
 
@@ -424,12 +425,31 @@ def _closure():
                      "way, kept so older recipes replay the same)")
 
 
+def _scales_closure():
+    return param("int", 1, SCALES_CLOSURE, default=SCALES_CLOSURE,
+                 doc="how a tileable texture's seams are closed: 3 (current: the scales as 2, "
+                     "a quicker choice of the coarsest window, the tone drawn beside the "
+                     "levels on two lanes), 2 and 1 (earlier ways, kept so older recipes "
+                     "replay the same)")
+
+
 def _closure_of_version_1(cls, version: int, params: dict) -> dict:
     """Version 1 had no ``closure``: its tileable textures were closed the first way."""
     if version != 1 or "closure" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} is not supported "
                           f"(this program reads versions 1 to {cls.VERSION})")
     return {**params, "closure": 1}
+
+
+def _scales_closure_of_version(cls, version: int, params: dict) -> dict:
+    """Version 1 had no ``closure`` (closed the first way); version 2 had closures 1 and 2
+    (default 2), read as they were."""
+    if version != 2:
+        return _closure_of_version_1(cls, version, params)
+    closure = params.get("closure", CLOSURE)
+    if isinstance(closure, int) and not isinstance(closure, bool) and closure > CLOSURE:
+        raise FormatError(f"action {cls.TYPE!r} version 2 has no seam closure {closure}")
+    return {**params, "closure": closure}
 
 
 @register
@@ -499,14 +519,14 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 2
+    VERSION: ClassVar[int] = 3
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
     height: int = _side("points down")
     seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
     tileable: bool = _tileable()
-    closure: int = _closure()
+    closure: int = _scales_closure()
     tone_photo: str | None = param("exemplar", default=None, optional=True,
                                    doc="the photo whose greys and colours show the texture "
                                        "(a photo model's tone), or none")
@@ -514,7 +534,7 @@ class SynthesizeScales(Action):
                                     doc="that photo's finest levels, which say where its tone "
                                         "is drawn from")
 
-    upgrade = classmethod(_closure_of_version_1)
+    upgrade = classmethod(_scales_closure_of_version)
 
     def _validate(self):
         _check_canvas(self.width, self.height)
