@@ -6,7 +6,7 @@ import numpy as np
 from PySide6 import QtCore, QtWidgets
 
 from texeditor.markov.levels import load_image
-from texeditor.photo import acquire_model
+from texeditor.photo import acquire_model, tone
 
 from .support import fill_a_cell, synthesise, undo_to_start
 
@@ -61,8 +61,25 @@ def test_a_photo_model_draws_and_shows_a_tiling_texture(qtbot, window, photo_pat
     qtbot.mouseClick(dock.tileable_box, LEFT)
     synthesise(qtbot, window, 96, 64, 2)
     step = window.history.actions[-1]
-    assert step.TYPE == "synthesize_scales" and step.tileable
+    assert step.TYPE == "synthesize_scales" and step.tileable and step.closure == 3
     picture = window.canvas.picture
-    expected = window.photo_model.render(window.document.levels, seed=2, wrap=True)
+    expected = window.photo_model.render(window.document.levels, seed=2,
+                                         wrap=tone.TILED_LANES)      # closure 3's tiling tone
     assert np.array_equal(picture[..., 0] if expected.ndim == 2 else picture,
                           expected if expected.ndim == 2 else expected)
+    first_way = window.photo_model.render(window.document.levels, seed=2, wrap=tone.TILED)
+    assert not np.array_equal(first_way, expected)     # the way of closure 2's steps
+
+    def shows_its_tone():
+        pic = window.canvas.picture
+        want = window.photo_model.render(window.document.levels, seed=2, wrap=tone.TILED_LANES)
+        return np.array_equal(pic[..., 0] if want.ndim == 2 else pic, want)
+    drawn = window.document.levels.copy()
+    fill_a_cell(qtbot, window)                         # the tone after an edit, then another
+    assert not np.array_equal(window.document.levels, drawn) and shows_its_tone()
+    fill_a_cell(qtbot, window)
+    assert shows_its_tone()
+    qtbot.keyClick(window, Key.Key_Z, CTRL)
+    qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert np.array_equal(window.document.levels, drawn) and shows_its_tone()
+    undo_to_start(qtbot, window)
