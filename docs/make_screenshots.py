@@ -896,5 +896,35 @@ def shot_tileable(app, window, out: Path) -> None:
 MORE_SHOTS.append(shot_tileable)
 
 
+def shot_tileable_photo(app, window, out: Path) -> None:
+    """A tileable texture from gravel's photo model (closure 3: its tone drawn on two lanes,
+    the seam columns last), in the 3×3 tiled preview at 400 % around a corner."""
+    from texeditor.markov.levels import load_image
+    from texeditor.photo import acquire_model
+    from texeditor.recipe.history import History
+
+    previous = window.history
+    window.set_history(History())
+    window.attach_model(acquire_model(load_image(ROOT / "resources" / "images" / "gravel.png")))
+    window.synthesis_dock.tileable_box.setChecked(True)
+    window.synthesise(256, 256, 5)
+    window.runner.wait()
+    window.canvas.set_tiled(True)
+    settle(app)
+    view = window.canvas.view
+    width, height = (s / 4 for s in view.screenGeometry().getRect()[2:])
+    view.setRange(xRange=(256 - width / 2, 256 + width / 2),
+                  yRange=(256 - height / 2, 256 + height / 2), padding=0)
+    settle(app, 300)
+    save(window, out / "tileable-photo.png")
+    window.canvas.set_tiled(False)
+    window.synthesis_dock.tileable_box.setChecked(False)
+    window.mark_clean()
+    window.set_history(previous)
+
+
+MORE_SHOTS.append(shot_tileable_photo)
+
+
 if __name__ == "__main__":
     sys.exit(main())
