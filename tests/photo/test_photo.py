@@ -6,6 +6,8 @@ import zipfile
 import numpy as np
 import pytest
 import skimage as ski
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import texeditor
 from texeditor import DPJ
@@ -237,6 +239,28 @@ def test_a_tiling_tone_on_two_lanes_shows_no_seam(model):
             jumps[wrap].append(seam_jumps(picture))
     plain, tiled, lanes = (np.mean(jumps[w], axis=0) for w in jumps)
     assert np.all(lanes < 0.7 * plain) and np.all(lanes < 1.25 * tiled)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(h=st.integers(1, 30), w=st.integers(1, 290), seed=st.integers(0, 2 ** 32),
+       told_rows=st.integers(0, 30))
+def test_a_tiling_tone_on_two_lanes_is_exact_at_any_size(model, h, w, seed, told_rows):
+    """Any canvas (narrower than the seam columns, one row, one point): drawn after an edit
+    from the last rendering, or band by band from levels that change at the end, the picture
+    is the one drawn at once."""
+    rng = np.random.default_rng(seed)
+    levels = rng.integers(0, 4, (h, w)).astype(np.uint8)
+    edited = levels.copy()
+    edited[rng.integers(h), rng.integers(w)] ^= 1
+    args = (4, model.tone.levels, model.tone.grey)
+    fresh = tone.rendering(edited, *args, seed=seed, wrap=tone.TILED_LANES)
+    before = tone.rendering(levels, *args, seed=seed, wrap=tone.TILED_LANES)
+    again = tone.rendering(edited, *args, seed=seed, wrap=tone.TILED_LANES, before=before)
+    assert np.array_equal(again.grey, fresh.grey) and np.array_equal(again.source, fresh.source)
+    renderer = tone.Renderer((h, w), *args, seed=seed, wrap=tone.TILED_LANES)
+    renderer.advance(levels, min(h - 1, told_rows))
+    renderer.advance(edited, h)
+    assert np.array_equal(renderer.result()[0], fresh.grey)
 
 
 @pytest.mark.parametrize("change, redrawn_from", [("seam columns", None), ("last rows", 88),
