@@ -4,7 +4,9 @@ Hundreds of random user events — every tool by its shortcut or its button, dra
 the canvas (inside and off its edges), the wheel, the view keys, Space-drag, palette swatches,
 the Synthesise button, clicks in the History list, undo and redo, the Extract panel, the spot
 modes, and the non-modal dialogs (global operators, composition, DPJ editor) opened, used and
-closed; with ``models``, the Models menu's dialogs too. It fails on an exception that reaches Qt, on a crash (the parent sees the signal), or
+closed; with ``models``, the Models menu's dialogs too; with ``photo``, a photo model attached
+first, so Synthesise draws its scales and tone, tileable or not at random (and every edit draws
+the tone again). It fails on an exception that reaches Qt, on a crash (the parent sees the signal), or
 when Ctrl+Z back to step 1 does not give back the synthesised texture and its palette (and
 Ctrl+Shift+Z the document the walk ended on).
 """
@@ -30,8 +32,8 @@ VIEW_KEYS = {"0": Key.Key_0, "1": Key.Key_1, "W": Key.Key_W, "+": Key.Key_Plus,
 class Walk:
     """The random walk: each event is one user gesture, logged so a failure can be read."""
 
-    def __init__(self, hand: Hand, seed: int, models: bool = False):
-        self.hand, self.win, self.models = hand, hand.win, models
+    def __init__(self, hand: Hand, seed: int, models: bool = False, photo: bool = False):
+        self.hand, self.win, self.models, self.photo = hand, hand.win, models, photo
         self.rng = random.Random(seed)
         self.log: list[str] = []
         self.made = 0              # events that added a step
@@ -107,9 +109,14 @@ class Walk:
         dock = self.win.synthesis_dock
         seed = self.rng.randrange(1000)
         dock.seed.set_value(seed)
+        tiles = ""
+        if self.photo:                       # a photo model's texture, tileable or not
+            if self.rng.random() < 0.5:
+                self.hand.button(dock.tileable_box)
+            tiles = ", tileable" if dock.tileable() else ""
         self.hand.button(dock.button)
         self.hand.wait_idle()
-        return f"Synthesise (seed {seed})"
+        return f"Synthesise (seed {seed}{tiles})"
 
     def panel(self):
         """A button of the Extract tool's selection panel (when it has a selection)."""
@@ -197,6 +204,8 @@ class Walk:
     def step(self) -> None:
         events, weights = (EVENTS + [Walk.model], WEIGHTS + [MODEL_WEIGHT]) if self.models \
             else (EVENTS, WEIGHTS)
+        if self.photo:
+            events, weights = events + [Walk.synthesise], weights + [PHOTO_SYNTHESIS_WEIGHT]
         event = self.rng.choices(events, weights)[0]
         before = self.win.history.index
         self.log.append(event(self))
@@ -212,6 +221,31 @@ EVENT_WEIGHTS = {
 }
 EVENTS, WEIGHTS = list(EVENT_WEIGHTS), list(EVENT_WEIGHTS.values())
 MODEL_WEIGHT = 3            # --models walks: the Models dialogs too (other seeds' walks unchanged)
+PHOTO_SYNTHESIS_WEIGHT = 5  # --photo walks: Synthesise more often (a photo model's textures)
+
+
+def attach_photo_model(win) -> None:
+    """Gravel's photo model (2 scales, from the photo's top-left 128²) in the window, as
+    Models ▸ Open photo model would attach it."""
+    from texeditor.markov.levels import load_image
+    from texeditor.photo import acquire_model
+    from texeditor.resources import ROOT
+    photo = load_image(ROOT / "images" / "gravel.png")[:128, :128]
+    win.attach_model(acquire_model(photo, scales=2))
+
+
+def shows_its_tone(win) -> str | None:
+    """The canvas shows the document drawn with its synthesis's tone (as the step says it
+    tiles), when the document has one."""
+    import numpy as np
+    from texeditor.photo import document_tone
+    want = document_tone(win.document)
+    if want is None or not win.act_tone.isChecked():
+        return None
+    shown = win.canvas.picture
+    if not np.array_equal(shown[..., 0] if want.ndim == 2 else shown, want):
+        return "the canvas does not show the document's tone"
+    return None
 
 
 def undo_all_redo_all(hand: Hand, start: dict) -> str | None:
@@ -234,12 +268,14 @@ def undo_all_redo_all(hand: Hand, start: dict) -> str | None:
     return None
 
 
-def run_monkey(seed: int, events: int, models: bool = False) -> int:
+def run_monkey(seed: int, events: int, models: bool = False, photo: bool = False) -> int:
     recorder = Recorder()
     win = open_window(recorder)
     hand = Hand(win)
+    if photo:
+        attach_photo_model(win)
     start = state(win)
-    walk = Walk(hand, seed, models)
+    walk = Walk(hand, seed, models, photo)
     problem = None
     try:
         for _ in range(events):
@@ -249,7 +285,9 @@ def run_monkey(seed: int, events: int, models: bool = False) -> int:
         lost = [text for _kind, text in recorder.dialogs if text.startswith("Cannot go to")]
         if lost:                                  # the History refused a step it listed
             problem = f"history navigation failed: {lost}"
-        elif not recorder.exceptions:
+        elif photo and not recorder.exceptions:
+            problem = shows_its_tone(win)
+        if not problem and not recorder.exceptions:
             problem = undo_all_redo_all(hand, start)
         close_window(win)
     except AssertionError as exc:
@@ -262,5 +300,8 @@ def run_monkey(seed: int, events: int, models: bool = False) -> int:
         return 1
     report(seed=seed, events=len(walk.log), made=walk.made, steps=len(win.history.actions),
            kinds=sorted({line.split()[0] for line in walk.log}),
-           dialogs=[text for _kind, text in recorder.dialogs])
+           dialogs=[text for _kind, text in recorder.dialogs],
+           tileable=sum(line.startswith("Synthesise") and "tileable" in line for line in walk.log),
+           plain=sum(line.startswith("Synthesise") and "tileable" not in line
+                     for line in walk.log))
     return 0

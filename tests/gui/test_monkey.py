@@ -46,3 +46,16 @@ def test_a_walk_through_the_models_dialogs_raises_nothing_and_undoes_to_the_star
     assert "model" in report["kinds"] and report["made"] >= 20
     assert report["dialogs"] == []                  # no error reached the user
 
+
+
+PHOTO_SEEDS = (3, 4)             # walks that end on a tileable photo-model texture (--photo)
+
+
+@pytest.mark.parametrize("seed", PHOTO_SEEDS)
+def test_a_walk_with_a_photo_model_shows_its_tone_and_undoes_to_the_start(seed, tmp_path):
+    """A photo model attached: Synthesise draws its scales and tone, tileable or not, every
+    edit draws the tone again; the canvas ends on the document's tone (as its step tiles)."""
+    report = run_child(["monkey", str(seed), "--photo"], tmp_path)
+    assert report["seed"] == seed and report["events"] >= 300 and report["made"] >= 20
+    assert report["tileable"] >= 1 and report["plain"] >= 1
+    assert report["dialogs"] == []
