@@ -110,17 +110,18 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     out = (parents.astype(np.uint8) * np.uint8(gx))
     across = _tables(_transposed(dpj), gp) if tileable else None
     result = _draw(out, _tables(dpj, gp), seed, progress, cancel, max_redraws,
-                   rows_final and _own_levels(out, gx, rows_final), across, closure)
+                   rows_final and _own_levels(out, gx, rows_final, tileable), across, closure)
     np.remainder(result.levels, gx, out=result.levels)
     return result
 
 
-def _own_levels(out, gx, rows_final):
-    """A rows_final callback that passes on the G-levels of the composite rows."""
+def _own_levels(out, gx, rows_final, tileable):
+    """A rows_final callback that passes on the G-levels of the composite rows (all of them
+    at the end of a torus: its closure may change any)."""
     levels, done = np.empty_like(out), [0]     # out: the shape
 
     def report(composite, n):
-        first = 0 if n == len(out) else done[0]     # a torus's rows change at its closure
+        first = 0 if tileable and n == len(out) else done[0]
         np.remainder(composite[first:n], gx, out=levels[first:n])
         done[0] = max(done[0], n)
         rows_final(levels, n)

@@ -221,9 +221,10 @@ class Renderer:
         self.wrap = int(wrap)
         self.turned = self.wrap == TILED_LANES
         self.seam = _seam_start(shape[1]) if self.turned else shape[1]
-        self.seen = np.zeros(shape, np.uint8)        # TILED_LANES: the levels drawn from
-        self.seen_rows = np.zeros(shape[0], bool)    # (drawing order), checked at the end
-        self.closed = None                           # the levels the seam columns were drawn for
+        if self.turned:                              # the levels drawn from (drawing order),
+            self.seen = np.zeros(shape, np.uint8)    # checked at the end, and those the seam
+            self.seen_rows = np.zeros(shape[0], bool)    # columns were drawn for
+            self.closed = None
 
     def resume(self, before: Rendered, start: int) -> None:
         """Take rows 0..start-1 (drawing order) as ``before`` drew them (see rendering)."""
