@@ -26,7 +26,7 @@ from ..errors import Cancelled, InputError
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import has_colour, quantize, to_grey
-from .synthesis import SynthesisResult, synthesize, synthesize_given
+from .synthesis import SynthesisResult, derived, synthesize, synthesize_given
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
 MAX_SCALES = 6
@@ -287,10 +287,7 @@ def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int) -> DPJ:
     closes; the first draw that leaves at most TORUS_TOLERANCE of its windows outside says
     which (judged on ``scale_seed(seed, 0)``, so the same seed picks the same window;
     closure 3 stops a draw past TORUS_BUDGET redraws a point: it does not close)."""
-    laws = [dpj]
-    while min(laws[-1].window) > 2:
-        (u, v) = laws[-1].window
-        laws.append(laws[-1].marginal(rows=slice(0, v - 1), cols=slice(0, u - 1)))
+    laws = derived(dpj, "torus laws", _sub_windows)
     budget = int(TORUS_BUDGET * shape[0] * shape[1]) if closure >= 3 else None
 
     def closes(t, progress, cancel):
@@ -307,6 +304,16 @@ def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int) -> DPJ:
             if closed:
                 return law
     return laws[-1]
+
+
+def _sub_windows(dpj: DPJ) -> tuple:
+    """The DPJ and the laws of its top-left sub-windows, one row and column fewer at a time
+    down to 2 (kept with the DPJ, see synthesis.derived: their tables are built once)."""
+    laws = [dpj]
+    while min(laws[-1].window) > 2:
+        (u, v) = laws[-1].window
+        laws.append(laws[-1].marginal(rows=slice(0, v - 1), cols=slice(0, u - 1)))
+    return tuple(laws)
 
 
 def check_scales_closure(closure) -> int:

@@ -168,22 +168,30 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
     return SynthesisResult(out, int(repairs), int(redraws), int(seed))
 
 
-_turned: dict[int, tuple[weakref.ref, DPJ]] = {}
+_derived: dict[tuple[int, str], tuple[weakref.ref, object]] = {}
+
+
+def derived(dpj: DPJ, name: str, make: Callable[[DPJ], object]):
+    """``make(dpj)``, made once and kept while ``dpj`` lives (a DPJ is immutable): a DPJ made
+    from it keeps its identity, so the tables built for it are kept too (_tables)."""
+    key = (id(dpj), name)
+    with _cache_lock:
+        hit = _derived.get(key)
+        if hit is not None and hit[0]() is dpj:
+            return hit[1]
+        for k in [k for k, (ref, _) in _derived.items() if ref() is None]:
+            del _derived[k]
+    made = make(dpj)
+    with _cache_lock:
+        _derived[key] = (weakref.ref(dpj), made)
+    return made
 
 
 def _transposed(dpj: DPJ) -> DPJ:
-    """The DPJ of the texture turned a quarter (windows transposed), kept while ``dpj`` lives:
-    closing the bottom seam is closing the side seam of the turned texture."""
-    with _cache_lock:
-        hit = _turned.get(id(dpj))
-        if hit is not None and hit[0]() is dpj:
-            return hit[1]
-        for key in [k for k, (ref, _) in _turned.items() if ref() is None]:
-            del _turned[key]
-    turned = DPJ(np.ascontiguousarray(dpj.configs.transpose(0, 2, 1)), dpj.probs, dpj.levels)
-    with _cache_lock:
-        _turned[id(dpj)] = (weakref.ref(dpj), turned)
-    return turned
+    """The DPJ of the texture turned a quarter (windows transposed): closing the bottom seam
+    is closing the side seam of the turned texture."""
+    return derived(dpj, "transposed", lambda d: DPJ(
+        np.ascontiguousarray(d.configs.transpose(0, 2, 1)), d.probs, d.levels))
 
 
 def _check_closure(closure) -> int:
