@@ -223,3 +223,34 @@ def test_any_dpj_synthesises_without_raising_or_hanging(levels, u, v, data):
     result = synthesize(dpj, (h, w), seed=data.draw(st.integers(0, 2**32)))
     assert result.levels.shape == (h, w) and result.levels.max() < levels
     assert result.repairs >= 0 and result.redraws >= 0
+
+
+@pytest.mark.parametrize("tileable", [False, True])
+def test_the_bands_a_draw_is_cut_in_change_nothing(monkeypatch, tileable):
+    """A draw runs band by band (progress, cancel, and rows_final so a tone can start on the
+    first rows: with it, at least FINAL_BANDS bands); the matrix is the same however many."""
+    dpj = estimate_dpj(quantize(data.grass(), 4, "lloyd").levels, (3, 3), 4, wrap=True)
+    whole = synthesize(dpj, (120, 90), seed=3, tileable=tileable).levels
+    told = []
+    banded = synthesize(dpj, (120, 90), seed=3, tileable=tileable,
+                        rows_final=lambda lv, n: told.append(n)).levels
+    assert len(told) >= synthesis.FINAL_BANDS and np.array_equal(whole, banded)
+    monkeypatch.setattr(synthesis, "ROWS_PER_CALL_PIXELS", 90 * 3)     # a band a row
+    assert np.array_equal(whole, synthesize(dpj, (120, 90), seed=3, tileable=tileable).levels)
+
+
+def test_a_derived_dpj_is_made_once_while_its_dpj_lives():
+    """What is made from a DPJ (its transpose, the coarsest scale's sub-window laws) is kept
+    with it, so the kernel tables built for it are found again (not rebuilt each draw)."""
+    dpj = estimate_dpj(quantize(data.brick(), 2, "lloyd").levels, (3, 3), 2)
+    made = []
+
+    def make(d):
+        made.append(d)
+        return d.marginal(rows=slice(0, 2), cols=slice(0, 2))
+    first = synthesis.derived(dpj, "test", make)
+    assert synthesis.derived(dpj, "test", make) is first and made == [dpj]
+    other = DPJ(dpj.configs, dpj.probs, dpj.levels)                # equal, but another DPJ
+    assert synthesis.derived(other, "test", make) is not first and len(made) == 2
+    tables = synthesis._tables(first)
+    assert synthesis._tables(synthesis.derived(dpj, "test", make)) is tables

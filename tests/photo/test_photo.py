@@ -1,6 +1,7 @@
 """Photo models: acquired, drawn with the photo's tone, saved as format-2 .dpj, hostile files."""
 
 import io
+import threading
 import zipfile
 
 import numpy as np
@@ -349,6 +350,26 @@ def test_two_lanes_render_the_picture_of_one_scan(model, monkeypatch, rows, colu
     assert lanes and np.array_equal(one, two)
     other = tone.render(levels, 4, model.tone.levels, model.tone.grey, seed=9)[0]
     assert not np.array_equal(two, other)
+
+
+@pytest.mark.parametrize("width", [128, 256, 1000])
+def test_the_second_lane_starts_before_the_first_strip_ends(width):
+    """Each strip is cut into LANE_CHUNKS chunks or more, so the lane below starts while the
+    strip above is still drawn (with two chunks a strip, as 256² pictures had, the two lanes
+    took turns: one core)."""
+    started = threading.Event()
+    chunks = []
+
+    def run(rows, columns):
+        chunks.append((rows, columns))
+        if rows[0] == tone.LANE_ROWS:
+            started.set()
+        elif rows[0] == 0 and columns[1] > width:       # the first strip's last chunk
+            assert started.wait(10), "the second lane waited for the whole first strip"
+    tone._two_lanes(run, (0, 4 * tone.LANE_ROWS), width)
+    first = [c for r, c in chunks if r[0] == 0]
+    assert len(first) >= tone.LANE_CHUNKS and first[0][0] == 0
+    assert all(a[1] == b[0] for a, b in zip(first, first[1:]))      # they cover the row
 
 
 def test_an_error_in_a_tone_lane_reaches_the_caller(monkeypatch):

@@ -30,6 +30,8 @@ from ..errors import Cancelled, InputError
 MAX_PIXELS = 2**28
 NO_BUDGET = 2**62              # redraws: no limit
 ROWS_PER_CALL_PIXELS = 2**16   # work per kernel call: how often progress and cancel are checked
+FINAL_BANDS = 8                # with rows_final, at least this many calls (later work, such as a
+                               # tone, starts on the first rows while the others are drawn)
 DIRECT_INDEX_MAX = 2**20       # context spaces up to this size get a direct look-up table
 MAX_REDRAW_DEPTH = 4           # rows above a dead end that may be redrawn together
 CLOSE_TRIES = 8                # closure 2 of a seam: tries, redrawing the rows above, before it
@@ -141,7 +143,7 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
     state = np.random.SeedSequence(_check_seed(seed)).generate_state(1, np.uint64)
     work = np.pad(out, ((0, t.v - 1), (0, t.u - 1)), mode="wrap") if tileable else out
     tile_h, tile_w = (np.int64(h), np.int64(w)) if tileable else (np.int64(0), np.int64(0))
-    band = max(t.v, ROWS_PER_CALL_PIXELS // w)
+    band = max(t.v, min(ROWS_PER_CALL_PIXELS // w, h if rows_final is None else -(-h // FINAL_BANDS)))
     repairs = redraws = 0
     for r0 in range(0, h, band):
         if cancel is not None and cancel():

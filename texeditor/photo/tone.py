@@ -41,8 +41,11 @@ PLAIN, TILED, TILED_LANES = 0, 1, 2   # ``wrap``: how (and whether) a picture ti
 EDGE_COLUMNS = 12          # TILED_LANES: the columns drawn last (a torus's closure redraws the
                            # last 6 from top to bottom; one more is read by the first's context)
 LANE_ROWS = 8              # the two-lane wavefront: strips of this many rows,
-LANE_COLUMNS = 128         # cut in chunks this wide (each row's chunk HALF columns left of
-                           # the row above's: a point reads the row above up to HALF columns on)
+LANE_COLUMNS = 128         # cut in chunks this wide at most (each row's chunk HALF columns left
+                           # of the row above's: a point reads the row above up to HALF on)
+LANE_CHUNKS = 4            # ... and in this many at least: the lane below starts two chunks
+                           # behind, so with two chunks a strip the lanes would take turns
+LANE_WIDTH = 128           # narrower rows are drawn on one lane (chunks too small to share)
 
 
 class ToneIndex(NamedTuple):
@@ -296,7 +299,7 @@ class Renderer:
         """Rows done..stop-1 over columns 0..width-1 (``codes``: their contexts, a full row
         each), on two lanes when they are many."""
         rows, at = (self.done, stop), (self.done, 0, len(self.grey[0]))
-        if stop - self.done < 2 * LANE_ROWS or width < 2 * LANE_COLUMNS:
+        if stop - self.done < 2 * LANE_ROWS or width < LANE_WIDTH:
             self._chunk(codes, at, rows, (0, width), 0)
         else:
             _two_lanes(lambda r, c: self._chunk(codes, at, r, c, HALF), rows, width)
@@ -333,15 +336,16 @@ def _turned_rows(levels: np.ndarray, order: np.ndarray) -> np.ndarray:
 
 
 def _two_lanes(run, rows, width: int) -> None:
-    """``run((i0, i1), (j0, j1))`` over strips of LANE_ROWS rows and chunks of LANE_COLUMNS
-    columns, even strips here and odd ones on a second thread. A strip's chunk waits for the
-    strip above to be far enough on (its last row reads that strip's last rows up to HALF
+    """``run((i0, i1), (j0, j1))`` over strips of LANE_ROWS rows, each cut in LANE_CHUNKS
+    chunks or more, LANE_COLUMNS columns wide at most: even strips here and odd ones on a
+    second thread. A strip's chunk waits for the strip above to be far enough on (its last row reads that strip's last rows up to HALF
     columns past its end, and those rows' chunks lie up to HALF·(LANE_ROWS-1) columns left):
     every point sees what it would see in scan order, so the picture is the same."""
     i0, i1 = rows
     strips = [(r, min(i1, r + LANE_ROWS)) for r in range(i0, i1, LANE_ROWS)]
-    chunks = -(-width // LANE_COLUMNS)
-    lead = -(-(HALF * (LANE_ROWS - 1) + HALF) // LANE_COLUMNS)
+    size = max(1, min(LANE_COLUMNS, width // LANE_CHUNKS))
+    chunks = -(-width // size)
+    lead = -(-(HALF * (LANE_ROWS - 1) + HALF) // size)
     done = [0] * len(strips)
     failed = []
     ready = threading.Condition()
@@ -356,8 +360,7 @@ def _two_lanes(run, rows, width: int) -> None:
                     if failed:
                         return
                     last = c == chunks - 1
-                    run(strips[s], (c * LANE_COLUMNS,
-                                    width + HALF * LANE_ROWS if last else (c + 1) * LANE_COLUMNS))
+                    run(strips[s], (c * size, width + HALF * LANE_ROWS if last else (c + 1) * size))
                     with ready:
                         done[s] = c + 1
                         ready.notify_all()
