@@ -1,5 +1,6 @@
 """Photo models: acquired, drawn with the photo's tone, saved as format-2 .dpj, hostile files."""
 
+import dataclasses
 import io
 import threading
 import zipfile
@@ -98,8 +99,34 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = SynthesizeScales(step.dpjs, 80, 60, seed=7, tileable=True,
                            tone_photo=step.tone_photo, tone_levels=step.tone_levels)
-    assert new.to_json()["version"] == 3 and new.closure == 3
+    assert new.to_json()["version"] == 4 and new.closure == 3
     assert step_wrap(new) == tone.TILED_LANES
+
+
+@pytest.mark.parametrize("name", ["plain", "tileable"])
+def test_textures_of_version_3_replay_with_16_coarse_redraws_as_they_did(name):
+    """Files written by SynthesizeScales version 3 (tests/data/scales-v3: brick, a coarsest law
+    that meets dead ends) come out bit-identical, levels and tone: their steps keep 16 redraws
+    at a coarsest dead end. A new step tries COARSE_REDRAWS times, so the same seed draws
+    another texture, as its model does."""
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_model, document_tone
+    from texeditor.markov.multiscale import COARSE_REDRAWS
+    expected = json.loads((DATA / "scales-v3" / "expected.json").read_text())[name]
+    doc = render_texture(DATA / "scales-v3" / f"{name}.texture")
+    step = doc.actions[-1]
+    assert step.coarse_redraws == 16 and step.tileable == expected["tileable"]
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
+    new = dataclasses.replace(step, coarse_redraws=COARSE_REDRAWS)
+    assert new.to_json()["version"] == 4 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
+    redrawn = new.prepare(doc)
+    assert not np.array_equal(redrawn, doc.levels)
+    model = document_model(doc, step)
+    assert np.array_equal(redrawn, model.synthesize((120, 160), seed=7, tileable=step.tileable,
+                                                    tone=False).levels)
 
 
 @pytest.mark.parametrize("obj, closure", [({"closure": 2}, 2), ({"closure": 1}, 1), ({}, 2),
@@ -113,6 +140,26 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
             action_from_json(step)
     else:
         assert action_from_json(step).closure == closure
+        assert action_from_json(step).coarse_redraws == 16
+
+
+@pytest.mark.parametrize("version, obj, redraws", [
+    (3, {}, 16), (1, {}, 16), (3, {"coarse_redraws": 4}, None), (4, {}, 4),
+    (4, {"coarse_redraws": 16}, 16), (4, {"coarse_redraws": 0}, 0),
+    (4, {"coarse_redraws": 17}, None), (4, {"coarse_redraws": True}, None)])
+def test_a_multiscale_step_keeps_its_coarse_redraws(version, obj, redraws):
+    """Steps before version 4 tried 16 times at a dead end of the coarsest scale (and cannot
+    name another count); version 4 names it, 0 to 16, default COARSE_REDRAWS."""
+    from texeditor.recipe.codec import action_from_json
+    step = {"type": "synthesize_scales", "version": version, "dpjs": ["0123456789abcdef"],
+            "width": 30, "height": 20, "seed": 1, "tileable": False, **obj}
+    if version > 1:
+        step["closure"] = 2
+    if redraws is None:
+        with pytest.raises(FormatError):
+            action_from_json(step)
+    else:
+        assert action_from_json(step).coarse_redraws == redraws
 
 
 def _rezip(data: bytes, change) -> bytes:

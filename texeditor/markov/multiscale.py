@@ -40,6 +40,12 @@ TORUS_TOLERANCE = 0.01      # a tileable coarsest draw may leave this share of w
 TORUS_BUDGET = 0.5          # closure 3: a trial coarsest draw redrawing rows more often than this
                             # per point will not close (those that close: ≤ 0.22; the others
                             # 1.5–11 on stochastic photos), so it is stopped there
+COARSE_REDRAWS = 4          # a dead end of the coarsest scale: tries redrawing the rows above before
+                            # it backs off. Its wide window over a small reduction is nearly
+                            # deterministic and later tries seldom get through (brick at 1024²:
+                            # 20–34 thousand redraws, most in runs of 16 that end in a back-off,
+                            # 90 % of the scale's time); recipes before it kept 16 (OLD_REDRAWS)
+OLD_REDRAWS = 16
 SCALES_CLOSURE = 3          # the seam closure of a tileable multi-scale synthesis: 3 closes every
                             # scale with fewer tries than 2 (synthesis.CLOSE_TRIES_3), stops the
                             # coarsest law's failing trial draws early (TORUS_BUDGET) and has its
@@ -182,12 +188,13 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       progress: Callable[[float], None] | None = None,
                       cancel: Callable[[], bool] | None = None,
                       rows_final: Callable[[np.ndarray, int], None] | None = None,
-                      tileable: bool = False,
-                      closure: int = SCALES_CLOSURE) -> SynthesisResult:
+                      tileable: bool = False, closure: int = SCALES_CLOSURE,
+                      coarse_redraws: int = COARSE_REDRAWS) -> SynthesisResult:
     """Draw the coarsest scale, then each finer one given the one under it; the finest levels
     (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
     ``tileable``: every scale is drawn on the torus (``closure``: which seam closure, 1 to
-    SCALES_CLOSURE, see synthesize).
+    SCALES_CLOSURE, see synthesize). ``coarse_redraws``: the coarsest scale's tries at a dead
+    end before it backs off (COARSE_REDRAWS; OLD_REDRAWS in older recipes).
 
     A coarse scale's field has long-range correlations: one draw of it can hold a level's share
     a tenth off the model's, and every finer scale inherits it. So a coarse scale is drawn again
@@ -196,9 +203,10 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     closest draw is kept if none is). The same model and seed give the same matrix."""
     shapes = scale_shapes(shape, model.scales)
     closure = check_scales_closure(closure)
+    coarse_redraws = check_coarse_redraws(coarse_redraws)
     if tileable and closure >= 2:
-        model = MultiScaleDPJ((_coarsest_on_torus(model.dpjs[0], shapes[0], seed, closure),)
-                              + model.dpjs[1:])
+        model = MultiScaleDPJ((_coarsest_on_torus(model.dpjs[0], shapes[0], seed, closure,
+                                                  coarse_redraws),) + model.dpjs[1:])
     weights = np.array([h * w for h, w in shapes], float)
     done = np.concatenate([[0], np.cumsum(weights)]) / weights.sum()
     repairs = redraws = 0
@@ -211,7 +219,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
 
         def draw(t, report, cancel, k=k, parents=levels, final=final):
             return _draw_scale(model, k, shapes[k], parents, _try_seed(seed, k, t), report,
-                               cancel, final, bool(tileable), closure)
+                               cancel, final, bool(tileable), closure, coarse_redraws)
         r = _closest_draw(draw, tries, model.frequencies(k), report, cancel)
         levels, repairs, redraws = r.levels, repairs + r.repairs, redraws + r.redraws
     return SynthesisResult(levels, repairs, redraws, int(seed))
@@ -276,7 +284,8 @@ def _settle(job) -> None:
         pass
 
 
-def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int) -> DPJ:
+def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int,
+                       redraws: int = OLD_REDRAWS) -> DPJ:
     """The coarsest scale's law for a tileable draw: its own, or the law of its largest
     sub-window (one row and column fewer at a time) whose draw on the torus closes.
 
@@ -286,14 +295,16 @@ def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int) -> DPJ:
     outside the DPJ, a band the finer scales inherit). A smaller window branches more and
     closes; the first draw that leaves at most TORUS_TOLERANCE of its windows outside says
     which (judged on ``scale_seed(seed, 0)``, so the same seed picks the same window;
-    closure 3 stops a draw past TORUS_BUDGET redraws a point: it does not close)."""
+    closure 3 stops a draw past TORUS_BUDGET redraws a point: it does not close; each draw
+    tries ``redraws`` times at a dead end, as the coarsest scale's draws will)."""
     laws = derived(dpj, "torus laws", _sub_windows)
     budget = int(TORUS_BUDGET * shape[0] * shape[1]) if closure >= 3 else None
 
     def closes(t, progress, cancel):
         law = laws[t]
         drawn = synthesize(law, shape, seed=scale_seed(seed, 0), tileable=True,
-                           closure=closure, cancel=cancel, redraw_budget=budget)
+                           closure=closure, cancel=cancel, redraw_budget=budget,
+                           max_redraws=redraws)
         if budget is not None and drawn.redraws > budget:
             return False
         seen = estimate_dpj(drawn.levels, law.window, law.levels, wrap=True)
@@ -316,6 +327,12 @@ def _sub_windows(dpj: DPJ) -> tuple:
     return tuple(laws)
 
 
+def check_coarse_redraws(redraws) -> int:
+    if redraws not in range(OLD_REDRAWS + 1) or isinstance(redraws, bool):
+        raise InputError(f"{redraws!r} redraws at a dead end: choose 0 to {OLD_REDRAWS}")
+    return int(redraws)
+
+
 def check_scales_closure(closure) -> int:
     if closure not in range(1, SCALES_CLOSURE + 1) or isinstance(closure, bool):
         raise InputError(f"seam closure {closure!r} does not exist: choose 1 to "
@@ -330,11 +347,12 @@ def _tries(k: int, scales: int) -> int:
 
 
 def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final, tileable,
-                closure):
+                closure, coarse_redraws):
     dpj = model.dpjs[k]
     if k == 0:
         return synthesize(dpj, shape, seed=seed, progress=progress, cancel=cancel,
-                          rows_final=rows_final, tileable=tileable, closure=closure)
+                          rows_final=rows_final, tileable=tileable, closure=closure,
+                          max_redraws=coarse_redraws)
     up = upsample_torus(parents, shape) if tileable else upsample(parents, shape)
     return synthesize_given(dpj, up, parent_levels(model.dpjs, k), seed=seed,
                             progress=progress, cancel=cancel, rows_final=rows_final,

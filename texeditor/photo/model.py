@@ -22,7 +22,8 @@ from ..errors import FormatError, InputError
 from ..fileio import load_json, read_limited, write_file
 from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers
 from ..markov.levels import to_grey
-from ..markov.multiscale import (COARSE_LEVELS, COARSE_WINDOW, LEVELS, SCALES_CLOSURE, WINDOW,
+from ..markov.multiscale import (COARSE_LEVELS, COARSE_REDRAWS, COARSE_WINDOW, LEVELS,
+                                 SCALES_CLOSURE, WINDOW,
                                  MultiScaleDPJ, check_scales_closure, estimate_scales,
                                  synthesize_scales)
 from ..recipe.exemplars import MAX_SIDE
@@ -75,26 +76,27 @@ class PhotoModel:
         return self.scales.frequencies(self.scales.scales - 1)
 
     def synthesize(self, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
-                   closure: int = SCALES_CLOSURE,
+                   closure: int = SCALES_CLOSURE, coarse_redraws: int = COARSE_REDRAWS,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
         drawn on a second thread as the finest rows come out (the same picture as
         ``render(levels, wrap=tone_wrap(tileable, closure))`` afterwards, in about half the
         time on two cores). ``tileable``: the levels and the picture repeat without a seam
-        (``closure``: which seam closure, see markov.multiscale.synthesize_scales)."""
+        (``closure``, ``coarse_redraws``: see markov.multiscale.synthesize_scales)."""
+        draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
+                    closure=closure, coarse_redraws=coarse_redraws)
         if not tone or self.tone is None:
-            result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
-                                       cancel=cancel, tileable=tileable, closure=closure)
+            result = synthesize_scales(self.scales, shape, **draw)
             image = self.render(result.levels, seed=seed, tone=False)
         else:
-            result, image = self._synthesize_with_tone(shape, seed, progress, cancel, tileable,
-                                                       closure)
+            result, image = self._synthesize_with_tone(shape, draw)
         return Resynthesis(image, result.levels, self.frequencies(), result.repairs, int(seed))
 
-    def _synthesize_with_tone(self, shape, seed, progress, cancel, tileable, closure):
+    def _synthesize_with_tone(self, shape, draw):
         renderer, latest = [], [None]
-        wrap = tone_wrap(tileable, closure)
+        seed = draw["seed"]
+        wrap = tone_wrap(draw["tileable"], draw["closure"])
         with ThreadPoolExecutor(1, thread_name_prefix="tone") as worker:
             jobs = []
 
@@ -113,9 +115,7 @@ class PhotoModel:
                 latest[0] = (levels, n)
                 jobs.append(worker.submit(catch_up))
             try:
-                result = synthesize_scales(self.scales, shape, seed=seed, progress=progress,
-                                           cancel=cancel, rows_final=rows_final,
-                                           tileable=tileable, closure=closure)
+                result = synthesize_scales(self.scales, shape, rows_final=rows_final, **draw)
             except BaseException:
                 for job in jobs:
                     job.cancel()

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..markov.dpj import MAX_LEVELS, grey_ramp
 from ..markov.scan import ROWS, SCANS, check_scan
-from ..markov.multiscale import SCALES_CLOSURE
+from ..markov.multiscale import COARSE_REDRAWS, OLD_REDRAWS, SCALES_CLOSURE
 from ..markov.synthesis import CLOSURE
 from ..errors import FormatError, InputError, check_unicode
 
@@ -441,15 +441,21 @@ def _closure_of_version_1(cls, version: int, params: dict) -> dict:
     return {**params, "closure": 1}
 
 
-def _scales_closure_of_version(cls, version: int, params: dict) -> dict:
-    """Version 1 had no ``closure`` (closed the first way); version 2 had closures 1 and 2
-    (default 2), read as they were."""
-    if version != 2:
+def _scales_of_version(cls, version: int, params: dict) -> dict:
+    """Versions 1 to 3 tried OLD_REDRAWS times at a dead end of the coarsest scale; version 1
+    had no ``closure`` (closed the first way), version 2 closures 1 and 2 (default 2)."""
+    if version not in (1, 2, 3) or "coarse_redraws" in params:
+        raise FormatError(f"action {cls.TYPE!r} version {version} is not supported "
+                          f"(this program reads versions 1 to {cls.VERSION})")
+    params = {**params, "coarse_redraws": OLD_REDRAWS}
+    if version == 1:
         return _closure_of_version_1(cls, version, params)
-    closure = params.get("closure", CLOSURE)
-    if isinstance(closure, int) and not isinstance(closure, bool) and closure > CLOSURE:
-        raise FormatError(f"action {cls.TYPE!r} version 2 has no seam closure {closure}")
-    return {**params, "closure": closure}
+    if version == 2:
+        closure = params.get("closure", CLOSURE)
+        if isinstance(closure, int) and not isinstance(closure, bool) and closure > CLOSURE:
+            raise FormatError(f"action {cls.TYPE!r} version 2 has no seam closure {closure}")
+        params["closure"] = closure
+    return params
 
 
 @register
@@ -519,7 +525,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 3
+    VERSION: ClassVar[int] = 4
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -527,6 +533,10 @@ class SynthesizeScales(Action):
     seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
     tileable: bool = _tileable()
     closure: int = _scales_closure()
+    coarse_redraws: int = param("int", 0, OLD_REDRAWS, default=COARSE_REDRAWS,
+                                doc="a dead end of the coarsest scale: tries redrawing the rows "
+                                    f"above before it backs off ({COARSE_REDRAWS}: current; "
+                                    f"{OLD_REDRAWS} in recipes before version 4)")
     tone_photo: str | None = param("exemplar", default=None, optional=True,
                                    doc="the photo whose greys and colours show the texture "
                                        "(a photo model's tone), or none")
@@ -534,7 +544,7 @@ class SynthesizeScales(Action):
                                     doc="that photo's finest levels, which say where its tone "
                                         "is drawn from")
 
-    upgrade = classmethod(_scales_closure_of_version)
+    upgrade = classmethod(_scales_of_version)
 
     def _validate(self):
         _check_canvas(self.width, self.height)
@@ -548,7 +558,8 @@ class SynthesizeScales(Action):
         from ..markov.multiscale import synthesize_scales
         return synthesize_scales(_scales(dpjs), (self.height, self.width),
                                  seed=self.seed, progress=progress, cancel=cancel,
-                                 tileable=self.tileable, closure=self.closure)
+                                 tileable=self.tileable, closure=self.closure,
+                                 coarse_redraws=self.coarse_redraws)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
