@@ -365,3 +365,31 @@ def test_a_large_tone_is_drawn_in_the_background_and_each_edit_shows_at_once(
     gate.set()
     qtbot.waitUntil(lambda: not window._tone_drawing, timeout=30_000)
     assert not window.errors
+
+
+def test_a_step_drawn_with_16_coarse_redraws_again_is_the_older_texture(qtbot, window):
+    """Synthesise twice from brick's model (its coarsest law meets dead ends), then set the last
+    step's Coarse redraws to 16 in the History form and Apply & replay: the canvas shows what a
+    version 3 step drew (16 tries at a coarsest dead end), with its tone; undo goes back to the
+    version 4 texture, then to the start."""
+    import skimage as ski
+    model = acquire_model(ski.data.brick()[:160, :160], scales=2)
+    window.attach_model(model)
+    start = window.document.levels.copy()
+    synthesise(qtbot, window, 160, 120, 6)
+    synthesise(qtbot, window, 160, 120, 7)
+    step = window.history.actions[-1]
+    assert step.coarse_redraws == 4 and step.seed == 7
+    new = window.document.levels.copy()
+    assert np.array_equal(new, model.synthesize((120, 160), seed=7, tone=False).levels)
+    last = len(window.history.actions) - 1
+    edit_and_apply(qtbot, window, last, "coarse_redraws", "16")
+    assert not window.errors and window.history.actions[-1].coarse_redraws == 16
+    older = model.synthesize((120, 160), seed=7, tone=False, coarse_redraws=16).levels
+    assert np.array_equal(window.document.levels, older) and not np.array_equal(older, new)
+    assert np.array_equal(window.canvas.picture, tone_of(window, 7))
+    qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert np.array_equal(window.document.levels, new)
+    assert np.array_equal(window.canvas.picture, tone_of(window, 7))
+    undo_to_start(qtbot, window)
+    assert np.array_equal(window.document.levels, start)
