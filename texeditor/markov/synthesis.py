@@ -143,7 +143,8 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
     state = np.random.SeedSequence(_check_seed(seed)).generate_state(1, np.uint64)
     work = np.pad(out, ((0, t.v - 1), (0, t.u - 1)), mode="wrap") if tileable else out
     tile_h, tile_w = (np.int64(h), np.int64(w)) if tileable else (np.int64(0), np.int64(0))
-    band = max(t.v, min(ROWS_PER_CALL_PIXELS // w, h if rows_final is None else -(-h // FINAL_BANDS)))
+    bands = 1 if rows_final is None else FINAL_BANDS
+    band = max(t.v, min(ROWS_PER_CALL_PIXELS // w, -(-h // bands)))
     repairs = redraws = 0
     for r0 in range(0, h, band):
         if cancel is not None and cancel():

@@ -338,9 +338,10 @@ def _turned_rows(levels: np.ndarray, order: np.ndarray) -> np.ndarray:
 def _two_lanes(run, rows, width: int) -> None:
     """``run((i0, i1), (j0, j1))`` over strips of LANE_ROWS rows, each cut in LANE_CHUNKS
     chunks or more, LANE_COLUMNS columns wide at most: even strips here and odd ones on a
-    second thread. A strip's chunk waits for the strip above to be far enough on (its last row reads that strip's last rows up to HALF
-    columns past its end, and those rows' chunks lie up to HALF·(LANE_ROWS-1) columns left):
-    every point sees what it would see in scan order, so the picture is the same."""
+    second thread. A strip's chunk waits for the strip above to be far enough on (its last
+    row reads that strip's last rows up to HALF columns past its end, and those rows' chunks
+    lie up to HALF·(LANE_ROWS-1) columns left): every point sees what it would see in scan
+    order, so the picture is the same."""
     i0, i1 = rows
     strips = [(r, min(i1, r + LANE_ROWS)) for r in range(i0, i1, LANE_ROWS)]
     size = max(1, min(LANE_COLUMNS, width // LANE_CHUNKS))
