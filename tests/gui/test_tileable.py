@@ -63,8 +63,8 @@ def test_a_photo_model_draws_and_shows_a_tiling_texture(qtbot, window, photo_pat
     step = window.history.actions[-1]
     assert step.TYPE == "synthesize_scales" and step.tileable and step.closure == 3
     picture = window.canvas.picture
-    expected = window.photo_model.render(window.document.levels, seed=2,
-                                         wrap=tone.TILED_LANES)      # closure 3's tiling tone
+    expected = window.photo_model.render(window.document.levels, seed=2,   # closure 3's
+                                         wrap=tone.TILED_LANES | tone.BALANCED)  # tiling tone
     assert np.array_equal(picture[..., 0] if expected.ndim == 2 else picture,
                           expected if expected.ndim == 2 else expected)
     first_way = window.photo_model.render(window.document.levels, seed=2, wrap=tone.TILED)
@@ -72,7 +72,8 @@ def test_a_photo_model_draws_and_shows_a_tiling_texture(qtbot, window, photo_pat
 
     def shows_its_tone():
         pic = window.canvas.picture
-        want = window.photo_model.render(window.document.levels, seed=2, wrap=tone.TILED_LANES)
+        want = window.photo_model.render(window.document.levels, seed=2,
+                                         wrap=tone.TILED_LANES | tone.BALANCED)
         return np.array_equal(pic[..., 0] if want.ndim == 2 else pic, want)
     drawn = window.document.levels.copy()
     fill_a_cell(qtbot, window)                         # the tone after an edit, then another

@@ -43,6 +43,23 @@ def test_tone_draws_each_point_from_photo_points_of_its_level(model):
     assert len(np.unique(r.image)) > 4 * model.levels      # shaded, not four flat greys
 
 
+@pytest.mark.parametrize("photo", ["model", "brick"])
+def test_a_balanced_tone_keeps_each_levels_greys_as_the_photo_has_them(model, photo):
+    """BALANCED (new syntheses): a bin of greys a level has drawn more often than the photo's
+    share of that level's greys weighs its matches more, so each level's grey histogram comes
+    closer to the photo's (and the 32-grey co-occurrences of issue 19 with it)."""
+    if photo == "brick":
+        model = acquire_model(ski.data.brick())
+    levels = model.synthesize((200, 240), seed=1).levels
+    args = (levels, 4, model.tone.levels, model.tone.grey)
+    shares = tone._grey_shares(model.tone.levels, model.tone.grey, 4)
+
+    def off(way):
+        got = tone._grey_shares(levels, tone.render(*args, seed=1, wrap=way)[0], 4)
+        return np.abs(got - shares).sum(axis=1).mean() / 2
+    assert off(tone.BALANCED) < 0.7 * off(tone.PLAIN)
+
+
 def test_tone_off_is_the_palette_view(model):
     r = model.synthesize((40, 40), seed=2, tone=False)
     assert np.array_equal(r.image, model.palette[r.levels][..., 0])
@@ -99,8 +116,8 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = SynthesizeScales(step.dpjs, 80, 60, seed=7, tileable=True,
                            tone_photo=step.tone_photo, tone_levels=step.tone_levels)
-    assert new.to_json()["version"] == 4 and new.closure == 3
-    assert step_wrap(new) == tone.TILED_LANES
+    assert new.to_json()["version"] == 4 and new.closure == 3 and new.tone_balance
+    assert step_wrap(new) == tone.TILED_LANES | tone.BALANCED
 
 
 @pytest.mark.parametrize("name", ["plain", "tileable"])
@@ -235,35 +252,41 @@ def test_tone_drawn_beside_the_synthesis_is_the_tone_of_the_finished_levels(colo
 @pytest.mark.parametrize("colour, shape", [(False, (300, 170)), (True, (97, 260))])
 def test_a_tiling_tone_drawn_beside_the_synthesis_is_the_tone_of_the_closed_torus(colour, shape):
     """Closure 3: the tone follows the rows of a torus before it is closed (the closure may
-    change them after) and still gives the tone of the closed levels, drawn TILED_LANES."""
+    change them after) and still gives the tone of the closed levels, drawn TILED_LANES
+    (balanced: its counts of the rows drawn again start over from them; and without)."""
     model = acquire_model(speckle((256, 256), seed=2, colour=colour), scales=3)
     for size in (shape, (900, 100)):             # the second told of rows before it closes
         result = model.synthesize(size, seed=5, tileable=True)
         assert np.array_equal(result.image, model.render(result.levels, seed=5,
-                                                         wrap=tone.TILED_LANES))
+                                                         wrap=tone.TILED_LANES | tone.BALANCED))
+        unbalanced = model.synthesize(size, seed=5, tileable=True, tone_balance=False)
+        assert np.array_equal(unbalanced.image, model.render(result.levels, seed=5,
+                                                             wrap=tone.TILED_LANES))
+        assert not np.array_equal(unbalanced.image, result.image)
     told = []
     from texeditor.markov.multiscale import synthesize_scales
     final = synthesize_scales(model.scales, (900, 100), seed=5, tileable=True,
                               rows_final=lambda lv, n: told.append(n)).levels
     assert len(told) > 1 and told[-1] == 900
     assert np.array_equal(final, result.levels)
-    older = model.synthesize(shape, seed=5, tileable=True, closure=2)
+    older = model.synthesize(shape, seed=5, tileable=True, closure=2, tone_balance=False)
     assert np.array_equal(older.image, model.render(older.levels, seed=5, wrap=tone.TILED))
 
 
+@pytest.mark.parametrize("way", [tone.TILED_LANES, tone.TILED_LANES | tone.BALANCED])
 @pytest.mark.parametrize("rows, columns", [(8, 128), (3, 5)])
 def test_a_tiling_tone_on_two_lanes_is_the_picture_of_one_scan(model, monkeypatch, rows,
-                                                                 columns):
+                                                                 columns, way):
     levels = model.synthesize((150, 301), seed=3, tileable=True).levels
     args = (levels, 4, model.tone.levels, model.tone.grey)
     monkeypatch.setattr(tone, "LANE_ROWS", 10 ** 6)
-    one = tone.render(*args, seed=8, wrap=tone.TILED_LANES)[0]
+    one = tone.render(*args, seed=8, wrap=way)[0]
     monkeypatch.setattr(tone, "LANE_ROWS", rows)
     monkeypatch.setattr(tone, "LANE_COLUMNS", columns)
     lanes = []
     real = tone._two_lanes
     monkeypatch.setattr(tone, "_two_lanes", lambda *a: lanes.append(1) or real(*a))
-    two = tone.render(*args, seed=8, wrap=tone.TILED_LANES)[0]
+    two = tone.render(*args, seed=8, wrap=way)[0]
     assert lanes and np.array_equal(one, two)
     assert not np.array_equal(two, tone.render(*args, seed=8, wrap=tone.TILED)[0])
 
@@ -291,8 +314,8 @@ def test_a_tiling_tone_on_two_lanes_shows_no_seam(model):
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(h=st.integers(1, 30), w=st.integers(1, 290), seed=st.integers(0, 2 ** 32),
-       told_rows=st.integers(0, 30))
-def test_a_tiling_tone_on_two_lanes_is_exact_at_any_size(model, h, w, seed, told_rows):
+       told_rows=st.integers(0, 30), balanced=st.booleans())
+def test_a_tiling_tone_on_two_lanes_is_exact_at_any_size(model, h, w, seed, told_rows, balanced):
     """Any canvas (narrower than the seam columns, one row, one point): drawn after an edit
     from the last rendering, or band by band from levels that change at the end, the picture
     is the one drawn at once."""
@@ -301,21 +324,23 @@ def test_a_tiling_tone_on_two_lanes_is_exact_at_any_size(model, h, w, seed, told
     edited = levels.copy()
     edited[rng.integers(h), rng.integers(w)] ^= 1
     args = (4, model.tone.levels, model.tone.grey)
-    fresh = tone.rendering(edited, *args, seed=seed, wrap=tone.TILED_LANES)
-    before = tone.rendering(levels, *args, seed=seed, wrap=tone.TILED_LANES)
-    again = tone.rendering(edited, *args, seed=seed, wrap=tone.TILED_LANES, before=before)
+    way = tone.TILED_LANES | (tone.BALANCED if balanced else 0)
+    fresh = tone.rendering(edited, *args, seed=seed, wrap=way)
+    before = tone.rendering(levels, *args, seed=seed, wrap=way)
+    again = tone.rendering(edited, *args, seed=seed, wrap=way, before=before)
     assert np.array_equal(again.grey, fresh.grey) and np.array_equal(again.source, fresh.source)
-    renderer = tone.Renderer((h, w), *args, seed=seed, wrap=tone.TILED_LANES)
+    renderer = tone.Renderer((h, w), *args, seed=seed, wrap=way)
     renderer.advance(levels, min(h - 1, told_rows))
     renderer.advance(edited, h)
     assert np.array_equal(renderer.result()[0], fresh.grey)
 
 
+@pytest.mark.parametrize("way", [tone.TILED_LANES, tone.TILED_LANES | tone.BALANCED])
 @pytest.mark.parametrize("change, redrawn_from", [("seam columns", None), ("last rows", 88),
                                                   ("a middle row", 49), ("row 99", 97),
                                                   ("row 0", 0)])
 def test_a_tiling_tone_drawn_before_the_closure_draws_again_only_what_it_changed(
-        model, monkeypatch, change, redrawn_from):
+        model, monkeypatch, change, redrawn_from, way):
     """Levels told of, then changed where a torus's closure changes them: the picture is that
     of the final levels; changes in the seam columns leave the rest as drawn, a change in a
     row has the rows from the one above it drawn again (drawing order: picture row k + 1)."""
@@ -330,10 +355,9 @@ def test_a_tiling_tone_drawn_before_the_closure_draws_again_only_what_it_changed
     else:                                            # row 0 is drawn last, row 1 first
         row = int(change.split()[1])
         told[row, :30] = (told[row, :30] + 1) % 4
-    fresh = tone.rendering(final, 4, model.tone.levels, model.tone.grey, seed=6,
-                           wrap=tone.TILED_LANES)
+    fresh = tone.rendering(final, 4, model.tone.levels, model.tone.grey, seed=6, wrap=way)
     renderer = tone.Renderer(final.shape, 4, model.tone.levels, model.tone.grey, seed=6,
-                             wrap=tone.TILED_LANES)
+                             wrap=way)
     for n in range(10, 100, 30):
         renderer.advance(told, n)
     assert 0 < renderer.done < 100
@@ -381,22 +405,25 @@ def test_a_colour_photo_gives_colour_classes_at_every_scale():
         assert np.all(np.argmax(pixels[:, :2], axis=1) == hue(lab.palette[level]))
 
 
+@pytest.mark.parametrize("way", [tone.PLAIN, tone.BALANCED])
 @pytest.mark.parametrize("rows, columns", [(8, 128), (3, 5), (2, 1)])
-def test_two_lanes_render_the_picture_of_one_scan(model, monkeypatch, rows, columns):
+def test_two_lanes_render_the_picture_of_one_scan(model, monkeypatch, rows, columns, way):
     """The tone's two-lane wavefront (strips on two threads, each chunk waiting for the strip
-    above) gives the picture of one scan in order, whatever the strip and chunk sizes."""
+    above) gives the picture of one scan in order, whatever the strip and chunk sizes; with
+    balance too (each strip's weights count rows the other lane has finished)."""
     levels = model.synthesize((150, 301), seed=3).levels
+    args = (levels, 4, model.tone.levels, model.tone.grey)
     monkeypatch.setattr(tone, "LANE_ROWS", 10 ** 6)          # one strip: the plain scan
-    one = tone.render(levels, 4, model.tone.levels, model.tone.grey, seed=8)[0]
+    one = tone.render(*args, seed=8, wrap=way)[0]
     monkeypatch.setattr(tone, "LANE_ROWS", rows)
     monkeypatch.setattr(tone, "LANE_COLUMNS", columns)
     lanes = []
     real = tone._two_lanes
     monkeypatch.setattr(tone, "_two_lanes", lambda *a: lanes.append(1) or real(*a))
-    two = tone.render(levels, 4, model.tone.levels, model.tone.grey, seed=8)[0]
+    two = tone.render(*args, seed=8, wrap=way)[0]
     assert lanes and np.array_equal(one, two)
-    other = tone.render(levels, 4, model.tone.levels, model.tone.grey, seed=9)[0]
-    assert not np.array_equal(two, other)
+    assert not np.array_equal(two, tone.render(*args, seed=9, wrap=way)[0])
+    assert not np.array_equal(two, tone.render(*args, seed=8, wrap=way ^ tone.BALANCED)[0])
 
 
 @pytest.mark.parametrize("width", [128, 256, 1000])
@@ -431,21 +458,22 @@ def test_an_error_in_a_tone_lane_reaches_the_caller(monkeypatch):
     assert len(calls) < 64 // tone.LANE_ROWS * 8         # the other lane stopped too
 
 
-@pytest.mark.parametrize("wrap", [False, True, tone.TILED_LANES])
+@pytest.mark.parametrize("wrap", [False, True, tone.TILED_LANES, tone.BALANCED,
+                                  tone.TILED_LANES | tone.BALANCED])
 @pytest.mark.parametrize("colour", [False, True])
 def test_a_rendering_after_an_edit_keeps_the_rows_above_and_matches_a_fresh_one(wrap, colour,
                                                                                  monkeypatch):
     """The window draws the tone again after each edit from the previous rendering: the rows
     above the first changed one are kept, and the picture is the one drawn from scratch."""
     model = acquire_model(speckle((200, 200), seed=4, colour=colour), scales=2)
-    levels = model.synthesize((90, 140), seed=2, tileable=wrap).levels
+    levels = model.synthesize((90, 140), seed=2, tileable=bool(wrap & 3)).levels
     drawn = model.rendering(levels, seed=2, wrap=wrap)
     starts = []
     real = tone.Renderer.resume
     monkeypatch.setattr(tone.Renderer, "resume",
                         lambda self, before, start: starts.append(start) or real(self, before, start))
     expected = {False: (59, 29, 1, 0, 88), True: (59, 29, 1, 0, 0),
-                tone.TILED_LANES: (58, 28, 0, 0, 87)}[wrap]    # the last: picture row 0 first
+                tone.TILED_LANES: (58, 28, 0, 0, 87)}[wrap & 3]  # the last: picture row 0 first
     for top, expected_start in zip((60, 30, 2, 0, 89), expected):
         edited = drawn.levels.copy()
         edited[top:top + 1, 20:70] = (edited[top:top + 1, 20:70] + 1) % 4

@@ -27,7 +27,7 @@ from ..markov.multiscale import (COARSE_LEVELS, COARSE_REDRAWS, COARSE_WINDOW, L
                                  MultiScaleDPJ, check_scales_closure, estimate_scales,
                                  synthesize_scales)
 from ..recipe.exemplars import MAX_SIDE
-from .tone import (PLAIN, TILED, TILED_LANES, Rendered, Renderer, ToneIndex, rendering,
+from .tone import (BALANCED, PLAIN, TILED, TILED_LANES, Rendered, Renderer, ToneIndex, rendering,
                    tone_index)
 
 MODEL_FORMAT_VERSION = 2
@@ -77,26 +77,28 @@ class PhotoModel:
 
     def synthesize(self, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
                    closure: int = SCALES_CLOSURE, coarse_redraws: int = COARSE_REDRAWS,
+                   tone_balance: bool = True,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
         drawn on a second thread as the finest rows come out (the same picture as
-        ``render(levels, wrap=tone_wrap(tileable, closure))`` afterwards, in about half the
-        time on two cores). ``tileable``: the levels and the picture repeat without a seam
-        (``closure``, ``coarse_redraws``: see markov.multiscale.synthesize_scales)."""
+        ``render(levels, wrap=tone_wrap(tileable, closure, tone_balance))`` afterwards, in
+        about half the time on two cores). ``tileable``: the levels and the picture repeat
+        without a seam (``closure``, ``coarse_redraws``: see markov.multiscale.synthesize_scales;
+        ``tone_balance``: each level's greys keep the photo's histogram, tone.BALANCED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
                     closure=closure, coarse_redraws=coarse_redraws)
         if not tone or self.tone is None:
             result = synthesize_scales(self.scales, shape, **draw)
             image = self.render(result.levels, seed=seed, tone=False)
         else:
-            result, image = self._synthesize_with_tone(shape, draw)
+            result, image = self._synthesize_with_tone(shape, draw, tone_balance)
         return Resynthesis(image, result.levels, self.frequencies(), result.repairs, int(seed))
 
-    def _synthesize_with_tone(self, shape, draw):
+    def _synthesize_with_tone(self, shape, draw, balance):
         renderer, latest = [], [None]
         seed = draw["seed"]
-        wrap = tone_wrap(draw["tileable"], draw["closure"])
+        wrap = tone_wrap(draw["tileable"], draw["closure"], balance)
         with ThreadPoolExecutor(1, thread_name_prefix="tone") as worker:
             jobs = []
 
@@ -125,9 +127,11 @@ class PhotoModel:
         grey, colour = renderer[0].result()
         return result, (grey if colour is None else colour)
 
-    def render(self, levels, *, seed: int = 0, tone: bool = True, wrap=False) -> np.ndarray:
+    def render(self, levels, *, seed: int = 0, tone: bool = True,
+               wrap: int = PLAIN | BALANCED) -> np.ndarray:
         """The picture of a level matrix: tone when the model has it, else the palette;
-        ``wrap``: tiling levels give a tiling picture (drawn the way tone_wrap says)."""
+        ``wrap``: how it is drawn, as tone_wrap says (by default as a new plain synthesis
+        shows it; tiling levels give a tiling picture)."""
         levels = np.asarray(levels)
         if not tone or self.tone is None:
             image = self.palette[levels]
@@ -193,17 +197,21 @@ def document_tone(doc) -> np.ndarray | None:
     return model.render(doc.levels, seed=int(step.seed), wrap=step_wrap(step))
 
 
-def tone_wrap(tileable: bool, closure: int = SCALES_CLOSURE) -> int:
-    """How a synthesis's tone tiles: not at all, or as its seam closure says (3: drawn on two
-    lanes beside the levels, tone.TILED_LANES; 1 and 2: tone.TILED)."""
-    if not tileable:
-        return PLAIN
-    return TILED_LANES if check_scales_closure(closure) >= 3 else TILED
+def tone_wrap(tileable: bool, closure: int = SCALES_CLOSURE, balance: bool = True) -> int:
+    """How a synthesis's tone is drawn: tiling not at all, or as its seam closure says (3: on
+    two lanes beside the levels, tone.TILED_LANES; 1 and 2: tone.TILED); ``balance``: each
+    level's greys keep the photo's histogram (tone.BALANCED, since SynthesizeScales 4)."""
+    way = PLAIN if not tileable else (
+        TILED_LANES if check_scales_closure(closure) >= 3 else TILED)
+    return way | BALANCED if balance else way
 
 
 def step_wrap(step) -> int:
-    """tone_wrap of a recorded synthesis step (PLAIN for a step that does not tile)."""
-    return tone_wrap(bool(getattr(step, "tileable", False)), getattr(step, "closure", 1))
+    """tone_wrap of a synthesis step (PLAIN for a step that does not tile; no balance for a
+    multi-scale step recorded before it; a step that records no tone, or none, is shown with
+    an attached model's tone the current way)."""
+    return tone_wrap(bool(getattr(step, "tileable", False)), getattr(step, "closure", 1),
+                     bool(getattr(step, "tone_balance", True)))
 
 
 def document_model(doc, step=None) -> PhotoModel | None:

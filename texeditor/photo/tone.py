@@ -38,6 +38,14 @@ HALF = 2                   # the causal neighbourhood compared: rows above and l
 DRAWS = 1 + RANDOM_CANDIDATES   # random numbers per point, so point n starts at draw DRAWS·n
 GAMMA = 0x9E3779B97F4A7C15  # SplitMix64's step (markov.synthesis.uniform)
 PLAIN, TILED, TILED_LANES = 0, 1, 2   # ``wrap``: how (and whether) a picture tiles
+BALANCED = 4               # or'ed into ``wrap``: each level's greys keep the photo's histogram of
+                           # that level's greys (_penalties); pictures before it were drawn without
+GREY_BINS = 32             # ... counted in bins of 8 greys
+BALANCE = 2.0              # ... a bin drawn x times its photo share too often (counted over the
+                           # strips drawn two strips above) weighs its match exp(BALANCE · x)
+BALANCE_ROWS = 8           # ... strips of this many rows: two lanes must cut strips of LANE_ROWS
+                           # equal to it, or at most half of it plus one half (then every row a
+                           # strip's weights count is drawn before any of the strip is)
 EDGE_COLUMNS = 12          # TILED_LANES: the columns drawn last (a torus's closure redraws the
                            # last 6 from top to bottom; one more is read by the first's context)
 LANE_ROWS = 8              # the two-lane wavefront: strips of this many rows,
@@ -111,7 +119,8 @@ def render(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=None,
     ``photo_levels`` (h, w) are the photo's levels at the same G, ``photo_grey`` its greys (uint8)
     and ``photo_pixels`` its colours (h, w, 3) uint8, or None for a grey photo. ``wrap``: the
     levels tile, and so does the picture (contexts and matches read across the seams; TILED or
-    TILED_LANES say which way, True is TILED).
+    TILED_LANES say which way, True is TILED); with BALANCED or'ed in, each level's greys keep
+    the photo's histogram of them (the way pictures are drawn since SynthesizeScales 4).
     """
     drawn = rendering(levels, num_levels, photo_levels, photo_grey, photo_pixels, seed=seed,
                       index=index, wrap=wrap)
@@ -126,7 +135,7 @@ class Rendered(NamedTuple):
     source: np.ndarray       # the photo point (row-major index) each point shows
     levels: np.ndarray       # the levels drawn
     seed: int
-    wrap: int                # PLAIN, TILED or TILED_LANES
+    wrap: int                # PLAIN, TILED or TILED_LANES, maybe | BALANCED
 
     @property
     def picture(self) -> np.ndarray:
@@ -163,8 +172,9 @@ def first_row_to_draw(before: Rendered | None, levels: np.ndarray, seed: int, wr
     if (before is None or before.levels.shape != levels.shape or before.seed != int(seed)
             or before.wrap != int(wrap)):
         return 0
-    if int(wrap) != TILED_LANES:
-        return _first_to_redraw((before.levels != levels).any(axis=1), bool(wrap))
+    way = int(wrap) & ~BALANCED
+    if way != TILED_LANES:
+        return _first_to_redraw((before.levels != levels).any(axis=1), bool(way))
     read = _read_before_seam(levels.shape[1])
     changed = (_turned(before.levels) != _turned(levels))[:, read].any(axis=1)
     return _first_to_redraw(changed, True)
@@ -211,7 +221,8 @@ class Renderer:
         shape = tuple(shape)
         if len(shape) != 2 or 0 in shape:
             raise InputError(f"tone needs a non-empty matrix of levels 0..{num_levels - 1}")
-        if int(wrap) not in (PLAIN, TILED, TILED_LANES):
+        way = int(wrap)
+        if way & ~BALANCED not in (PLAIN, TILED, TILED_LANES) or way < 0:
             raise InputError(f"a tone tiles in no way {wrap!r}")
         self.num_levels = num_levels
         self.photo_grey = np.ascontiguousarray(photo_grey, dtype=np.uint8)
@@ -221,7 +232,13 @@ class Renderer:
         self.source = np.empty(shape, np.int64)
         self.grey = np.empty(shape, np.uint8)
         self.done = 0
-        self.wrap = int(wrap)
+        self.wrap = way & ~BALANCED
+        self.balanced = bool(way & BALANCED)
+        rows = shape[0] if self.balanced else 0
+        self.shares = (_grey_shares(photo_levels, self.photo_grey, num_levels) if self.balanced
+                       else np.zeros((num_levels, GREY_BINS)))
+        self.row_counts = np.zeros((rows, num_levels, GREY_BINS))    # levels' greys drawn, by row
+        self.above = np.zeros((-(-rows // BALANCE_ROWS), num_levels, GREY_BINS))  # before a strip
         self.turned = self.wrap == TILED_LANES
         self.seam = _seam_start(shape[1]) if self.turned else shape[1]
         if self.turned:                              # the levels drawn from (drawing order),
@@ -239,6 +256,20 @@ class Renderer:
         self.source[:start] = source[:start]
         self.grey[:start] = grey[:start]
         self.done = start
+        if self.balanced:
+            self._recount(self.seen if self.turned else before.levels)
+
+    def _recount(self, levels) -> None:
+        """The greys counted for balance (BALANCED) as rows 0..done-1 hold them (drawing
+        order; the seam columns drawn last are not counted): after a resume, or rows to be
+        drawn again."""
+        rows, cols = self.done, self.seam
+        self.row_counts[:] = 0
+        np.add.at(self.row_counts, (np.repeat(np.arange(rows), cols), levels[:rows, :cols].ravel(),
+                                    self.grey[:rows, :cols].ravel() // (256 // GREY_BINS)), 1)
+        strips = np.zeros_like(self.above)
+        np.add.at(strips, np.arange(len(self.row_counts)) // BALANCE_ROWS, self.row_counts)
+        self.above[1:] = np.cumsum(strips, axis=0)[:-1]
 
     def advance(self, levels, final: int) -> None:
         """Render the rows whose 3×3 context lies in ``levels``' rows 0..final-1 (all of them
@@ -271,7 +302,11 @@ class Renderer:
                 return                             # drawn from these very levels
             read = _read_before_seam(w)
             changed = self.seen_rows & (now[:, read] != self.seen[:, read]).any(axis=1)
-            self.done = min(self.done, _first_to_redraw(changed, True))
+            first = _first_to_redraw(changed, True)
+            if first < self.done:
+                self.done = first
+                if self.balanced:
+                    self._recount(self.seen)
         stop = h if final >= h else max(self.done, final - 2)
         if stop > self.done and self.seam > 0:
             order = np.arange(self.done - 1, stop + 1) % h   # the rows drawn, one either side
@@ -286,7 +321,7 @@ class Renderer:
             width = w - self.seam
             codes = tuple(c.reshape(h, -1)[:, 1:-1].ravel()
                           for c in context_codes(band, self.num_levels, True))
-            self._chunk(codes, (0, self.seam, width), (0, h), (self.seam, w), 0)
+            self._chunk(codes, (0, self.seam, width), (0, h), (self.seam, w), 0, count=False)
             self.closed = now
 
     def _checked(self, band) -> np.ndarray:
@@ -305,14 +340,15 @@ class Renderer:
             _two_lanes(lambda r, c: self._chunk(codes, at, r, c, HALF), rows, width)
         self.done = stop
 
-    def _chunk(self, codes, at, rows, columns, skew) -> None:
+    def _chunk(self, codes, at, rows, columns, skew, count=True) -> None:
         """Render rows (i0, i1), row i0 + k over columns (j0, j1) moved ``skew``·k left and
         clipped to them (``codes``: the contexts of the rows from ``at`` = (row, column,
-        width) on)."""
+        width) on); ``count``: their greys count for balance."""
         ix = self.index
         _render(codes, ix.codes, ix.keys, ix.starts, ix.points, self.photo_grey, self.source,
                 self.grey, self.state0, at[0], at[1], at[2], rows[0], rows[1], columns[0],
-                columns[1], skew, self.wrap, self.seam)
+                columns[1], skew, self.wrap, self.seam,
+                (self.shares, self.row_counts, self.above, self.balanced, count))
 
     def sources(self) -> np.ndarray:
         """The photo point each picture point shows (row-major index), in picture order."""
@@ -343,7 +379,8 @@ def _two_lanes(run, rows, width: int) -> None:
     lie up to HALF·(LANE_ROWS-1) columns left): every point sees what it would see in scan
     order, so the picture is the same."""
     i0, i1 = rows
-    strips = [(r, min(i1, r + LANE_ROWS)) for r in range(i0, i1, LANE_ROWS)]
+    cuts = [i0] + list(range((i0 // LANE_ROWS + 1) * LANE_ROWS, i1, LANE_ROWS)) + [i1]
+    strips = list(zip(cuts, cuts[1:]))          # on whole strips of the picture (balance)
     size = max(1, min(LANE_COLUMNS, width // LANE_CHUNKS))
     chunks = -(-width // size)
     lead = -(-(HALF * (LANE_ROWS - 1) + HALF) // size)
@@ -416,6 +453,45 @@ def _distance(grey, i, j, photo, pi, pj, best, limit):
     return total
 
 
+@njit(cache=True, nogil=True)
+def _penalties(pen, shares, row_counts, above, strip):
+    """BALANCED: the weight of each (level, grey bin) on the matches of strip ``strip``
+    (BALANCE_ROWS rows), from the greys drawn in the strips above the one above it (complete
+    whichever lane draws them, see BALANCE_ROWS): a bin drawn more often than the photo's
+    share of that level's greys weighs more (Kopf et al. 2007 keep a solid texture's histogram
+    the same way). ``above[s]`` sums the rows' counts before strip s (each row is counted by
+    the one lane that draws it)."""
+    g, bins = shares.shape
+    if strip >= 2:
+        r0 = (strip - 2) * BALANCE_ROWS
+        for lv in range(g):
+            for b in range(bins):
+                x = above[strip - 2, lv, b]
+                for r in range(r0, r0 + BALANCE_ROWS):
+                    x += row_counts[r, lv, b]
+                above[strip - 1, lv, b] = x
+    for lv in range(g):
+        drawn = 0.0
+        if strip >= 1:
+            for b in range(bins):
+                drawn += above[strip - 1, lv, b]
+        for b in range(bins):
+            pen[lv, b] = 1.0
+            if drawn > 0.0:
+                p = shares[lv, b]
+                x = (above[strip - 1, lv, b] / drawn - p) / max(p, 1e-3)
+                pen[lv, b] = np.exp(BALANCE * min(3.0, x))
+
+
+def _grey_shares(photo_levels, photo_grey, num_levels: int) -> np.ndarray:
+    """Each level's greys in the photo: (G, GREY_BINS) shares, a row per level."""
+    counts = np.zeros((num_levels, GREY_BINS))
+    levels = np.asarray(photo_levels)
+    grey = photo_grey[: levels.shape[0], : levels.shape[1]]
+    np.add.at(counts, (levels.ravel(), grey.ravel() // (256 // GREY_BINS)), 1)
+    return counts / np.maximum(counts.sum(axis=1, keepdims=True), 1)
+
+
 @njit(cache=True, nogil=True, inline="always")
 def _inside(i, j, h, w, wrap, seam):
     """Whether no neighbour of (i, j) that _distance_wrap reads lies across a seam or in
@@ -452,19 +528,25 @@ def _distance_wrap(grey, i, j, photo, pi, pj, best, seam):
 
 @njit(cache=True, nogil=True)
 def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, state0, base,
-            base_col, codes_width, i0, i1, j0, j1, skew, wrap, seam):
+            base_col, codes_width, i0, i1, j0, j1, skew, wrap, seam, balance):
     """Rows i0..i1-1, row i0 + k over columns j0..j1-1 moved skew·k left (clipped to the
     columns before ``seam`` or, from j0 = seam on, to the last ones), in scan order: coherent
     and fresh candidates of the right context, the best match wins. ``out_codes`` hold the
     contexts of rows ``base`` on and columns ``base_col`` .. ``base_col + codes_width - 1``.
     Point n = i·w + j draws from SplitMix64 at state0 + DRAWS·n·GAMMA, whichever order the
-    chunks run in. ``wrap``: neighbours across the seams count once drawn (_before)."""
+    chunks run in. ``wrap``: neighbours across the seams count once drawn (_before).
+    ``balance`` = (shares, row counts, counts above, balanced, count): see _penalties."""
     h, w = grey.shape
     ph, pw = photo.shape
+    shares, row_counts, above, balanced, count_them = balance
+    pen = np.ones(shares.shape)
+    bin_width = 256 // GREY_BINS
     lo, hi = (0, seam) if j0 < seam else (seam, w)
     cand = np.empty(4 + RANDOM_CANDIDATES, np.int64)
     state = np.empty(1, np.uint64)
     for i in range(i0, i1):
+        if balanced and (i == i0 or i % BALANCE_ROWS == 0):
+            _penalties(pen, shares, row_counts, above, i // BALANCE_ROWS)
         ja, jb = max(lo, j0 - skew * (i - i0)), min(hi, j1 - skew * (i - i0))
         state[0] = state0 + np.uint64(DRAWS) * np.uint64(i * w + ja) * np.uint64(GAMMA)
         for j in range(ja, jb):
@@ -497,8 +579,11 @@ def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, s
                 count += 1
             best, chosen = np.inf, cand[0]
             across = wrap and not _inside(i, j, h, w, wrap, seam)
+            own = out_codes[2][n]
             for k in range(count):
                 weight = COHERENCE if k < coherent else 1.0
+                if balanced:
+                    weight *= pen[own, photo[cand[k] // pw, cand[k] % pw] // bin_width]
                 if across:
                     d = weight * _distance_wrap(grey, i, j, photo, cand[k] // pw, cand[k] % pw,
                                                 best / weight, seam)
@@ -509,3 +594,5 @@ def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, s
                     best, chosen = d, cand[k]
             source[i, j] = chosen
             grey[i, j] = photo[chosen // pw, chosen % pw]
+            if balanced and count_them:
+                row_counts[i, own, grey[i, j] // bin_width] += 1.0

@@ -442,12 +442,13 @@ def _closure_of_version_1(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 3 tried OLD_REDRAWS times at a dead end of the coarsest scale; version 1
-    had no ``closure`` (closed the first way), version 2 closures 1 and 2 (default 2)."""
-    if version not in (1, 2, 3) or "coarse_redraws" in params:
+    """Versions 1 to 3 tried OLD_REDRAWS times at a dead end of the coarsest scale and drew
+    their tone without balance; version 1 had no ``closure`` (closed the first way), version 2
+    closures 1 and 2 (default 2)."""
+    if version not in (1, 2, 3) or "coarse_redraws" in params or "tone_balance" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} is not supported "
                           f"(this program reads versions 1 to {cls.VERSION})")
-    params = {**params, "coarse_redraws": OLD_REDRAWS}
+    params = {**params, "coarse_redraws": OLD_REDRAWS, "tone_balance": False}
     if version == 1:
         return _closure_of_version_1(cls, version, params)
     if version == 2:
@@ -543,6 +544,9 @@ class SynthesizeScales(Action):
     tone_levels: str | None = param("exemplar", default=None, optional=True,
                                     doc="that photo's finest levels, which say where its tone "
                                         "is drawn from")
+    tone_balance: bool = param("bool", default=True,
+                               doc="the tone keeps each level's histogram of the photo's greys "
+                                   "(current; recipes before version 4 drew it without)")
 
     upgrade = classmethod(_scales_of_version)
 
