@@ -163,10 +163,12 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
 @pytest.mark.parametrize("version, obj, redraws", [
     (3, {}, 16), (1, {}, 16), (3, {"coarse_redraws": 4}, None), (4, {}, 4),
     (4, {"coarse_redraws": 16}, 16), (4, {"coarse_redraws": 0}, 0),
-    (4, {"coarse_redraws": 17}, None), (4, {"coarse_redraws": True}, None)])
+    (4, {"coarse_redraws": 17}, None), (4, {"coarse_redraws": True}, None),
+    (3, {"tone_balance": True}, None), (4, {"tone_balance": False}, 4)])
 def test_a_multiscale_step_keeps_its_coarse_redraws(version, obj, redraws):
-    """Steps before version 4 tried 16 times at a dead end of the coarsest scale (and cannot
-    name another count); version 4 names it, 0 to 16, default COARSE_REDRAWS."""
+    """Steps before version 4 tried 16 times at a dead end of the coarsest scale and drew their
+    tone without balance (and cannot name either); version 4 names both: 0 to 16 redraws,
+    default COARSE_REDRAWS, and balance, default on."""
     from texeditor.recipe.codec import action_from_json
     step = {"type": "synthesize_scales", "version": version, "dpjs": ["0123456789abcdef"],
             "width": 30, "height": 20, "seed": 1, "tileable": False, **obj}
@@ -177,6 +179,7 @@ def test_a_multiscale_step_keeps_its_coarse_redraws(version, obj, redraws):
             action_from_json(step)
     else:
         assert action_from_json(step).coarse_redraws == redraws
+        assert action_from_json(step).tone_balance == obj.get("tone_balance", version == 4)
 
 
 def _rezip(data: bytes, change) -> bytes:
