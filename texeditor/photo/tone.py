@@ -43,9 +43,9 @@ BALANCED = 4               # or'ed into ``wrap``: each level's greys keep the ph
 GREY_BINS = 32             # ... counted in bins of 8 greys
 BALANCE = 2.0              # ... a bin drawn x times its photo share too often (counted over the
                            # strips drawn two strips above) weighs its match exp(BALANCE · x)
-BALANCE_ROWS = 8           # ... strips of this many rows: two lanes must cut strips of LANE_ROWS
-                           # equal to it, or at most half of it plus one half (then every row a
-                           # strip's weights count is drawn before any of the strip is)
+BALANCE_ROWS = 8           # ... strips of this many rows. Two lanes must cut strips of LANE_ROWS
+                           # equal to it or at most (BALANCE_ROWS + 1) // 2: then every row a
+                           # strip's weights count is drawn before any row of the strip is
 EDGE_COLUMNS = 12          # TILED_LANES: the columns drawn last (a torus's closure redraws the
                            # last 6 from top to bottom; one more is read by the first's context)
 LANE_ROWS = 8              # the two-lane wavefront: strips of this many rows,
@@ -265,8 +265,9 @@ class Renderer:
         drawn again."""
         rows, cols = self.done, self.seam
         self.row_counts[:] = 0
-        np.add.at(self.row_counts, (np.repeat(np.arange(rows), cols), levels[:rows, :cols].ravel(),
-                                    self.grey[:rows, :cols].ravel() // (256 // GREY_BINS)), 1)
+        where = (np.repeat(np.arange(rows), cols), levels[:rows, :cols].ravel(),
+                 self.grey[:rows, :cols].ravel() // (256 // GREY_BINS))
+        np.add.at(self.row_counts, where, 1)
         strips = np.zeros_like(self.above)
         np.add.at(strips, np.arange(len(self.row_counts)) // BALANCE_ROWS, self.row_counts)
         self.above[1:] = np.cumsum(strips, axis=0)[:-1]
