@@ -9,7 +9,7 @@ from PySide6 import QtCore, QtWidgets
 
 from texeditor.markov.dpj import DPJ
 from texeditor.markov.levels import load_image
-from texeditor.photo import PhotoModel, acquire_model
+from texeditor.photo import PhotoModel, acquire_model, tone
 from texeditor.recipe.actions import SynthesizeScales
 
 from tests.support import ROOT
@@ -391,5 +391,22 @@ def test_a_step_drawn_with_16_coarse_redraws_again_is_the_older_texture(qtbot, w
     qtbot.keyClick(window, Key.Key_Z, CTRL)
     assert np.array_equal(window.document.levels, new)
     assert np.array_equal(window.canvas.picture, tone_of(window, 7))
+
+    # untick Tone balance in the form, Apply & replay: the same levels, the tone drawn the way
+    # of steps before version 4
+    dock = window.history_dock
+    qtbot.mouseClick(dock.view.viewport(), LEFT, pos=dock.row_rect(last).center())
+    kind, box = dock.form.editors["tone_balance"]
+    assert kind == "bool" and box.isChecked()
+    box.setFocus()
+    qtbot.keyClick(box, Key.Key_Space)
+    assert not box.isChecked()
+    qtbot.mouseClick(dock.apply_button, LEFT)
+    assert window.runner.wait(60_000) and not window.errors
+    assert window.history.actions[-1].tone_balance is False
+    assert np.array_equal(window.document.levels, new)
+    unbalanced = rgb(model.render(new, seed=7, wrap=tone.PLAIN))
+    assert np.array_equal(window.canvas.picture, unbalanced)
+    assert not np.array_equal(unbalanced, tone_of(window, 7))
     undo_to_start(qtbot, window)
     assert np.array_equal(window.document.levels, start)
