@@ -276,24 +276,6 @@ def test_a_tiling_tone_drawn_beside_the_synthesis_is_the_tone_of_the_closed_toru
     assert np.array_equal(older.image, model.render(older.levels, seed=5, wrap=tone.TILED))
 
 
-@pytest.mark.parametrize("way", [tone.TILED_LANES, tone.TILED_LANES | tone.BALANCED])
-@pytest.mark.parametrize("rows, columns", [(8, 128), (3, 5)])
-def test_a_tiling_tone_on_two_lanes_is_the_picture_of_one_scan(model, monkeypatch, rows,
-                                                                 columns, way):
-    levels = model.synthesize((150, 301), seed=3, tileable=True).levels
-    args = (levels, 4, model.tone.levels, model.tone.grey)
-    monkeypatch.setattr(tone, "LANE_ROWS", 10 ** 6)
-    one = tone.render(*args, seed=8, wrap=way)[0]
-    monkeypatch.setattr(tone, "LANE_ROWS", rows)
-    monkeypatch.setattr(tone, "LANE_COLUMNS", columns)
-    lanes = []
-    real = tone._two_lanes
-    monkeypatch.setattr(tone, "_two_lanes", lambda *a: lanes.append(1) or real(*a))
-    two = tone.render(*args, seed=8, wrap=way)[0]
-    assert lanes and np.array_equal(one, two)
-    assert not np.array_equal(two, tone.render(*args, seed=8, wrap=tone.TILED)[0])
-
-
 def seam_jumps(picture):
     """Mean grey jump across the bottom-top and the right-left seams over that inside."""
     g = picture.astype(float)
@@ -408,13 +390,16 @@ def test_a_colour_photo_gives_colour_classes_at_every_scale():
         assert np.all(np.argmax(pixels[:, :2], axis=1) == hue(lab.palette[level]))
 
 
-@pytest.mark.parametrize("way", [tone.PLAIN, tone.BALANCED])
+@pytest.mark.parametrize("way", [tone.PLAIN, tone.BALANCED, tone.TILED_LANES,
+                                 tone.TILED_LANES | tone.BALANCED])
 @pytest.mark.parametrize("rows, columns", [(8, 128), (3, 5), (2, 1)])
 def test_two_lanes_render_the_picture_of_one_scan(model, monkeypatch, rows, columns, way):
     """The tone's two-lane wavefront (strips on two threads, each chunk waiting for the strip
     above) gives the picture of one scan in order, whatever the strip and chunk sizes; with
-    balance too (each strip's weights count rows the other lane has finished)."""
-    levels = model.synthesize((150, 301), seed=3).levels
+    balance too (each strip's weights count rows the other lane has finished), and on a tiling
+    picture (TILED_LANES: the seam columns after the rest)."""
+    tiling = way & ~tone.BALANCED == tone.TILED_LANES
+    levels = model.synthesize((150, 301), seed=3, tileable=tiling).levels
     args = (levels, 4, model.tone.levels, model.tone.grey)
     monkeypatch.setattr(tone, "LANE_ROWS", 10 ** 6)          # one strip: the plain scan
     one = tone.render(*args, seed=8, wrap=way)[0]
@@ -427,6 +412,8 @@ def test_two_lanes_render_the_picture_of_one_scan(model, monkeypatch, rows, colu
     assert lanes and np.array_equal(one, two)
     assert not np.array_equal(two, tone.render(*args, seed=9, wrap=way)[0])
     assert not np.array_equal(two, tone.render(*args, seed=8, wrap=way ^ tone.BALANCED)[0])
+    if tiling:
+        assert not np.array_equal(two, tone.render(*args, seed=8, wrap=tone.TILED)[0])
 
 
 @pytest.mark.parametrize("width", [128, 256, 1000])
