@@ -227,3 +227,36 @@ def test_the_coarsest_scale_tries_coarse_redraws_times_at_a_dead_end():
     for bad in (17, -1, True, "4"):
         with pytest.raises(InputError):
             multiscale.synthesize_scales(alone, (64, 64), coarse_redraws=bad)
+
+
+@pytest.mark.parametrize("tileable", [False, True])
+def test_the_finer_scales_tables_are_built_while_the_coarsest_is_drawn(tileable, monkeypatch):
+    """A fresh model's finer scales have their kernel tables built on another thread while
+    the coarsest scale is drawn (the coarsest draw waits here until they exist), and the
+    texture is the one drawn with every table built beforehand."""
+    import time
+    from texeditor.markov import synthesis
+    photo = blobs(7)
+    model, _ = multiscale.estimate_scales(photo, scales=3)
+    real = multiscale._draw_scale
+
+    def finer_tables_exist():
+        with synthesis._cache_lock:
+            alive = {key for key, (ref, _, _) in synthesis._cache.items() if ref() is not None}
+        return all(id(dpj) in alive for dpj in model.dpjs[1:])
+
+    def coarsest_waits(model_, k, *args):
+        deadline = time.monotonic() + 10
+        while k == 0 and not finer_tables_exist():
+            assert time.monotonic() < deadline, "no finer tables were built beside the coarsest"
+            time.sleep(0.005)
+        return real(model_, k, *args)
+    monkeypatch.setattr(multiscale, "_draw_scale", coarsest_waits)
+    ahead = multiscale.synthesize_scales(model, (96, 96), seed=4, tileable=tileable)
+    monkeypatch.setattr(multiscale, "_draw_scale", real)
+    fresh, _ = multiscale.estimate_scales(photo, scales=3)
+    for k, dpj in enumerate(fresh.dpjs):
+        synthesis.build_tables(dpj, 1 if k == 0 else multiscale.parent_levels(fresh.dpjs, k),
+                               tileable)
+    before = multiscale.synthesize_scales(fresh, (96, 96), seed=4, tileable=tileable)
+    assert np.array_equal(ahead.levels, before.levels)

@@ -252,6 +252,22 @@ def test_tone_drawn_beside_the_synthesis_is_the_tone_of_the_finished_levels(colo
     assert np.array_equal(final, result.levels)
 
 
+def test_a_fresh_models_tone_index_is_built_on_the_tone_thread(monkeypatch):
+    """The tone's index of the photo is built on the tone's thread while the levels are drawn
+    (the first synthesis of a model does not wait for it first); the picture is the same."""
+    from texeditor.photo import model as model_module
+    built_on = []
+    real = model_module.tone_index
+    monkeypatch.setattr(model_module, "tone_index", lambda *a: built_on.append(
+        threading.current_thread().name) or real(*a))
+    fresh = acquire_model(speckle((128, 128), seed=3), scales=3)
+    result = fresh.synthesize((80, 90), seed=2)
+    assert len(built_on) == 1 and built_on[0].startswith("tone")
+    assert threading.current_thread().name not in built_on
+    assert np.array_equal(result.image, fresh.render(result.levels, seed=2))
+    assert len(built_on) == 1            # kept with the model
+
+
 @pytest.mark.parametrize("colour, shape", [(False, (300, 170)), (True, (97, 260))])
 def test_a_tiling_tone_drawn_beside_the_synthesis_is_the_tone_of_the_closed_torus(colour, shape):
     """Closure 3: the tone follows the rows of a torus before it is closed (the closure may

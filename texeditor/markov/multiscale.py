@@ -26,7 +26,8 @@ from ..errors import Cancelled, InputError
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import has_colour, quantize, to_grey
-from .synthesis import SynthesisResult, derived, synthesize, synthesize_given
+from .synthesis import (SynthesisResult, build_tables, derived, synthesize,
+                        synthesize_given)
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
 MAX_SCALES = 6
@@ -204,25 +205,40 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     shapes = scale_shapes(shape, model.scales)
     closure = check_scales_closure(closure)
     coarse_redraws = check_coarse_redraws(coarse_redraws)
-    if tileable and closure >= 2:
-        model = MultiScaleDPJ((_coarsest_on_torus(model.dpjs[0], shapes[0], seed, closure,
-                                                  coarse_redraws),) + model.dpjs[1:])
     weights = np.array([h * w for h, w in shapes], float)
     done = np.concatenate([[0], np.cumsum(weights)]) / weights.sum()
     repairs = redraws = 0
     levels = None
-    for k in range(model.scales):
-        tries = _tries(k, model.scales)
-        report = None if progress is None else (
-            lambda f, k=k: progress(done[k] + f * (done[k + 1] - done[k])))
-        final = rows_final if k == model.scales - 1 else None
-
-        def draw(t, report, cancel, k=k, parents=levels, final=final):
-            return _draw_scale(model, k, shapes[k], parents, _try_seed(seed, k, t), report,
-                               cancel, final, bool(tileable), closure, coarse_redraws)
-        r = _closest_draw(draw, tries, model.frequencies(k), report, cancel)
-        levels, repairs, redraws = r.levels, repairs + r.repairs, redraws + r.redraws
+    ahead = ThreadPoolExecutor(1, thread_name_prefix="tables")   # the finer scales' tables are
+    try:                                                           # built as the coarse are drawn
+        built = [None] + [ahead.submit(build_tables, model.dpjs[k], parent_levels(model.dpjs, k),
+                                       bool(tileable)) for k in range(1, model.scales)]
+        if tileable and closure >= 2:
+            model = MultiScaleDPJ((_coarsest_on_torus(model.dpjs[0], shapes[0], seed, closure,
+                                                      coarse_redraws),) + model.dpjs[1:])
+        for k in range(model.scales):
+            if built[k] is not None:
+                built[k].result()
+            r = _draw_scale_closest(model, k, shapes, levels, seed, done, progress, cancel,
+                                    rows_final, tileable, closure, coarse_redraws)
+            levels, repairs, redraws = r.levels, repairs + r.repairs, redraws + r.redraws
+    finally:
+        ahead.shutdown(wait=False, cancel_futures=True)
     return SynthesisResult(levels, repairs, redraws, int(seed))
+
+
+def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel, rows_final,
+                        tileable, closure, coarse_redraws) -> SynthesisResult:
+    """Scale k drawn up to its tries (see _tries), the closest to its level shares kept;
+    ``done``: the share of the work done before each scale (progress)."""
+    report = None if progress is None else (
+        lambda f: progress(done[k] + f * (done[k + 1] - done[k])))
+    final = rows_final if k == model.scales - 1 else None
+
+    def draw(t, report, cancel):
+        return _draw_scale(model, k, shapes[k], parents, _try_seed(seed, k, t), report,
+                           cancel, final, bool(tileable), closure, coarse_redraws)
+    return _closest_draw(draw, _tries(k, model.scales), model.frequencies(k), report, cancel)
 
 
 def _closest_draw(draw, tries: int, expected, progress, cancel) -> SynthesisResult:

@@ -293,6 +293,14 @@ def _tables(dpj: DPJ, gp: int = 1) -> _Tables:
     return tables
 
 
+def build_tables(dpj: DPJ, parent_levels: int = 1, tileable: bool = False) -> None:
+    """Build a DPJ's kernel tables now (those of its transpose too, ``tileable``), so a later
+    synthesis from it finds them: a caller can build them on another thread ahead of time."""
+    _tables(dpj, parent_levels)
+    if tileable:
+        _tables(_transposed(dpj), parent_levels)
+
+
 def _evict(budget: int, keep: int = 0) -> None:
     """Forget the oldest tables until those left take ≤ budget bytes (the newest ``keep``
     stay whatever their size)."""

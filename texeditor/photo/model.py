@@ -100,6 +100,7 @@ class PhotoModel:
         seed = draw["seed"]
         wrap = tone_wrap(draw["tileable"], draw["closure"], balance)
         with ThreadPoolExecutor(1, thread_name_prefix="tone") as worker:
+            index = worker.submit(self._index)     # built while the coarse scales are drawn
             jobs = []
 
             def catch_up():
@@ -111,7 +112,7 @@ class PhotoModel:
                 if not renderer:
                     renderer.append(Renderer(levels.shape, self.levels, self.tone.levels,
                                              self.tone.grey, self.tone.colour, seed=seed,
-                                             index=self._index(), wrap=wrap))
+                                             index=index.result(), wrap=wrap))
                 if jobs and jobs[-1].done():
                     jobs[-1].result()                   # a tone error stops the synthesis
                 latest[0] = (levels, n)
