@@ -439,6 +439,8 @@ def _distance(grey, i, j, photo, pi, pj, best, limit):
     before ``limit``), against the photo around (pi, pj); stops once past ``best``. Points off
     either picture are skipped."""
     pw = photo.shape[1]
+    if HALF <= min(i, pi, j, pj) and j + HALF < limit and pj + HALF < pw:
+        return _distance_within(grey, i, j, photo, pi, pj, best)
     total = np.int64(0)
     for di in range(-HALF, 1):
         y, py = i + di, pi + di
@@ -449,6 +451,20 @@ def _distance(grey, i, j, photo, pi, pj, best, limit):
             if 0 <= x < limit and 0 <= px < pw:
                 d = np.int64(grey[y, x]) - np.int64(photo[py, px])
                 total += d * d
+        if total > best:
+            return total
+    return total
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _distance_within(grey, i, j, photo, pi, pj, best):
+    """_distance where no point is off either picture (most points): the same sums, without
+    a test per point."""
+    total = np.int64(0)
+    for di in range(-HALF, 1):
+        for dj in range(-HALF, HALF + 1 if di < 0 else 0):
+            d = np.int64(grey[i + di, j + dj]) - np.int64(photo[pi + di, pj + dj])
+            total += d * d
         if total > best:
             return total
     return total
@@ -486,10 +502,11 @@ def _penalties(pen, shares, row_counts, above, strip):
 
 def _grey_shares(photo_levels, photo_grey, num_levels: int) -> np.ndarray:
     """Each level's greys in the photo: (G, GREY_BINS) shares, a row per level."""
-    counts = np.zeros((num_levels, GREY_BINS))
     levels = np.asarray(photo_levels)
     grey = photo_grey[: levels.shape[0], : levels.shape[1]]
-    np.add.at(counts, (levels.ravel(), grey.ravel() // (256 // GREY_BINS)), 1)
+    cells = levels.ravel().astype(np.int64) * GREY_BINS + grey.ravel() // (256 // GREY_BINS)
+    counts = np.bincount(cells, minlength=num_levels * GREY_BINS).astype(float)
+    counts = counts.reshape(num_levels, GREY_BINS)
     return counts / np.maximum(counts.sum(axis=1, keepdims=True), 1)
 
 
@@ -525,6 +542,22 @@ def _distance_wrap(grey, i, j, photo, pi, pj, best, seam):
         if total > best:
             return total
     return total
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _unique_first(cand, count):
+    """Keep the first of equal candidates (in place); returns how many are left. A repeat
+    has the same weight and mismatch as the first, which is compared before it, so it could
+    only tie: dropping it leaves the choice as it was."""
+    kept = 0
+    for k in range(count):
+        seen = False
+        for m in range(kept):
+            seen = seen or cand[m] == cand[k]
+        if not seen:
+            cand[kept] = cand[k]
+            kept += 1
+    return kept
 
 
 @njit(cache=True, nogil=True)
@@ -571,6 +604,7 @@ def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, s
                             if level == 3 or photo_codes[level][s] == out_codes[level][n]:
                                 cand[count] = s
                                 count += 1
+            count = _unique_first(cand, count)  # a repeat could never win: skip it
             coherent = count
             for _ in range(RANDOM_CANDIDATES):     # fresh ones (anywhere: a level unseen)
                 if level == 3:
@@ -582,15 +616,14 @@ def _render(out_codes, photo_codes, keys, starts, points, photo, source, grey, s
             across = wrap and not _inside(i, j, h, w, wrap, seam)
             own = out_codes[2][n]
             for k in range(count):
+                pi, pj = cand[k] // pw, cand[k] % pw
                 weight = COHERENCE if k < coherent else 1.0
                 if balanced:
-                    weight *= pen[own, photo[cand[k] // pw, cand[k] % pw] // bin_width]
+                    weight *= pen[own, photo[pi, pj] // bin_width]
                 if across:
-                    d = weight * _distance_wrap(grey, i, j, photo, cand[k] // pw, cand[k] % pw,
-                                                best / weight, seam)
+                    d = weight * _distance_wrap(grey, i, j, photo, pi, pj, best / weight, seam)
                 else:
-                    d = weight * _distance(grey, i, j, photo, cand[k] // pw, cand[k] % pw,
-                                           best / weight, seam)
+                    d = weight * _distance(grey, i, j, photo, pi, pj, best / weight, seam)
                 if d < best:
                     best, chosen = d, cand[k]
             source[i, j] = chosen
