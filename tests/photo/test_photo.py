@@ -493,3 +493,25 @@ def test_a_rendering_after_an_edit_keeps_the_rows_above_and_matches_a_fresh_one(
     assert model.rendering(drawn.levels, seed=2, wrap=wrap, before=drawn) is drawn
     other_seed = model.rendering(drawn.levels, seed=3, wrap=wrap, before=drawn)
     assert np.array_equal(other_seed.picture, model.render(drawn.levels, seed=3, wrap=wrap))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 12), st.integers(1, 12))
+def test_a_match_is_the_sum_over_the_causal_neighbourhood_inside_both_pictures(seed, h, w):
+    """tone._distance (with its shortcut for points away from the edges) is the sum of squared
+    grey differences over the 12 causal neighbours that lie in both pictures, before ``limit``."""
+    rng = np.random.default_rng(seed)
+    grey = rng.integers(0, 256, (h, w), dtype=np.uint8)
+    photo = rng.integers(0, 256, (rng.integers(1, 12), rng.integers(1, 12)), dtype=np.uint8)
+    i, j = rng.integers(0, h), rng.integers(0, w)
+    pi, pj = rng.integers(0, photo.shape[0]), rng.integers(0, photo.shape[1])
+    limit = rng.integers(j, w + 1)
+    expected = 0
+    for di in range(-tone.HALF, 1):
+        for dj in range(-tone.HALF, tone.HALF + 1 if di < 0 else 0):
+            y, x, py, px = i + di, j + dj, pi + di, pj + dj
+            if 0 <= y and 0 <= x < limit and 0 <= py and 0 <= px < photo.shape[1]:
+                expected += (int(grey[y, x]) - int(photo[py, px])) ** 2
+    assert tone._distance(grey, i, j, photo, pi, pj, np.inf, limit) == expected
+    early = tone._distance(grey, i, j, photo, pi, pj, expected - 1, limit)
+    assert early > expected - 1 if expected else early == 0
