@@ -330,3 +330,25 @@ def test_lab_lays_rgba_on_white_and_refuses_fewer_colours_than_classes():
     np.testing.assert_array_equal(q.levels, [[0, 0, 1, 1]] * 2)
     with pytest.raises(ImageError, match="only 2 colours"):
         lv.quantize(image, 3, "lab")
+
+
+@pytest.mark.parametrize("colours", [7, 5000, 1 << 24])
+def test_a_large_photos_colours_are_counted_as_np_unique_finds_them(colours):
+    """From COUNTED_COLOURS pixels on, the colours are found by counting the 24-bit codes: the
+    same colours, places and counts as np.unique; a large photo's classes are unchanged."""
+    rng = np.random.default_rng(colours)
+    codes = rng.integers(0, colours, lv.COUNTED_COLOURS + 3).astype(np.uint32)
+    expected = np.unique(codes, return_inverse=True, return_counts=True)
+    found = lv._unique_colours(codes)
+    for a, b in zip(expected, found):
+        assert a.dtype == b.dtype and np.array_equal(a, b)
+
+
+def test_a_large_colour_photo_gets_the_classes_sorting_would_give(monkeypatch):
+    photo = np.repeat(np.repeat(data.astronaut(), 3, axis=0), 3, axis=1)[:1400, :1600]
+    assert photo.shape[0] * photo.shape[1] >= lv.COUNTED_COLOURS
+    counted = lv.quantize(photo, 4, "lab")
+    monkeypatch.setattr(lv, "COUNTED_COLOURS", photo.size)      # np.unique, as before
+    sorted_ = lv.quantize(photo, 4, "lab")
+    assert np.array_equal(counted.levels, sorted_.levels)
+    assert np.array_equal(counted.palette, sorted_.palette)

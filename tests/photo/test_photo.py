@@ -515,3 +515,29 @@ def test_a_match_is_the_sum_over_the_causal_neighbourhood_inside_both_pictures(s
     assert tone._distance(grey, i, j, photo, pi, pj, np.inf, limit) == expected
     early = tone._distance(grey, i, j, photo, pi, pj, expected - 1, limit)
     assert early > expected - 1 if expected else early == 0
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([2, 4, 64, 3**9, 2**22 + 1]))
+def test_the_tone_index_groups_points_as_a_stable_sort_would(seed, space):
+    """tone._grouped (a counting sort below GROUPED_SPACE, a sort above) gives the codes
+    present, where each starts and the points in code order, ties in index order."""
+    rng = np.random.default_rng(seed)
+    code = rng.integers(0, min(space, 50), rng.integers(1, 3000)) * (space // 50 or 1)
+    code = np.minimum(code, space - 1).astype(np.int64)
+    order = np.argsort(code, kind="stable")
+    unique, first = np.unique(code[order], return_index=True)
+    got = tone._grouped(code, space)
+    assert np.array_equal(got[0], unique) and np.array_equal(got[1], first)
+    assert np.array_equal(got[2], order)
+
+
+def test_a_models_level_shares_are_counted_once_and_cannot_be_changed_from_outside(model):
+    shares = model.frequencies()
+    shares[:] = 0
+    again = model.frequencies()
+    counts = np.bincount(model.tone.levels.ravel(), minlength=model.levels)
+    assert np.array_equal(again, counts / counts.sum())
+    index = model._index()
+    assert np.array_equal(index.shares, tone._grey_shares(model.tone.levels, model.tone.grey,
+                                                          model.levels))

@@ -70,10 +70,14 @@ class PhotoModel:
 
     def frequencies(self) -> np.ndarray:
         """Each finest level's share: the photo's when the tone keeps it, else the DPJ's."""
-        if self.tone is not None:
+        if self.tone is None:
+            return self.scales.frequencies(self.scales.scales - 1)
+        shares = self.__dict__.get("_tone_shares")     # counted once: a photo can be large
+        if shares is None:
             counts = np.bincount(self.tone.levels.ravel(), minlength=self.levels)
-            return counts / counts.sum()
-        return self.scales.frequencies(self.scales.scales - 1)
+            shares = counts / counts.sum()
+            object.__setattr__(self, "_tone_shares", shares)
+        return shares.copy()
 
     def synthesize(self, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
                    closure: int = SCALES_CLOSURE, coarse_redraws: int = COARSE_REDRAWS,
@@ -156,7 +160,7 @@ class PhotoModel:
     def _index(self) -> ToneIndex:
         index = self.__dict__.get("_tone_index")
         if index is None:
-            index = tone_index(self.tone.levels, self.levels)
+            index = tone_index(self.tone.levels, self.levels, self.tone.grey)
             object.__setattr__(self, "_tone_index", index)
         return index
 

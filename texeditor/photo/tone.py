@@ -54,6 +54,7 @@ LANE_COLUMNS = 128         # cut in chunks this wide at most (each row's chunk H
 LANE_CHUNKS = 4            # ... and in this many at least: the lane below starts two chunks
                            # behind, so with two chunks a strip the lanes would take turns
 LANE_WIDTH = 128           # narrower rows are drawn on one lane (chunks too small to share)
+GROUPED_SPACE = 2**22      # context codes below this are grouped by counting (tone_index)
 
 
 class ToneIndex(NamedTuple):
@@ -63,6 +64,8 @@ class ToneIndex(NamedTuple):
     keys: tuple          # per back-off: sorted unique context codes
     starts: tuple        # per back-off: first index of each code's points in ``points``, + end
     points: tuple        # per back-off: photo point indices sorted by context
+    shares: np.ndarray | None = None   # each level's grey histogram (_grey_shares), if the
+    #                                    photo's greys were given
 
 
 def context_codes(levels: np.ndarray, num_levels: int, wrap: bool = False) -> tuple:
@@ -99,17 +102,44 @@ def _context_codes(lv, g, codes, wrap):
             codes[0, n], codes[1, n], codes[2, n] = nine, five, lv[i, j]
 
 
-def tone_index(levels: np.ndarray, num_levels: int) -> ToneIndex:
-    """Group the photo's points by their level contexts (sorted, for binary search)."""
+def tone_index(levels: np.ndarray, num_levels: int, grey=None) -> ToneIndex:
+    """Group the photo's points by their level contexts (sorted, for binary search); with the
+    photo's ``grey``, keep each level's grey histogram too (a balanced tone reads it)."""
     codes = context_codes(levels, num_levels)
     keys, starts, points = [], [], []
-    for code in codes:
-        order = np.argsort(code, kind="stable")
-        unique, first = np.unique(code[order], return_index=True)
+    for code, space in zip(codes, (num_levels ** 9, num_levels ** 5, num_levels)):
+        unique, first, order = _grouped(code, space)
         keys.append(unique)
         starts.append(np.append(first, len(order)).astype(np.int64))
         points.append(order.astype(np.int64))
-    return ToneIndex(codes, tuple(keys), tuple(starts), tuple(points))
+    shares = None if grey is None else _grey_shares(levels, np.asarray(grey, np.uint8),
+                                                    num_levels)
+    return ToneIndex(codes, tuple(keys), tuple(starts), tuple(points), shares)
+
+
+def _grouped(code: np.ndarray, space: int):
+    """(the codes present, sorted; where each starts in the order; the point indices sorted by
+    code, stably): a counting sort when the codes are below a small ``space`` (O(points), where
+    a sort of a 12-megapixel photo's codes takes a second), else a stable argsort."""
+    if space > GROUPED_SPACE:
+        order = np.argsort(code, kind="stable")
+        unique, first = np.unique(code[order], return_index=True)
+        return unique, first, order
+    counts = np.bincount(code, minlength=space)
+    slots = np.cumsum(counts) - counts          # where each code's points start
+    unique = np.flatnonzero(counts)
+    return unique, slots[unique], _stable_scatter(code, slots.copy())
+
+
+@njit(cache=True, nogil=True)
+def _stable_scatter(code, slots):
+    """Point indices in order of code, in index order within a code (``slots``: each code's
+    first place, moved on as it fills)."""
+    order = np.empty(len(code), np.int64)
+    for i in range(len(code)):
+        order[slots[code[i]]] = i
+        slots[code[i]] += 1
+    return order
 
 
 def render(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=None, *,
@@ -235,8 +265,10 @@ class Renderer:
         self.wrap = way & ~BALANCED
         self.balanced = bool(way & BALANCED)
         rows = shape[0] if self.balanced else 0
-        self.shares = (_grey_shares(photo_levels, self.photo_grey, num_levels) if self.balanced
-                       else np.zeros((num_levels, GREY_BINS)))
+        self.shares = np.zeros((num_levels, GREY_BINS))
+        if self.balanced:
+            self.shares = (self.index.shares if self.index.shares is not None else
+                           _grey_shares(photo_levels, self.photo_grey, num_levels))
         self.row_counts = np.zeros((rows, num_levels, GREY_BINS))    # levels' greys drawn, by row
         self.above = np.zeros((-(-rows // BALANCE_ROWS), num_levels, GREY_BINS))  # before a strip
         self.turned = self.wrap == TILED_LANES
