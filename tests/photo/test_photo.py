@@ -541,3 +541,27 @@ def test_a_models_level_shares_are_counted_once_and_cannot_be_changed_from_outsi
     index = model._index()
     assert np.array_equal(index.shares, tone._grey_shares(model.tone.levels, model.tone.grey,
                                                           model.levels))
+
+
+@pytest.mark.parametrize("photo", [ski.data.astronaut()[::2, ::2], ski.data.camera()[::2, ::2],
+                                   (np.random.default_rng(4).random((190, 230, 4)) * 255
+                                    ).astype(np.uint8)])
+def test_a_model_is_the_same_however_a_large_photo_is_cut_into_bands(photo, monkeypatch):
+    """Large photos are converted a band of rows (or a chunk of colours) at a time, and their
+    colours counted rather than sorted: the model is the one made in one go."""
+    from texeditor.markov import levels, multiscale
+    from texeditor.photo import model as model_module
+
+    def fingerprint(m):
+        arrays = [m.tone.levels, m.tone.grey] + ([m.tone.colour] if m.tone.colour is not None
+                                                 else [])
+        for d in m.scales.dpjs:
+            arrays += [d.configs, d.probs, np.asarray(d.palette)]
+        return arrays
+    whole = fingerprint(acquire_model(photo, scales=3))
+    for module, name, value in ((multiscale, "PYRAMID_ROWS", 2), (model_module, "TONE_ROWS", 3),
+                                (levels, "LAB_CHUNK", 7), (levels, "COUNTED_COLOURS", 1)):
+        monkeypatch.setattr(module, name, value)
+    banded = fingerprint(acquire_model(photo, scales=3))
+    assert len(whole) == len(banded)
+    assert all(a.dtype == b.dtype and np.array_equal(a, b) for a, b in zip(whole, banded))

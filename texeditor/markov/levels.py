@@ -13,6 +13,7 @@ from typing import NamedTuple
 import imageio.v3 as iio
 import numpy as np
 import scipy.cluster.vq
+from numba import njit
 from PIL import Image
 import skimage as ski     # its subpackages load on first use, not at start-up
 
@@ -32,6 +33,7 @@ METHODS = ("band", "lloyd", "lab")
 # bins, each at the mean CIELAB of its pixels), then sends each exact colour to the nearest class.
 _FIT_BITS = 5
 COUNTED_COLOURS = 2**21   # photos of this many pixels on find their colours by counting codes
+LAB_CHUNK = 2**20         # colours converted to CIELAB at a time
 # Greys and thresholds are rounded to 1e-6, finer than a 16-bit step (1.5e-5) but coarser than the
 # noise between the same photo stored as uint8, uint16, float32 or float64 (at most 6e-8), so that
 # noise cannot move a pixel lying on a threshold across it.
@@ -326,6 +328,12 @@ def _palette(image, grey, index: np.ndarray, empty: np.ndarray) -> np.ndarray:
     levels = len(empty)
     image = np.asarray(image)
     colour = image.ndim == 3 and image.shape[2] >= 3
+    if colour and image.dtype == np.uint8:
+        counts, sums = _level_sums_u8(index, image, levels)
+        means = np.array(empty, np.float64)
+        seen = counts > 0
+        means[seen] = sums[seen] / counts[seen][:, None]
+        return np.round(means * 255).astype(np.uint8)
     flat = index.ravel()
     counts = np.bincount(flat, minlength=levels)
     means = np.array(empty, np.float64)
@@ -338,6 +346,24 @@ def _palette(image, grey, index: np.ndarray, empty: np.ndarray) -> np.ndarray:
         sums = np.bincount(flat, weights=values, minlength=levels)
         means[seen, c] = sums[seen] / counts[seen]
     return np.round(means * 255).astype(np.uint8)
+
+
+@njit(cache=True, nogil=True)
+def _level_sums_u8(index, image, levels):
+    """Each level's pixel count and sums of red, green and blue in [0, 1], added in the order
+    np.bincount adds them (row-major), with the same x · (1/255) as img_as_float: the same
+    means, without a float64 copy and an intp copy of a large photo."""
+    counts = np.zeros(levels, np.int64)
+    sums = np.zeros((levels, 3))
+    scale = 1.0 / 255
+    for y in range(index.shape[0]):
+        for x in range(index.shape[1]):
+            counts[index[y, x]] += 1
+    for c in range(3):
+        for y in range(index.shape[0]):
+            for x in range(index.shape[1]):
+                sums[index[y, x], c] += image[y, x, c] * scale
+    return counts, sums
 
 
 # -- colour classes in CIELAB -------------------------------------------------------------------
@@ -368,15 +394,24 @@ def _lab_quantize(image: np.ndarray, levels: int) -> Quantization:
 
 
 def _unique_colours(codes: np.ndarray):
-    """np.unique(codes, return_inverse=True, return_counts=True) of 24-bit colour codes; from
-    COUNTED_COLOURS pixels on by counting every code (O(pixels), where sorting a 12-megapixel
-    photo's codes takes seconds)."""
+    """np.unique(codes, return_inverse=True, return_counts=True) of 24-bit colour codes (the
+    places as int32 from COUNTED_COLOURS pixels on, where every code is counted: O(pixels),
+    where sorting a 12-megapixel photo's codes takes seconds)."""
     if codes.size < COUNTED_COLOURS:
         return np.unique(codes, return_inverse=True, return_counts=True)
-    counts = np.bincount(codes, minlength=1 << 24)
+    counts = _count_codes(codes)
     colours = np.flatnonzero(counts)
     rank = np.cumsum(counts > 0, dtype=np.int32) - 1     # a present code's place in colours
-    return colours.astype(codes.dtype), rank[codes].astype(np.intp), counts[colours]
+    return colours.astype(codes.dtype), rank[codes], counts[colours]
+
+
+@njit(cache=True, nogil=True)
+def _count_codes(codes):
+    """The number of pixels of each 24-bit code (np.bincount would copy the codes as intp)."""
+    counts = np.zeros(1 << 24, np.int64)
+    for code in codes:
+        counts[code] += 1
+    return counts
 
 
 def _colour_codes(image: np.ndarray) -> np.ndarray:
@@ -392,8 +427,14 @@ def _colour_codes(image: np.ndarray) -> np.ndarray:
 
 
 def _lab_of_codes(codes: np.ndarray) -> np.ndarray:
-    rgb = np.stack([(codes >> 16) & 255, (codes >> 8) & 255, codes & 255], axis=-1) / 255.0
-    return np.round(ski.color.rgb2lab(rgb[None])[0], _DECIMALS)
+    """CIELAB of 0xRRGGBB codes, LAB_CHUNK at a time (each colour on its own: the conversion's
+    float64 temporaries of a noisy 64-megapixel photo's 13 million colours took 1.5 GB)."""
+    lab = np.empty((codes.size, 3))
+    for a in range(0, codes.size, LAB_CHUNK):
+        part = codes[a:a + LAB_CHUNK]
+        rgb = np.stack([(part >> 16) & 255, (part >> 8) & 255, part & 255], axis=-1) / 255.0
+        lab[a:a + LAB_CHUNK] = np.round(ski.color.rgb2lab(rgb[None])[0], _DECIMALS)
+    return lab
 
 
 def _fit_bins(colours: np.ndarray, lab: np.ndarray, counts: np.ndarray):

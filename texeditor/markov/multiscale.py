@@ -30,6 +30,7 @@ from .synthesis import (SynthesisResult, build_tables, derived, synthesize,
                         synthesize_given)
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
+PYRAMID_ROWS = 256          # the first halving converts the photo a band of this many rows at a time
 MAX_SCALES = 6
 COARSE_WINDOW = (5, 5)      # the coarsest scale: a wide window over few levels (the layout)
 COARSE_LEVELS = 2
@@ -110,16 +111,23 @@ def default_scales(shape) -> int:
     return int(max(1, min(MAX_SCALES, 1 + math.floor(math.log2(max(side, 1) / COARSEST_SIDE)))))
 
 
-def pyramid(grey: np.ndarray, scales: int) -> list[np.ndarray]:
-    """The photo cropped to a multiple of 2^(scales-1), then halved by area mean; coarsest first."""
+def pyramid(photo: np.ndarray, scales: int, as_float=np.asarray) -> list[np.ndarray]:
+    """The photo cropped to a multiple of 2^(scales-1), then halved by area mean; coarsest first.
+    ``as_float`` converts the photo's pixels for the first halving, PYRAMID_ROWS rows at a time
+    (a 64-megapixel colour photo as float64 would take 1.5 GB at once; each block's mean is the
+    same either way). The finest layer is the photo's crop as it is."""
     n = 2 ** (scales - 1)
-    h, w = grey.shape[0] // n * n, grey.shape[1] // n * n
+    h, w = photo.shape[0] // n * n, photo.shape[1] // n * n
     if h < n * 8 or w < n * 8:
-        raise InputError(f"a {grey.shape[1]}x{grey.shape[0]} photo is too small for {scales} "
+        raise InputError(f"a {photo.shape[1]}x{photo.shape[0]} photo is too small for {scales} "
                          f"scales (its coarsest reduction would have fewer than 8 points a side)")
-    out = [grey[:h, :w]]
-    block = (2, 2) + (1,) * (grey.ndim - 2)          # a colour photo: each channel
-    for _ in range(scales - 1):
+    out = [photo[:h, :w]]
+    block = (2, 2) + (1,) * (photo.ndim - 2)          # a colour photo: each channel
+    if scales > 1:
+        out.append(np.concatenate([ski.transform.downscale_local_mean(
+            as_float(photo[top:min(h, top + PYRAMID_ROWS), :w]), block)
+            for top in range(0, h, PYRAMID_ROWS)]))
+    for _ in range(scales - 2):
         out.append(ski.transform.downscale_local_mean(out[-1], block))
     return out[::-1]
 
@@ -150,8 +158,9 @@ def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
     """Acquire a multi-scale DPJ from a photo. Returns (model, the photo's levels at each scale,
     coarsest first). Each scale is quantised on its own (a reduced photo has less contrast);
     with the "lab" quantiser a colour photo's levels are colour classes at every scale."""
-    grey = to_grey(image)
-    scales = default_scales(grey.shape) if scales is None else int(scales)
+    colour = quantizer == "lab" and has_colour(image)
+    grey = None if colour else to_grey(image)        # a colour photo's grey is not needed
+    scales = default_scales(np.shape(image)) if scales is None else int(scales)
     if not 1 <= scales <= MAX_SCALES:
         raise InputError(f"{scales} scales: choose 1..{MAX_SCALES}")
     if scales == 1:
@@ -161,12 +170,18 @@ def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
                          f"at most {MAX_LEVELS}")
     check_window(coarse_window, coarse_levels)
     check_window(window, levels * max(levels, coarse_levels))
-    colour = quantizer == "lab" and has_colour(image)
-    layers = pyramid(ski.util.img_as_float(np.asarray(image)[..., :3]) if colour else grey, scales)
+    if colour:
+        layers = pyramid(np.asarray(image), scales, lambda band: ski.util.img_as_float(
+            band[..., :3]))
+    else:
+        layers = pyramid(grey, scales)
     h, w = layers[-1].shape[:2]
     layers[-1] = np.asarray(image)[:h, :w]          # the finest palette keeps the photo's colours
     per_scale = [coarse_levels] + [levels] * (scales - 1)
-    quantized = [quantize(p, g, quantizer) for p, g in zip(layers, per_scale)]
+    quantized = []
+    for k, g in enumerate(per_scale):     # each reduction let go once quantised (a 64 MP photo's
+        quantized.append(quantize(layers[k], g, quantizer))     # take 0.5 GB as float64)
+        layers[k] = None
     lv = [q.levels for q in quantized]
     dpjs = [estimate_dpj(lv[0], coarse_window, coarse_levels, wrap=True,
                          palette=quantized[0].palette, meta={"scale": 0, "scales": scales})]

@@ -32,6 +32,7 @@ from .tone import (BALANCED, PLAIN, TILED, TILED_LANES, Rendered, Renderer, Tone
 
 MODEL_FORMAT_VERSION = 2
 MAX_TONE_PIXELS = 4096 * 4096
+TONE_ROWS = 256                      # a photo's greys for its tone are made this many rows at a time
 _ZIP_DATE = (1980, 1, 1, 0, 0, 0)    # fixed, so the same model always has the same bytes
 
 
@@ -250,7 +251,10 @@ def photo_tone(image, finest: np.ndarray) -> Tone:
     covers the photo's top-left corner): its greys, and its colours when it has them."""
     image = np.asarray(image)
     h, w = finest.shape
-    grey = np.round(to_grey(image)[:h, :w] * 255).astype(np.uint8)
+    grey = np.empty((h, w), np.uint8)
+    for top in range(0, h, TONE_ROWS):     # a large photo is never whole as float64
+        band = to_grey(image[top:min(h, top + TONE_ROWS), :w])
+        grey[top:top + len(band)] = np.round(band * 255)
     colour = None
     if image.ndim == 3 and image.shape[2] >= 3:
         colour = _as_uint8(image[:h, :w, :3])
