@@ -159,6 +159,14 @@ def case_acquire(folder: Path, channels: int = 4) -> list:
              "-o", folder / "p.dpj"]]
 
 
+def case_acquire_model(folder: Path) -> list:
+    path = folder / "photo-rgb.png"
+    photo_png(path, 8192, 3)
+    return [f"acquire --scales, 8192² (64 MP) RGB PNG ({path.stat().st_size / 2**20:.0f} MiB), "
+            "photo model (CIELAB classes)", ["acquire", path, "--scales", "auto",
+                                            "-o", folder / "m.dpj"]]
+
+
 def case_synth(folder: Path) -> list:
     dpj = sorted((ROOT / "resources" / "dpj").glob("*.dpj"))[0]    # acquired from a photo
     return [f"synth, 8192×8192 (2^26 points, the canvas limit) from {dpj.name}",
@@ -178,7 +186,8 @@ def case_screenshot(folder: Path) -> list:
 
 CASES = {"dpj-info": case_dpj_info, "texture-dpjs": case_texture_dpjs, "long-log": case_long_log,
          "journal": case_journal,
-         "acquire": case_acquire, "synth": case_synth, "synth-png": case_synth_png,
+         "acquire": case_acquire, "acquire-model": case_acquire_model, "synth": case_synth,
+         "synth-png": case_synth_png,
          "screenshot": case_screenshot}
 
 
