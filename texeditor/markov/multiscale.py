@@ -30,7 +30,7 @@ from .synthesis import (SynthesisResult, build_tables, derived, synthesize,
                         synthesize_given)
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
-PYRAMID_ROWS = 256          # the first halving converts the photo a band of this many rows at a time
+PYRAMID_ROWS = 256          # the first halving converts the photo this many rows at a time
 MAX_SCALES = 6
 COARSE_WINDOW = (5, 5)      # the coarsest scale: a wide window over few levels (the layout)
 COARSE_LEVELS = 2

@@ -32,7 +32,7 @@ from .tone import (BALANCED, PLAIN, TILED, TILED_LANES, Rendered, Renderer, Tone
 
 MODEL_FORMAT_VERSION = 2
 MAX_TONE_PIXELS = 4096 * 4096
-TONE_ROWS = 256                      # a photo's greys for its tone are made this many rows at a time
+TONE_ROWS = 256                      # a photo's greys for its tone: this many rows at a time
 _ZIP_DATE = (1980, 1, 1, 0, 0, 0)    # fixed, so the same model always has the same bytes
 
 
