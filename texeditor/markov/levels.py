@@ -330,21 +330,15 @@ def _palette(image, grey, index: np.ndarray, empty: np.ndarray) -> np.ndarray:
     colour = image.ndim == 3 and image.shape[2] >= 3
     if colour and image.dtype == np.uint8:
         counts, sums = _level_sums_u8(index, image, levels)
-        means = np.array(empty, np.float64)
-        seen = counts > 0
-        means[seen] = sums[seen] / counts[seen][:, None]
-        return np.round(means * 255).astype(np.uint8)
-    flat = index.ravel()
-    counts = np.bincount(flat, minlength=levels)
+    else:
+        flat = index.ravel()
+        counts = np.bincount(flat, minlength=levels)
+        sums = np.stack([np.bincount(flat, minlength=levels, weights=(   # a channel at a time
+            _as_unit_float(image[..., c]).ravel() if colour else grey.ravel()))
+            for c in range(3)], axis=1)
     means = np.array(empty, np.float64)
     seen = counts > 0
-    for c in range(3):
-        if colour:       # one channel at a time as float64 (not the whole RGB photo at once)
-            values = _as_unit_float(image[..., c]).ravel()
-        else:
-            values = grey.ravel()
-        sums = np.bincount(flat, weights=values, minlength=levels)
-        means[seen, c] = sums[seen] / counts[seen]
+    means[seen] = sums[seen] / counts[seen][:, None]
     return np.round(means * 255).astype(np.uint8)
 
 

@@ -111,7 +111,7 @@ def tone_index(levels: np.ndarray, num_levels: int, grey=None) -> ToneIndex:
         unique, first, order = _grouped(code, space)
         keys.append(unique)
         starts.append(np.append(first, len(order)).astype(np.int64))
-        points.append(order.astype(np.int64))
+        points.append(np.asarray(order, np.int64))    # int64 already: not copied
     shares = None if grey is None else _grey_shares(levels, np.asarray(grey, np.uint8),
                                                     num_levels)
     return ToneIndex(codes, tuple(keys), tuple(starts), tuple(points), shares)
