@@ -194,6 +194,40 @@ def test_closure_3_stops_failing_coarsest_draws_early_and_picks_the_same_law(nam
                     for seed in range(6)]
 
 
+@pytest.mark.parametrize("closure", [2, 3])
+def test_the_trial_draw_that_chose_the_coarsest_law_is_its_first_try(closure, monkeypatch):
+    """A tileable multi-scale draw does not draw the coarsest scale's first try again: the
+    trial draw that showed its law closes is that try (same law, seed and redraws). The
+    texture is the one drawn without reusing it."""
+    model = acquire_model(ski.data.brick()).scales
+    shape = (96, 80)
+    coarsest = multiscale.scale_shapes(shape, model.scales)[0]
+    calls = []
+    real = multiscale.synthesize
+
+    def counted(dpj, shape, **kw):
+        calls.append((dpj, shape, kw["seed"]))
+        return real(dpj, shape, **kw)
+    monkeypatch.setattr(multiscale, "synthesize", counted)
+    laws = set()
+    for seed in range(4):
+        calls.clear()
+        now = synthesize_scales(model, shape, seed=seed, tileable=True, closure=closure).levels
+        first = (coarsest, multiscale.scale_seed(seed, 0))
+        drawn = [dpj for dpj, *call in calls if tuple(call) == first]
+        law, _ = multiscale._torus_law(model.dpjs[0], coarsest, seed, closure,
+                                       multiscale.COARSE_REDRAWS)
+        laws.add(law.window)
+        assert sum(dpj is law for dpj in drawn) == 1       # tried once, not drawn again
+        with monkeypatch.context() as m:
+            m.setattr(multiscale, "_torus_law", lambda *a: (law, None))
+            again = synthesize_scales(model, shape, seed=seed, tileable=True,
+                                      closure=closure).levels
+        assert np.array_equal(now, again)
+    assert len(laws) >= 2          # the full law and a sub-window's
+
+
+
 def test_a_redraw_budget_stops_a_draw_that_meets_dead_ends_everywhere():
     coarse = acquire_model(ski.data.brick()).scales.dpjs[0]
     budget = int(multiscale.TORUS_BUDGET * 64 * 64)

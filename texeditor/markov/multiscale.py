@@ -228,14 +228,16 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     try:                                                           # built as the coarse are drawn
         built = [None] + [ahead.submit(build_tables, model.dpjs[k], parent_levels(model.dpjs, k),
                                        bool(tileable)) for k in range(1, model.scales)]
+        trial = None
         if tileable and closure >= 2:
-            model = MultiScaleDPJ((_coarsest_on_torus(model.dpjs[0], shapes[0], seed, closure,
-                                                      coarse_redraws),) + model.dpjs[1:])
+            law, trial = _torus_law(model.dpjs[0], shapes[0], seed, closure, coarse_redraws)
+            model = MultiScaleDPJ((law,) + model.dpjs[1:])
         for k in range(model.scales):
             if built[k] is not None:
                 built[k].result()
             r = _draw_scale_closest(model, k, shapes, levels, seed, done, progress, cancel,
-                                    rows_final, tileable, closure, coarse_redraws)
+                                    rows_final, tileable, closure, coarse_redraws,
+                                    trial if k == 0 < model.scales - 1 else None)
             levels, repairs, redraws = r.levels, repairs + r.repairs, redraws + r.redraws
     finally:
         ahead.shutdown(wait=False, cancel_futures=True)
@@ -243,14 +245,17 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
 
 
 def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel, rows_final,
-                        tileable, closure, coarse_redraws) -> SynthesisResult:
+                        tileable, closure, coarse_redraws, first=None) -> SynthesisResult:
     """Scale k drawn up to its tries (see _tries), the closest to its level shares kept;
-    ``done``: the share of the work done before each scale (progress)."""
+    ``done``: the share of the work done before each scale (progress); ``first``: the first
+    try, when it is already drawn (the trial draw that chose the coarsest law on the torus)."""
     report = None if progress is None else (
         lambda f: progress(done[k] + f * (done[k + 1] - done[k])))
     final = rows_final if k == model.scales - 1 else None
 
     def draw(t, report, cancel):
+        if t == 0 and first is not None:
+            return first
         return _draw_scale(model, k, shapes[k], parents, _try_seed(seed, k, t), report,
                            cancel, final, bool(tileable), closure, coarse_redraws)
     return _closest_draw(draw, _tries(k, model.scales), model.frequencies(k), report, cancel)
@@ -317,8 +322,16 @@ def _settle(job) -> None:
 
 def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int,
                        redraws: int = OLD_REDRAWS) -> DPJ:
+    """The coarsest scale's law for a tileable draw (see _torus_law)."""
+    return _torus_law(dpj, shape, seed, closure, redraws)[0]
+
+
+def _torus_law(dpj: DPJ, shape, seed: int, closure: int,
+               redraws: int = OLD_REDRAWS) -> tuple[DPJ, SynthesisResult | None]:
     """The coarsest scale's law for a tileable draw: its own, or the law of its largest
-    sub-window (one row and column fewer at a time) whose draw on the torus closes.
+    sub-window (one row and column fewer at a time) whose draw on the torus closes; and that
+    draw (None for the last resort, which is not tried). The draw is the coarsest scale's first
+    try: the same law, seed and redraws, and a budget it did not reach.
 
     A wide window over a small photo reduction is nearly deterministic: its chain follows the
     photo's rows, which close only around the photo's own torus. Drawn on a torus of another
@@ -337,15 +350,16 @@ def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int,
                            closure=closure, cancel=cancel, redraw_budget=budget,
                            max_redraws=redraws)
         if budget is not None and drawn.redraws > budget:
-            return False
+            return None
         seen = estimate_dpj(drawn.levels, law.window, law.levels, wrap=True)
-        return seen.probs[~np.isin(seen.codes, law.codes)].sum() <= TORUS_TOLERANCE
+        return drawn if seen.probs[~np.isin(seen.codes, law.codes)].sum() <= TORUS_TOLERANCE \
+            else None
 
     with closing(_in_order(closes, len(laws) - 1)) as tried:   # the last law is the last resort
-        for law, closed in zip(laws, tried):
-            if closed:
-                return law
-    return laws[-1]
+        for law, drawn in zip(laws, tried):
+            if drawn is not None:
+                return law, drawn
+    return laws[-1], None
 
 
 def _sub_windows(dpj: DPJ) -> tuple:
