@@ -113,12 +113,14 @@ class FileOps:
         return True
 
     def open_file(self, path=None) -> None:
+        if self.busy_note():
+            return
         if path is None:
             path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Open a texture", self._folder(),
                                                             TEXTURE_FILTER)
             if not path:
                 return
-        if self.runner.busy or not self.maybe_save():
+        if self.busy_note() or not self.maybe_save():
             return
         path = Path(path)
         self.runner.run(f"Opening {path.name}…",

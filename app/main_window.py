@@ -560,13 +560,19 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
                                          "was added.", 5000)
         return True
 
+    def busy_note(self) -> bool:
+        """True while a task runs in the worker, and the status bar then says to wait: a
+        command that needs the worker is never dropped without a word."""
+        if self.runner.busy:
+            self.statusBar().showMessage("Busy: wait for the current work or cancel it (Esc).",
+                                         5000)
+        return self.runner.busy
+
     def _after_warm_up(self, action) -> bool:
         """A step that needs the kernels while a first start compiles them waits in the worker
         (busy bar, Esc cancels it) and is applied when they are ready: the GUI never freezes.
         False: not applied yet."""
-        if self.runner.busy:
-            self.statusBar().showMessage("Busy: wait for the current work or cancel it (Esc).",
-                                         5000)
+        if self.busy_note():
             return False
         history = self.history
         self.runner.run("Preparing the synthesis engine… (first start only)",
@@ -645,7 +651,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
             QtWidgets.QMessageBox.information(self, "No DPJ", "Acquire a DPJ from an image first "
                                               "(File ▸ Acquire DPJ from image…).")
             return
-        if self.runner.busy:
+        if self.busy_note():
             return
         try:
             action = Synthesize(doc.dpj_ref, width, height, seed, self.synthesis_dock.tileable(),
@@ -658,7 +664,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
     def _synthesise_scales(self, refs, width: int, height: int, seed: int) -> None:
         """The same path for a multi-scale synthesis: the scales' DPJs drawn in the worker, the
         levels applied here by SynthesizeScales."""
-        if self.runner.busy:
+        if self.busy_note():
             return
         try:
             photo, levels = self.tone_refs(refs)
@@ -686,8 +692,9 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         if history is not self.history:
             return       # another document was opened meanwhile
         levels, repairs = result
-        if not self.submit(action, prepared=levels):
-            return
+        steps = self.history.index
+        if not self.submit(action, prepared=levels) or self.history.index == steps:
+            return                 # refused, or the same texture again (submit said so)
         seconds = time.perf_counter() - start
         self.repairs_label.setText(f"repairs {repairs:,}")
         self.repairs_label.setToolTip("Window positions drawn from a backed-off context (dead "
@@ -713,9 +720,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
 
     def _replay_edit(self, make, what: str, failure: str, done) -> None:
         """Run ``make(history)``'s PendingEdit in the worker, then ``done(history, pending)``."""
-        if self.runner.busy:
-            self.statusBar().showMessage("Busy: wait for the current work or cancel it (Esc).",
-                                         5000)
+        if self.busy_note():
             return
         history = self.history
         try:

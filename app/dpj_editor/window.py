@@ -14,7 +14,7 @@ import shiboken6
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.markov import dpj_edit
-from texeditor.markov.dpj import DPJ, MAX_LEVELS, MAX_SIDE, decode
+from texeditor.markov.dpj import DPJ, MAX_LEVELS, MAX_SIDE, check_window, decode
 from texeditor.errors import TexeditorError
 from texeditor.photo import load_model
 
@@ -98,11 +98,19 @@ class NewDPJDialog(QtWidgets.QDialog):
         return box
 
     def _explain(self) -> None:
+        """Say how many configurations the window has; OK only for one a DPJ can index."""
         u, v, g = self.values()
-        n = g ** (u * v)
-        self.info.setText(f"{g}<sup>{u * v}</sup> = {n:,} possible configurations; every "
-                          "probability starts at 0. A 2×2 window with 3 levels already gives "
-                          "rich textures (§5.2.2).")
+        ok = self.buttons.button(QtWidgets.QDialogButtonBox.StandardButton.Ok)
+        try:
+            check_window((u, v), g)
+        except TexeditorError as exc:
+            self.info.setText(f"<span style='color:#b00020'>{exc}.</span>")
+            ok.setEnabled(False)
+            return
+        ok.setEnabled(True)
+        self.info.setText(f"{g}<sup>{u * v}</sup> = {g ** (u * v):,} possible configurations; "
+                          "every probability starts at 0. A 2×2 window with 3 levels already "
+                          "gives rich textures (§5.2.2).")
 
     def values(self) -> tuple[int, int, int]:
         return self.u.value(), self.v.value(), self.levels.value()

@@ -313,3 +313,24 @@ def test_large_dpjs_are_checked_in_the_background(qtbot, editor, monkeypatch):
     model = editor.table.model
     marks = sorted(model.data(model.index(r, CHAIN)) for r in range(model.rowCount()))
     assert marks[-2:] == ["small closed class", "transient"] and marks[:-2] == [""] * 9
+
+
+def test_the_new_dpj_dialog_refuses_a_window_it_cannot_index_then_makes_one(qtbot, editor):
+    """The largest window and G have too many configurations to index: the dialog says so and
+    its OK (and Return) does nothing; a smaller window is accepted, twice in a row."""
+    before = editor.dpj
+    editor.act_new.trigger()
+    dialog = editor.new_dialog
+    ok = dialog.buttons.button(QtWidgets.QDialogButtonBox.StandardButton.Ok)
+    for box in (dialog.u, dialog.v, dialog.levels):
+        box.setValue(box.maximum())
+    assert not ok.isEnabled() and "too many" in dialog.info.text()
+    qtbot.keyClick(dialog, Key.Key_Return)
+    assert dialog.isVisible() and editor.dpj is before
+    dialog.levels.setValue(3)
+    dialog.u.setValue(2)
+    assert ok.isEnabled() and "possible configurations" in dialog.info.text()
+    qtbot.keyClick(dialog, Key.Key_Return)
+    assert editor.dpj.window == (2, 6) and editor.dpj.levels == 3 and len(editor.dpj) == 0
+    new_dpj(qtbot, editor, 3, 3, 4)
+    assert not editor.errors

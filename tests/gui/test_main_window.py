@@ -65,6 +65,44 @@ def test_cancel_midway_leaves_the_document_unchanged(qtbot, window):
     assert not window.cancel_button.isVisible() and dock.button.isEnabled()
 
 
+def test_the_same_seed_again_says_no_step_was_added_then_a_new_seed_adds_one(qtbot, window):
+    """Ctrl+R with the dock's size and seed unchanged draws the same texture: no step, and the
+    status bar says so (not "Synthesised"); a new seed then adds a step, twice in a row."""
+    steps = len(window.history.actions)
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_R, CTRL)
+    assert window.runner.wait(60_000)
+    assert len(window.history.actions) == steps
+    assert "no step was added" in window.statusBar().currentMessage()
+    for seed in (8, 9):
+        window.synthesis_dock.seed.set_value(seed)
+        qtbot.keyClick(window, QtCore.Qt.Key.Key_R, CTRL)
+        assert window.runner.wait(60_000)
+        assert window.history.actions[-1].seed == seed
+        assert "Synthesised" in window.statusBar().currentMessage()
+    assert len(window.history.actions) == steps + 2
+
+
+def test_commands_while_a_synthesis_runs_say_to_wait(qtbot, window, tmp_path):
+    """File ▸ Open and Ctrl+R while a long synthesis runs: each says to wait and changes
+    nothing; the synthesis, cancelled, leaves the document as it was."""
+    before = window.history.document.levels.copy()
+    steps = len(window.history.actions)
+    window.synthesis_dock.width_box.setValue(2048)
+    window.synthesis_dock.height_box.setValue(2048)
+    with qtbot.waitSignal(window.runner.progress, timeout=30_000):
+        qtbot.keyClick(window, QtCore.Qt.Key.Key_R, CTRL)
+    window.statusBar().clearMessage()
+    window.open_file(tmp_path / "any.texture")
+    assert "Busy" in window.statusBar().currentMessage()
+    window.statusBar().clearMessage()
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_R, CTRL)
+    assert "Busy" in window.statusBar().currentMessage()
+    qtbot.keyClick(window, QtCore.Qt.Key.Key_Escape)
+    assert window.runner.wait(30_000)
+    assert len(window.history.actions) == steps
+    assert np.array_equal(window.history.document.levels, before)
+
+
 def test_escape_cancels(qtbot, window):
     steps = len(window.history.actions)
     window.synthesis_dock.width_box.setValue(2048)
