@@ -75,6 +75,21 @@ def test_report_counts_bad_entries_and_residuals():
     assert np.isclose(r.horizontal_residual, 0.2)
 
 
+@pytest.mark.parametrize("entries", [1, 40])
+def test_report_of_a_dpj_whose_probabilities_are_all_zero(entries, tmp_path):
+    """A hand-entered DPJ in progress may have every probability at 0 (a file may hold it): its
+    report says so (sum 0, not valid, nothing to compare), and dpj-info prints it."""
+    from texeditor.cli import main
+    rng = np.random.default_rng(entries)
+    configs = np.unique(rng.integers(0, 3, (entries, 2, 2)), axis=0).astype(np.uint8)
+    dpj = DPJ(configs, np.zeros(len(configs)), 3)
+    r = dpj.report()
+    assert r.total == 0 and r.entries == len(configs) and not r.is_valid
+    assert r.horizontal_residual == 0 and r.vertical_residual == 0
+    dpj.save(tmp_path / "zero.dpj")
+    assert main(["dpj-info", str(tmp_path / "zero.dpj")]) == 0
+
+
 def test_restrict_keeps_the_main_closed_class_and_drops_transients():
     # chain on single points (u = 2, v = 1): 0 -> 1 is transient, {1, 2} is closed, {3} closed
     # but smaller; 0 has no way back.
