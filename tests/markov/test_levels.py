@@ -367,3 +367,43 @@ def test_a_uint8_colour_photos_palette_is_the_mean_np_bincount_gives():
                                       minlength=g) for c in range(3)], axis=1)
         expected = np.round(means / counts[:, None] * 255).astype(np.uint8)
         assert np.all(counts > 0) and np.array_equal(q.palette, expected)
+
+
+@pytest.mark.parametrize("dtype, low, high", [(np.float32, 0, 1000), (np.float64, -3, 2),
+                                              (np.int32, 0, 1000), (np.int16, -500, 500)])
+def test_load_image_scales_samples_without_a_usual_white_by_their_own_range(tmp_path, dtype,
+                                                                             low, high):
+    """A height map saved as floats in metres, a 32-bit integer TIFF or a signed one with
+    negative samples: scaled by their own range (min → 0, max → 1), so their levels are those
+    of the same picture in 0..1 — not one clipped grey, nor "constant"."""
+    import tifffile
+    rng = np.random.default_rng(3)
+    data = (rng.random((40, 50)) * (high - low) + low).astype(dtype)
+    data[0, 0], data[0, 1] = low, high
+    tifffile.imwrite(tmp_path / "h.tif", data)
+    image = lv.load_image(tmp_path / "h.tif")
+    assert image.dtype == np.float32 and image.min() == 0 and image.max() == 1
+    unit = (data.astype(np.float64) - low) / (high - low)
+    assert np.allclose(image, unit, atol=1e-6)
+    shares = np.bincount(lv.quantize(image, 4, "band").levels.ravel(), minlength=4) / data.size
+    assert shares.min() > 0.15
+
+
+def test_load_image_keeps_pictures_within_their_usual_range_as_stored(tmp_path):
+    """Floats in 0..1 and 8/16-bit pictures come back as they were written; a float RGBA whose
+    colour is in 0..255 has its colour scaled and its 0..1 alpha kept."""
+    import tifffile
+    rng = np.random.default_rng(4)
+    for name, data in (("f.tif", rng.random((20, 30)).astype(np.float32)),
+                       ("u16.tif", rng.integers(0, 65536, (20, 30)).astype(np.uint16)),
+                       ("u8.tif", rng.integers(0, 256, (20, 30, 3)).astype(np.uint8))):
+        tifffile.imwrite(tmp_path / name, data)
+        image = lv.load_image(tmp_path / name)
+        assert image.dtype == data.dtype and np.array_equal(image, data)
+    rgba = np.concatenate([rng.random((20, 30, 3)) * 255, rng.random((20, 30, 1))], axis=2)
+    tifffile.imwrite(tmp_path / "rgba.tif", rgba.astype(np.float32), photometric="rgb",
+                     extrasamples=["unassalpha"])
+    image = lv.load_image(tmp_path / "rgba.tif")
+    colour = rgba[..., :3]
+    assert np.allclose(image[..., :3], (colour - colour.min()) / np.ptp(colour), atol=1e-6)
+    assert np.allclose(image[..., 3], rgba[..., 3], atol=1e-6)

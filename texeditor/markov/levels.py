@@ -56,7 +56,8 @@ def load_image(path) -> np.ndarray:
     Palette images come back as RGB(A). A multi-page file (animated GIF, TIFF stack) gives its
     first page. The declared size is checked against MAX_PIXELS before decoding, so a
     decompression bomb is refused without allocating it. Every failure is an ImageError naming
-    the file, and no reader warning escapes.
+    the file, and no reader warning escapes. Samples that have no 0..1 scale of their own come
+    back as float32 in 0..1 by their own range (see _own_range).
     """
     path = Path(path)
     _check_file(path)
@@ -68,7 +69,34 @@ def load_image(path) -> np.ndarray:
     if pages > 1 and image.ndim >= 3 and size is not None and image.shape[1:3] == size:
         image = image[0]
     image = _interleaved(image, size, mode)
-    return _check_decoded(image, path)
+    return _own_range(_check_decoded(image, path))
+
+
+def _own_range(image: np.ndarray) -> np.ndarray:
+    """A float picture whose samples leave 0..1 (a height map in metres), a 32- or 64-bit
+    integer one, or a signed one with negative samples has no usual white: its colour (or grey)
+    is scaled by its own range, min → 0 and max → 1, and so is its alpha, as float32 —
+    instead of clipped to one grey or divided down to black. Any other picture is returned as
+    it is (one holding NaN too: it is refused where it is used, naming the NaN)."""
+    kind = image.dtype.kind
+    if kind == "f":
+        if not np.isfinite(image).all() or (image.min() >= 0 and image.max() <= 1):
+            return image
+    elif not (kind in "iu" and (image.dtype.itemsize >= 4 or image.min() < 0)):
+        return image
+    planes = image[..., None] if image.ndim == 2 else image
+    c = planes.shape[2]
+    out = np.empty(planes.shape, np.float32)
+    for part, flat in ((slice(0, 3 if c >= 3 else 1), 0.0), (slice(1 if c == 2 else 3, c), 1.0)):
+        if part.start >= c:
+            continue                                # no alpha
+        lo, hi = float(planes[..., part].min()), float(planes[..., part].max())
+        if kind == "f" and 0 <= lo and hi <= 1:
+            lo, hi = 0.0, 1.0                       # this part is within 0..1 already
+        for top in range(0, len(planes), _BAND_ROWS):
+            band = planes[top:top + _BAND_ROWS, :, part].astype(np.float64)
+            out[top:top + _BAND_ROWS, :, part] = (band - lo) / (hi - lo) if hi > lo else flat
+    return out[..., 0] if image.ndim == 2 else out
 
 
 def _interleaved(image: np.ndarray, size, mode) -> np.ndarray:
