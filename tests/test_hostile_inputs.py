@@ -13,6 +13,7 @@ import os
 import sqlite3
 import subprocess
 import sys
+import warnings
 import zipfile
 from pathlib import Path
 
@@ -449,3 +450,77 @@ def test_a_screenshot_on_a_full_disk_exits_2_and_keeps_the_old_file(tmp_path, fu
     assert f"{target}: cannot write (No space left on device)" in err and ".part" not in err
     assert target.read_bytes() == b"old picture" and len(list(tmp_path.iterdir())) == 1
     assert write_screenshot(target, None) == 2 and target.read_bytes() == b"old picture"
+
+
+# -- arguments and flags that once gave a raw exception or a wrong message -------------------
+@pytest.mark.parametrize("shape, seed, says", [
+    ((5,), 0, "two integers"), ("x", 0, "two integers"), ((64.5, 64), 0, "two integers"),
+    ((0, 0), 0, "no points"), ((10 ** 20, 1), 0, "more than"), ((9, 1), 0, "at least 17x17"),
+    ((64, 64), 1.5, "seed"), ((64, 64), None, "seed"), ((64, 64), True, "seed"),
+    ((64, 64), "3", "seed")])
+def test_resynthesize_and_a_model_refuse_bad_sizes_and_seeds_clearly(shape, seed, says):
+    """As texeditor.synthesize does: an InputError naming the size the caller gave (not a
+    coarse scale's) or the seed, for the one-call path and for a model alike."""
+    import texeditor
+    rng = np.random.default_rng(0)
+    photo = (rng.random((128, 128)) * 255).astype(np.uint8)
+    with pytest.raises(InputError, match=says):
+        texeditor.resynthesize(photo, shape, seed=seed, scales=3)
+    model = texeditor.acquire_model(photo, scales=3)
+    with pytest.raises(InputError, match=says):
+        model.synthesize(shape, seed=seed)
+    assert model.synthesize((17, 17), seed=0).levels.shape == (17, 17)   # the smallest
+
+
+@pytest.mark.parametrize("matrix", [np.zeros(10, np.uint8), np.uint8(3),
+                                    np.zeros((4, 4, 1), np.uint8), np.zeros((0, 5), np.uint8)])
+def test_estimate_dpj_refuses_anything_but_a_matrix(matrix):
+    from texeditor import estimate_dpj
+    for scan in ("rows", "columns"):
+        with pytest.raises(InputError, match="non-empty 2-D"):
+            estimate_dpj(matrix, (2, 2), 4, scan=scan)
+
+
+def test_readers_take_bytes_paths_and_refuse_what_is_not_a_path(tmp_path):
+    """A bytes path (as open() takes) is read; None or a number is an InputError naming it."""
+    import texeditor
+    from skimage import io as skio
+    picture = np.arange(64, dtype=np.uint8).reshape(8, 8)
+    skio.imsave(tmp_path / "p.png", picture, check_contrast=False)
+    assert np.array_equal(texeditor.load_image(os.fsencode(tmp_path / "p.png")), picture)
+    for reader in (texeditor.load_image, texeditor.load_model, texeditor.load_texture):
+        for bad in (None, 5):
+            with pytest.raises(InputError, match="path"):
+                reader(bad)
+
+
+@pytest.mark.parametrize("flags, says", [
+    (["--coarse-levels", "0"], "G = 0"), (["--coarse-levels", "17"], "G = 17"),
+    (["--levels", "-3"], "G = -3"), (["--levels", "5"], "G = 5 on a scale of 5 levels")])
+def test_acquire_flags_for_levels_name_the_value_given(tmp_path, capsys, flags, says):
+    """A level count out of range is refused naming it (0 is not taken for "the default")."""
+    from skimage import io as skio
+    from texeditor.cli import main
+    rng = np.random.default_rng(1)
+    skio.imsave(tmp_path / "p.png", (rng.random((96, 96)) * 255).astype(np.uint8))
+    code = main(["acquire", str(tmp_path / "p.png"), "--scales", "3", *flags,
+                 "-o", str(tmp_path / "m.dpj")])
+    err = capsys.readouterr().err
+    assert code == 2 and says in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "m.dpj").exists()
+
+
+def test_synth_of_a_model_at_size_0x0_says_one_line_without_warnings(tmp_path, capsys):
+    from skimage import io as skio
+    from texeditor.cli import main
+    rng = np.random.default_rng(2)
+    skio.imsave(tmp_path / "p.png", (rng.random((96, 96)) * 255).astype(np.uint8))
+    assert main(["acquire", str(tmp_path / "p.png"), "--scales", "2",
+                 "-o", str(tmp_path / "m.dpj")]) == 0
+    capsys.readouterr()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        code = main(["synth", str(tmp_path / "m.dpj"), "--size", "0x0",
+                     "-o", str(tmp_path / "x.png")])
+    err = capsys.readouterr().err
+    assert code == 2 and "no points" in err and len(err.strip().splitlines()) == 1

@@ -97,7 +97,7 @@ def _acquire_model(image, args):
         options["window"] = _pair(args.window, "the window")
     if args.coarse_window:
         options["coarse_window"] = _pair(args.coarse_window, "the coarse window")
-    if args.coarse_levels:
+    if args.coarse_levels is not None:
         options["coarse_levels"] = args.coarse_levels
     scales = None if args.scales in (None, "auto") else _count(args.scales, "--scales")
     return acquire_model(image, scales=scales, **options)

@@ -119,11 +119,22 @@ def _a(what: str) -> str:
     return f"{'an' if what[:1].lower() in 'aeio' else 'a'} {what}"
 
 
+def as_path(path) -> Path:
+    """A file's path from text, a path object or bytes (what ``open`` takes); anything else
+    is an InputError naming what was given, not a TypeError from deep inside pathlib."""
+    if isinstance(path, bytes):
+        path = os.fsdecode(path)
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"a file path must be text or a path, got {type(path).__name__} "
+                         f"{path!r:.40}")
+    return Path(path)
+
+
 def check_regular(path: str | os.PathLike, what: str, error=FormatError) -> os.stat_result:
     """Refuse anything but an existing regular file (symbolic links followed) *before* it is
     opened: a FIFO would block the reader forever, a device (``/dev/zero``) never ends, and
     their ``st_size`` is 0, so no size check can bound them. Returns the file's stat."""
-    path = Path(path)
+    path = as_path(path)
     try:
         st = os.stat(path)
     except FileNotFoundError:
@@ -147,7 +158,7 @@ def read_limited(path: str | os.PathLike, limit: int, what: str, error=FormatErr
     checked again once open (it may have been swapped meanwhile), and never more than
     ``limit`` + 1 bytes are read, whatever its size said (a file growing while read, a size
     the file system reports wrongly)."""
-    path = Path(path)
+    path = as_path(path)
     check_regular(path, what, error)
     flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) \
         | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_BINARY", 0)

@@ -18,7 +18,7 @@ from PIL import Image
 import skimage as ski     # its subpackages load on first use, not at start-up
 
 from ..errors import ImageError, InputError
-from ..fileio import check_regular
+from ..fileio import as_path, check_regular
 
 MIN_LEVELS = 2
 MAX_LEVELS = 16
@@ -59,7 +59,7 @@ def load_image(path) -> np.ndarray:
     the file, and no reader warning escapes. Samples that have no 0..1 scale of their own come
     back as float32 in 0..1 by their own range (see _own_range).
     """
-    path = Path(path)
+    path = as_path(path)
     _check_file(path)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -25,9 +25,9 @@ import skimage as ski
 from ..errors import Cancelled, InputError
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
-from .levels import has_colour, quantize, to_grey
-from .synthesis import (SynthesisResult, build_tables, derived, synthesize,
-                        synthesize_given)
+from .levels import check_levels, has_colour, quantize, to_grey
+from .synthesis import (SynthesisResult, build_tables, check_seed, check_size, derived,
+                        synthesize, synthesize_given)
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
 PYRAMID_ROWS = 256          # the first halving converts the photo this many rows at a time
@@ -163,11 +163,14 @@ def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
     scales = default_scales(np.shape(image)) if scales is None else int(scales)
     if not 1 <= scales <= MAX_SCALES:
         raise InputError(f"{scales} scales: choose 1..{MAX_SCALES}")
+    levels, coarse_levels = check_levels(levels), check_levels(coarse_levels)
     if scales == 1:
         coarse_levels, coarse_window = levels, window
-    if levels * coarse_levels > MAX_LEVELS or levels * levels > MAX_LEVELS and scales > 2:
-        raise InputError(f"G = {levels}: a conditional DPJ holds G × its parents' G levels, "
-                         f"at most {MAX_LEVELS}")
+    for parents in ({coarse_levels, levels} if scales > 2 else {coarse_levels}):
+        if levels * parents > MAX_LEVELS and scales > 1:
+            raise InputError(f"G = {levels} on a scale of {parents} levels: a conditional DPJ "
+                             f"holds G × its parents' levels ({levels * parents}), at most "
+                             f"{MAX_LEVELS}")
     check_window(coarse_window, coarse_levels)
     check_window(window, levels * max(levels, coarse_levels))
     if colour:
@@ -217,7 +220,9 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     (up to COARSE_TRIES times, with seeds derived from ``seed``) until every level's share is
     within FREQUENCY_TOLERANCE of its DPJ's: the field conditioned on its level histogram (the
     closest draw is kept if none is). The same model and seed give the same matrix."""
-    shapes = scale_shapes(shape, model.scales)
+    seed = check_seed(seed)
+    shapes = scale_shapes(check_size(shape), model.scales)
+    _check_scale_sizes(model, shapes)
     closure = check_scales_closure(closure)
     coarse_redraws = check_coarse_redraws(coarse_redraws)
     weights = np.array([h * w for h, w in shapes], float)
@@ -242,6 +247,18 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     finally:
         ahead.shutdown(wait=False, cancel_futures=True)
     return SynthesisResult(levels, repairs, redraws, int(seed))
+
+
+def _check_scale_sizes(model: MultiScaleDPJ, shapes) -> None:
+    """Every scale at least its window: else name the smallest size that has it."""
+    n = model.scales
+    if all(h >= d.window[1] and w >= d.window[0] for (h, w), d in zip(shapes, model.dpjs)):
+        return
+    low_h = max((d.window[1] - 1) * 2 ** (n - 1 - k) + 1 for k, d in enumerate(model.dpjs))
+    low_w = max((d.window[0] - 1) * 2 ** (n - 1 - k) + 1 for k, d in enumerate(model.dpjs))
+    (h, w) = shapes[-1]
+    raise InputError(f"a {w}x{h} texture is too small for {n} scales (each scale is half the "
+                     f"next and holds at least its window): choose at least {low_w}x{low_h}")
 
 
 def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel, rows_final,

@@ -39,9 +39,16 @@ def check_scan(scan) -> str:
     return scan
 
 
+def _matrix(matrix) -> np.ndarray:
+    m = np.asarray(matrix)
+    if m.ndim != 2 or m.size == 0:
+        raise InputError(f"a level matrix must be a non-empty 2-D array, got shape {m.shape}")
+    return m
+
+
 def to_scan(matrix: np.ndarray, scan: str) -> np.ndarray:
     """The matrix as the scan sees it: its lines in the order the scan takes them, as rows."""
-    m = np.asarray(matrix)
+    m = _matrix(matrix)
     turned = {"rows": m, "rows-up": m[::-1], "columns": m.T,
               "columns-left": m[:, ::-1].T}[check_scan(scan)]
     return np.ascontiguousarray(turned)
@@ -49,7 +56,7 @@ def to_scan(matrix: np.ndarray, scan: str) -> np.ndarray:
 
 def from_scan(matrix: np.ndarray, scan: str) -> np.ndarray:
     """Inverse of :func:`to_scan`: a matrix drawn in the scan's frame, turned back."""
-    m = np.asarray(matrix)
+    m = _matrix(matrix)
     turned = {"rows": m, "rows-up": m[::-1], "columns": m.T,
               "columns-left": m.T[:, ::-1]}[check_scan(scan)]
     return np.ascontiguousarray(turned)

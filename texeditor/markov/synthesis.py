@@ -140,7 +140,7 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
     (``rows_final`` hears of them before, see synthesize)."""
     h, w = out.shape
     tileable = across is not None
-    state = np.random.SeedSequence(_check_seed(seed)).generate_state(1, np.uint64)
+    state = np.random.SeedSequence(check_seed(seed)).generate_state(1, np.uint64)
     work = np.pad(out, ((0, t.v - 1), (0, t.u - 1)), mode="wrap") if tileable else out
     tile_h, tile_w = (np.int64(h), np.int64(w)) if tileable else (np.int64(0), np.int64(0))
     bands = 1 if rows_final is None else FINAL_BANDS
@@ -203,24 +203,35 @@ def _check_closure(closure) -> int:
     return int(closure)
 
 
-def _check_seed(seed) -> int:
+def check_seed(seed) -> int:
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"the seed must be a non-negative integer, got {seed!r}")
     return int(seed)
 
 
+def check_size(shape) -> tuple[int, int]:
+    """(height, width) as two positive integers whose product is at most MAX_PIXELS."""
+    try:
+        h, w = shape
+        if any(isinstance(x, bool) or int(x) != x for x in (h, w)):
+            raise TypeError
+        h, w = int(h), int(w)
+    except (TypeError, ValueError):
+        raise InputError(f"size must be (height, width), two integers, got {shape!r}") from None
+    if h < 1 or w < 1:
+        raise InputError(f"a {w}x{h} texture has no points: choose a size of at least 1x1")
+    if h * w > MAX_PIXELS:
+        raise InputError(f"{w}x{h} is more than {MAX_PIXELS} points: choose a smaller size")
+    return h, w
+
+
 def _check_request(dpj: DPJ, shape) -> tuple[int, int]:
     if not isinstance(dpj, DPJ):
         raise InputError("synthesis needs a DPJ")
-    try:
-        h, w = (int(x) for x in shape)
-    except (TypeError, ValueError):
-        raise InputError(f"size must be (height, width), got {shape!r}") from None
+    h, w = check_size(shape)
     u, v = dpj.window
     if h < v or w < u:
         raise InputError(f"a {w}x{h} texture is smaller than the DPJ's {u}x{v} window")
-    if h * w > MAX_PIXELS:
-        raise InputError(f"{w}x{h} is more than {MAX_PIXELS} points: choose a smaller size")
     p = dpj.probs
     if len(dpj) == 0 or not np.all(np.isfinite(p)) or np.any(p < 0) or p.sum() <= 0:
         raise InputError("the DPJ has no usable probabilities (empty, negative, NaN or zero sum)")

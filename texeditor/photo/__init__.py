@@ -8,6 +8,7 @@ model can be saved as a `.dpj` (format 2) and drawn again, bit-exact from its se
 from __future__ import annotations
 
 from . import tone
+from ..markov.synthesis import check_seed, check_size
 from .model import (PhotoModel, Resynthesis, Tone, acquire_model, document_model,
                     document_tone, load_model, model_from_bytes, photo_tone, step_wrap)
 
@@ -19,6 +20,7 @@ def resynthesize(photo, shape, *, seed: int = 0, tone: bool = True, tileable: bo
 
     ``acquire`` overrides the model's defaults (scales, levels, window, coarse_levels,
     coarse_window, quantizer), chosen for quality."""
+    check_seed(seed), check_size(shape)          # before the photo's model is made
     model = acquire_model(photo, tone=tone, **acquire)
     return model.synthesize(shape, seed=seed, tone=tone, tileable=tileable, progress=progress,
                             cancel=cancel)
