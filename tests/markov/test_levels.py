@@ -378,14 +378,14 @@ def test_load_image_scales_samples_without_a_usual_white_by_their_own_range(tmp_
     of the same picture in 0..1 — not one clipped grey, nor "constant"."""
     import tifffile
     rng = np.random.default_rng(3)
-    data = (rng.random((40, 50)) * (high - low) + low).astype(dtype)
-    data[0, 0], data[0, 1] = low, high
-    tifffile.imwrite(tmp_path / "h.tif", data)
+    samples = (rng.random((40, 50)) * (high - low) + low).astype(dtype)
+    samples[0, 0], samples[0, 1] = low, high
+    tifffile.imwrite(tmp_path / "h.tif", samples)
     image = lv.load_image(tmp_path / "h.tif")
     assert image.dtype == np.float32 and image.min() == 0 and image.max() == 1
-    unit = (data.astype(np.float64) - low) / (high - low)
+    unit = (samples.astype(np.float64) - low) / (high - low)
     assert np.allclose(image, unit, atol=1e-6)
-    shares = np.bincount(lv.quantize(image, 4, "band").levels.ravel(), minlength=4) / data.size
+    shares = np.bincount(lv.quantize(image, 4, "band").levels.ravel(), minlength=4) / samples.size
     assert shares.min() > 0.15
 
 
@@ -394,12 +394,12 @@ def test_load_image_keeps_pictures_within_their_usual_range_as_stored(tmp_path):
     colour is in 0..255 has its colour scaled and its 0..1 alpha kept."""
     import tifffile
     rng = np.random.default_rng(4)
-    for name, data in (("f.tif", rng.random((20, 30)).astype(np.float32)),
+    for name, stored in (("f.tif", rng.random((20, 30)).astype(np.float32)),
                        ("u16.tif", rng.integers(0, 65536, (20, 30)).astype(np.uint16)),
                        ("u8.tif", rng.integers(0, 256, (20, 30, 3)).astype(np.uint8))):
-        tifffile.imwrite(tmp_path / name, data)
+        tifffile.imwrite(tmp_path / name, stored)
         image = lv.load_image(tmp_path / name)
-        assert image.dtype == data.dtype and np.array_equal(image, data)
+        assert image.dtype == stored.dtype and np.array_equal(image, stored)
     rgba = np.concatenate([rng.random((20, 30, 3)) * 255, rng.random((20, 30, 1))], axis=2)
     tifffile.imwrite(tmp_path / "rgba.tif", rgba.astype(np.float32), photometric="rgb",
                      extrasamples=["unassalpha"])
