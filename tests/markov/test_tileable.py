@@ -157,9 +157,11 @@ def test_a_tiling_coarsest_scale_backs_off_to_a_window_that_closes(name):
 
 
 def first_law_that_closes(dpj, shape, seed):
-    """The back-off one window after another (the rule _coarsest_on_torus runs two at a time)."""
+    """The back-off one window after another (the rule _coarsest_on_torus runs two at a time),
+    each closed by closure 2."""
     while True:
-        drawn = synthesize(dpj, shape, seed=multiscale.scale_seed(seed, 0), tileable=True).levels
+        drawn = synthesize(dpj, shape, seed=multiscale.scale_seed(seed, 0), tileable=True,
+                           closure=2).levels
         if off_the_dpj(drawn, dpj) <= multiscale.TORUS_TOLERANCE or min(dpj.window) <= 2:
             return dpj
         u, v = dpj.window
@@ -288,7 +290,7 @@ def test_a_version_1_tileable_step_replays_with_the_first_closure():
     doc.apply(action_from_json(old))
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest()[:12] == "7df813fb00cd"
     new = Synthesize(ref, 130, 97, seed=1, tileable=True)
-    assert new.to_json()["closure"] == 2 and new.to_json()["version"] == 2
+    assert new.to_json()["closure"] == 4 and new.to_json()["version"] == 3
     doc.apply(new)
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest()[:12] != "7df813fb00cd"
 
@@ -313,3 +315,31 @@ def test_closing_the_bottom_seam_redraws_only_near_it(name):
         changed = across[:w, :h] != before[:w, :h]
         assert changed.mean() < 0.06, seed
         assert off_the_dpj(np.ascontiguousarray(across[:w, :h].T), dpj) < 0.0005
+
+
+@pytest.mark.parametrize("name", ["scales-tileable", "synthesize-tileable"])
+def test_tileable_textures_of_the_previous_closures_replay_as_they_did(name):
+    """Files written before closure 4 (tests/data/closure-3: SynthesizeScales version 4 with
+    closure 3, Synthesize version 2 with closure 2) come out bit-identical, levels and tone. A
+    new step of the same texture records closure 4, whose seams redraw shorter stretches: the
+    same seed draws another torus, whose windows are still the DPJ's."""
+    import dataclasses
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_tone
+    from texeditor.recipe.texturefile import render_texture
+    expected = json.loads((DATA / "closure-3" / "expected.json").read_text())[name]
+    doc = render_texture(DATA / "closure-3" / f"{name}.texture")
+    step = doc.actions[-1]
+    assert step.closure == expected["closure"] and step.tileable
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    if "tone_sha256" in expected:
+        assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == \
+            expected["tone_sha256"]
+    new = dataclasses.replace(step, closure=4)
+    assert new.to_json()["version"] == expected["version"] + 1 and new.to_json()["closure"] == 4
+    redrawn = new.prepare(doc)
+    assert not np.array_equal(redrawn, doc.levels)
+    if name == "synthesize-tileable":
+        assert off_the_dpj(redrawn, doc.dpj) <= 0.0005

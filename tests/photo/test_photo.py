@@ -102,7 +102,7 @@ def test_a_texture_file_replays_a_multiscale_synthesis(model, tmp_path):
 
 def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_as_it_did():
     """A file written before closure 3 (tests/data/scales-v2): its levels and its tone picture
-    come out bit-identical (closure 2, the first tiling tone); a new step records closure 3."""
+    come out bit-identical (closure 2, the first tiling tone); a new step records closure 4."""
     import hashlib
     import json
     from tests.support import DATA
@@ -116,7 +116,7 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = SynthesizeScales(step.dpjs, 80, 60, seed=7, tileable=True,
                            tone_photo=step.tone_photo, tone_levels=step.tone_levels)
-    assert new.to_json()["version"] == 4 and new.closure == 3 and new.tone_balance
+    assert new.to_json()["version"] == 5 and new.closure == 4 and new.tone_balance
     assert step_wrap(new) == tone.TILED_LANES | tone.BALANCED
 
 
@@ -138,12 +138,12 @@ def test_textures_of_version_3_replay_with_16_coarse_redraws_as_they_did(name):
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, coarse_redraws=COARSE_REDRAWS)
-    assert new.to_json()["version"] == 4 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
+    assert new.to_json()["version"] == 5 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     model = document_model(doc, step)
     assert np.array_equal(redrawn, model.synthesize((120, 160), seed=7, tileable=step.tileable,
-                                                    tone=False).levels)
+                                                    closure=step.closure, tone=False).levels)
 
 
 @pytest.mark.parametrize("obj, closure", [({"closure": 2}, 2), ({"closure": 1}, 1), ({}, 2),
@@ -158,6 +158,31 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     else:
         assert action_from_json(step).closure == closure
         assert action_from_json(step).coarse_redraws == 16
+
+
+@pytest.mark.parametrize("kind, version, obj, closure", [
+    ("synthesize_scales", 3, {}, 3), ("synthesize_scales", 4, {}, 3),
+    ("synthesize_scales", 4, {"closure": 2}, 2), ("synthesize_scales", 4, {"closure": 4}, None),
+    ("synthesize_scales", 3, {"closure": 4}, None), ("synthesize_scales", 5, {}, 4),
+    ("synthesize_scales", 5, {"closure": 3}, 3), ("synthesize_scales", 5, {"closure": 5}, None),
+    ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
+    ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
+    ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
+    ("synthesize", 3, {"closure": 5}, None)])
+def test_steps_keep_the_closure_of_their_version(kind, version, obj, closure):
+    """Closure 4 (seams closed over shorter stretches) came with Synthesize version 3 and
+    SynthesizeScales version 5: an older step keeps the closure it names, or its version's
+    default, and cannot name 4."""
+    from texeditor.recipe.codec import action_from_json
+    step = {"type": kind, "version": version, "width": 30, "height": 20, "seed": 1,
+            "tileable": True, **obj,
+            **({"dpjs": ["0123456789abcdef"]} if kind == "synthesize_scales" else
+               {"dpj": "0123456789abcdef"})}
+    if closure is None:
+        with pytest.raises(FormatError):
+            action_from_json(step)
+    else:
+        assert action_from_json(step).closure == closure
 
 
 @pytest.mark.parametrize("version, obj, redraws", [

@@ -48,11 +48,12 @@ COARSE_REDRAWS = 4          # a dead end of the coarsest scale: tries redrawing 
                             # 20–34 thousand redraws, most in runs of 16 that end in a back-off,
                             # 90 % of the scale's time); recipes before it kept 16 (OLD_REDRAWS)
 OLD_REDRAWS = 16
-SCALES_CLOSURE = 3          # the seam closure of a tileable multi-scale synthesis: 3 closes every
+SCALES_CLOSURE = 4          # the seam closure of a tileable multi-scale synthesis: 3 closes every
                             # scale with fewer tries than 2 (synthesis.CLOSE_TRIES_3), stops the
                             # coarsest law's failing trial draws early (TORUS_BUDGET) and has its
-                            # tone drawn beside the levels (photo.tone.TILED_LANES); 2 and 1 are
-                            # kept for older recipes
+                            # tone drawn beside the levels (photo.tone.TILED_LANES); 4 is 3 over
+                            # shorter stretches (synthesis.CLOSE_SPAN_4); 3, 2 and 1 are kept
+                            # for older recipes
 
 
 @dataclass(frozen=True)

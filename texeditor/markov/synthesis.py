@@ -41,8 +41,12 @@ CLOSE_SPAN = 4                 # closure 2: the shortest stretch redrawn, in win
 CLOSE_TRIES_3 = 2              # closure 3: as 2, but a scale drawn given its parents has this
                                # many tries (its tries, redrawing ever wider, cascade from
                                # column to column)
-CLOSURE = 2                    # the seam closure tileable synthesis uses (1: the first one;
-                               # 3: that of multi-scale synthesis, markov.multiscale)
+CLOSE_SPAN_4 = 1               # closure 4: as 3, the shortest stretch one window (a seam then
+                               # redraws a quarter as many points per row and column; its
+                               # windows still close: ≤ 0.03 % of a 3×3 photo DPJ's off it)
+CLOSURE = 4                    # the seam closure tileable synthesis uses (1 to 3: earlier ways,
+                               # kept so older recipes replay the same; 3 differs from 2 only
+                               # in a scale drawn given its parents, markov.multiscale)
 
 
 @dataclass(frozen=True)
@@ -72,9 +76,9 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
     final only once the columns are closed, which may change any row: ``rows_final`` is told
     of the rows as the rows' pass leaves them, and its last call (n = H) gives the closed
     torus, to be compared with what it was told before. ``closure``
-    picks the seam closure: 2 (the current one; 3 is the same here, see synthesize_given) or
-    1 (the first, which left a few windows across the seams outside the DPJ; kept so older
-    recipes replay the same).
+    picks the seam closure: 4 (the current one), 2 (as 4 over longer stretches; 3 is the same
+    here, see synthesize_given) or 1 (the first, which left a few windows across the seams
+    outside the DPJ); older ones are kept so older recipes replay the same.
 
     ``redraw_budget``: give up once the rows have been redrawn more often than this (the
     result then has ``redraws`` above it and is not a texture): a quick "will it close?".
@@ -97,7 +101,8 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
     parents, as :func:`synthesize`; the result holds the G-levels alone (so do the rows
     ``rows_final`` is told of). ``tileable``: on the torus, the parents tiling too
-    (``closure`` 3: as 2 with CLOSE_TRIES_3 tries a seam, what multi-scale synthesis uses)."""
+    (``closure`` 3 and 4: as 2 with CLOSE_TRIES_3 tries a seam, what multi-scale synthesis
+    uses; 4 over stretches from CLOSE_SPAN_4 windows)."""
     gp = int(parent_levels)
     if gp < 2 or dpj.levels % gp:
         raise InputError(f"a DPJ of {dpj.levels} composite levels cannot have {gp} parent levels")
@@ -198,8 +203,8 @@ def _transposed(dpj: DPJ) -> DPJ:
 
 
 def _check_closure(closure) -> int:
-    if closure not in (1, 2, 3) or isinstance(closure, bool):
-        raise InputError(f"seam closure {closure!r} does not exist: choose 1, 2 or 3")
+    if closure not in range(1, CLOSURE + 1) or isinstance(closure, bool):
+        raise InputError(f"seam closure {closure!r} does not exist: choose 1 to {CLOSURE}")
     return int(closure)
 
 
@@ -900,10 +905,10 @@ def _close_columns(across, t, state, tile_w, tile_h, closure):
         if closure > 1 and j >= v - 1:
             last = j == tile_w - 1
             below = np.int64(v - 1)
-            below_to = np.int64(tile_h if last else tile_h - (CLOSE_SPAN + 1) * u + 1)
+            below_to = np.int64(tile_h if last else tile_h - (_span(closure) + 1) * u + 1)
             n0 = 0 if last else max(0, recent.min() - u + 1)
             reach = _first_bad(across, j, below if last else 0, n0,
-                               tile_h - (CLOSE_SPAN + 1) * u + 1, t)
+                               tile_h - (_span(closure) + 1) * u + 1, t)
         c0 = _close_row(across, j, kmin, tile_h, reach, t, seg, state, closure, below,
                         below_to)
         repairs += c0 < 0
@@ -928,7 +933,8 @@ def _close_row(out, r, kmin, tile_w, reach, t, seg, state, closure, below, below
         return tile_w
     if closure > 1:
         c0 = _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below, below_to,
-                            CLOSE_TRIES if closure == 2 or t.gp == 1 else CLOSE_TRIES_3)
+                            CLOSE_TRIES if closure == 2 or t.gp == 1 else CLOSE_TRIES_3,
+                            _span(closure))
         if c0 >= 0:
             return c0
         c0 = -1 - c0                   # back off where needed, over what the tries changed
@@ -948,15 +954,21 @@ def _close_row(out, r, kmin, tile_w, reach, t, seg, state, closure, below, below
     return -1 - tile_w
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _span(closure):
+    """The shortest stretch a seam closure redraws, in windows."""
+    return CLOSE_SPAN_4 if closure >= 4 else CLOSE_SPAN
+
+
 @njit(cache=True, nogil=True)
-def _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below, below_to, most):
-    """Closure 2 (and 3) of row r: at a dead end, the rows above are redrawn around it too (as
-    a dead end inside the texture does, see _redraw_above, but within the stretch), deeper and
-    wider as tries fail, then the row's stretch again, longer every fourth try; ``most``
-    tries. Returns the first column redrawn c0, or -1 - c0 when no try closed the row (the
-    rows above may have changed from c0 on)."""
+def _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below, below_to, most, least):
+    """Closure 2 (and 3, 4) of row r: at a dead end, the rows above are redrawn around it too
+    (as a dead end inside the texture does, see _redraw_above, but within the stretch), deeper
+    and wider as tries fail, then the row's stretch again, longer every fourth try; ``most``
+    tries, the first over ``least`` windows at least. Returns the first column redrawn c0, or
+    -1 - c0 when no try closed the row (the rows above may have changed from c0 on)."""
     u = t.u
-    span = max(CLOSE_SPAN * u, tile_w - reach)
+    span = max(least * u, tile_w - reach)
     c0 = max(u - 1, tile_w - span)
     for tries in range(most):
         c0 = max(u - 1, tile_w - span)

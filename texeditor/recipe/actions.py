@@ -420,17 +420,19 @@ def _tileable():
 
 def _closure():
     return param("int", 1, CLOSURE, default=CLOSURE,
-                 doc="how a tileable texture's seams are closed: 2 (current: every window "
-                     "an earlier redraw changed and the corner kept in the DPJ), 1 (the first "
-                     "way, kept so older recipes replay the same)")
+                 doc="how a tileable texture's seams are closed: 4 (current: every window an "
+                     "earlier redraw changed and the corner kept in the DPJ, over stretches "
+                     "from one window), 2 (the same over stretches from 4 windows; 3 is 2 for "
+                     "one DPJ), 1 (the first way); older ways are kept so older recipes replay "
+                     "the same")
 
 
 def _scales_closure():
     return param("int", 1, SCALES_CLOSURE, default=SCALES_CLOSURE,
-                 doc="how a tileable texture's seams are closed: 3 (current: the scales as 2, "
-                     "a quicker choice of the coarsest window, the tone drawn beside the "
-                     "levels on two lanes), 2 and 1 (earlier ways, kept so older recipes "
-                     "replay the same)")
+                 doc="how a tileable texture's seams are closed: 4 (current: as 3 over "
+                     "stretches from one window), 3 (the scales as 2, a quicker choice of the "
+                     "coarsest window, the tone drawn beside the levels on two lanes), 2 and 1 "
+                     "(earlier ways, kept so older recipes replay the same)")
 
 
 def _closure_of_version_1(cls, version: int, params: dict) -> dict:
@@ -441,22 +443,36 @@ def _closure_of_version_1(cls, version: int, params: dict) -> dict:
     return {**params, "closure": 1}
 
 
+def _closure_as_written(cls, version: int, params: dict, default: int) -> dict:
+    """A version that named its closure, 1 to ``default`` (its own default when absent)."""
+    closure = params.get("closure", default)
+    if isinstance(closure, int) and not isinstance(closure, bool) and closure > default:
+        raise FormatError(f"action {cls.TYPE!r} version {version} has no seam closure {closure}")
+    return {**params, "closure": closure}
+
+
+def _synthesis_of_version(cls, version: int, params: dict) -> dict:
+    """Version 1 had no ``closure`` (closed the first way); version 2 closures 1 and 2
+    (default 2), closed over stretches from CLOSE_SPAN windows."""
+    if version == 2:
+        return _closure_as_written(cls, version, params, 2)
+    return _closure_of_version_1(cls, version, params)
+
+
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 3 tried OLD_REDRAWS times at a dead end of the coarsest scale and drew
-    their tone without balance; version 1 had no ``closure`` (closed the first way), version 2
-    closures 1 and 2 (default 2)."""
+    """Version 4 had closures 1 to 3 (default 3). Versions 1 to 3 also tried OLD_REDRAWS times
+    at a dead end of the coarsest scale and drew their tone without balance; version 1 had no
+    ``closure`` (closed the first way), version 2 closures 1 and 2 (default 2), version 3 1 to
+    3 (default 3)."""
+    if version == 4:
+        return _closure_as_written(cls, version, params, 3)
     if version not in (1, 2, 3) or "coarse_redraws" in params or "tone_balance" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} is not supported "
                           f"(this program reads versions 1 to {cls.VERSION})")
     params = {**params, "coarse_redraws": OLD_REDRAWS, "tone_balance": False}
     if version == 1:
         return _closure_of_version_1(cls, version, params)
-    if version == 2:
-        closure = params.get("closure", CLOSURE)
-        if isinstance(closure, int) and not isinstance(closure, bool) and closure > CLOSURE:
-            raise FormatError(f"action {cls.TYPE!r} version 2 has no seam closure {closure}")
-        params["closure"] = closure
-    return params
+    return _closure_as_written(cls, version, params, version)
 
 
 @register
@@ -465,7 +481,7 @@ class Synthesize(Action):
     """A new canvas drawn from a DPJ by the 2-D Markov process (thesis ch. 4); palette = DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize"
-    VERSION: ClassVar[int] = 2
+    VERSION: ClassVar[int] = 3
     EFFECT: ClassVar[str] = "reset"
     dpj: str = param("ref", doc="reference of a DPJ of the document")
     width: int = _side("points across")
@@ -477,7 +493,7 @@ class Synthesize(Action):
                           "run along the scan")
     closure: int = _closure()
 
-    upgrade = classmethod(_closure_of_version_1)
+    upgrade = classmethod(_synthesis_of_version)
 
     def _validate(self):
         _check_canvas(self.width, self.height)
@@ -526,7 +542,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 4
+    VERSION: ClassVar[int] = 5
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
