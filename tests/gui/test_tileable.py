@@ -61,9 +61,9 @@ def test_a_photo_model_draws_and_shows_a_tiling_texture(qtbot, window, photo_pat
     qtbot.mouseClick(dock.tileable_box, LEFT)
     synthesise(qtbot, window, 96, 64, 2)
     step = window.history.actions[-1]
-    assert step.TYPE == "synthesize_scales" and step.tileable and step.closure == 3
+    assert step.TYPE == "synthesize_scales" and step.tileable and step.closure == 4
     picture = window.canvas.picture
-    expected = window.photo_model.render(window.document.levels, seed=2,   # closure 3's
+    expected = window.photo_model.render(window.document.levels, seed=2,   # closure 4's
                                          wrap=tone.TILED_LANES | tone.BALANCED)  # tiling tone
     assert np.array_equal(picture[..., 0] if expected.ndim == 2 else picture,
                           expected if expected.ndim == 2 else expected)
