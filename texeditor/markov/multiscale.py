@@ -167,8 +167,9 @@ def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
     levels, coarse_levels = check_levels(levels), check_levels(coarse_levels)
     if scales == 1:
         coarse_levels, coarse_window = levels, window
-    for parents in ({coarse_levels, levels} if scales > 2 else {coarse_levels}):
-        if levels * parents > MAX_LEVELS and scales > 1:
+    below = [] if scales == 1 else [coarse_levels] + [levels] * (scales > 2)   # the parents'
+    for parents in below:
+        if levels * parents > MAX_LEVELS:
             raise InputError(f"G = {levels} on a scale of {parents} levels: a conditional DPJ "
                              f"holds G × its parents' levels ({levels * parents}), at most "
                              f"{MAX_LEVELS}")

@@ -905,10 +905,10 @@ def _close_columns(across, t, state, tile_w, tile_h, closure):
         if closure > 1 and j >= v - 1:
             last = j == tile_w - 1
             below = np.int64(v - 1)
-            below_to = np.int64(tile_h if last else tile_h - (_span(closure) + 1) * u + 1)
+            stretch = tile_h - (_span(closure) + 1) * u + 1   # where later closures may redraw
+            below_to = np.int64(tile_h if last else stretch)
             n0 = 0 if last else max(0, recent.min() - u + 1)
-            reach = _first_bad(across, j, below if last else 0, n0,
-                               tile_h - (_span(closure) + 1) * u + 1, t)
+            reach = _first_bad(across, j, below if last else 0, n0, stretch, t)
         c0 = _close_row(across, j, kmin, tile_h, reach, t, seg, state, closure, below,
                         below_to)
         repairs += c0 < 0
