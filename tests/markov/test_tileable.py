@@ -147,7 +147,7 @@ def test_a_tiling_coarsest_scale_backs_off_to_a_window_that_closes(name):
     assert off_the_dpj(full, coarse) > 0.3                     # why it backs off
     alone = multiscale.MultiScaleDPJ((coarse,))        # its draw is the coarsest scale's
     for seed in range(3):
-        law = multiscale._coarsest_on_torus(coarse, shape, seed, 2)
+        law = multiscale._torus_law(coarse, shape, seed, 2)[0]
         assert law.window[0] < 5 and law.levels == coarse.levels
         assert np.isclose(law.probs.sum(), 1.0)
         drawn = synthesize_scales(alone, shape, seed=seed, tileable=True).levels
@@ -157,7 +157,7 @@ def test_a_tiling_coarsest_scale_backs_off_to_a_window_that_closes(name):
 
 
 def first_law_that_closes(dpj, shape, seed):
-    """The back-off one window after another (the rule _coarsest_on_torus runs two at a time),
+    """The back-off one window after another (the rule _torus_law runs two at a time),
     each closed by closure 2."""
     while True:
         drawn = synthesize(dpj, shape, seed=multiscale.scale_seed(seed, 0), tileable=True,
@@ -175,7 +175,7 @@ def test_the_back_off_picks_the_law_one_window_after_another_would(name):
     coarse = acquire_model(getattr(ski.data, name)()).scales.dpjs[0]
     windows = set()
     for seed in range(6):
-        law = multiscale._coarsest_on_torus(coarse, (32, 40), seed, 2)
+        law = multiscale._torus_law(coarse, (32, 40), seed, 2)[0]
         assert law == first_law_that_closes(coarse, (32, 40), seed)
         windows.add(law.window)
     assert len(windows) >= 2
@@ -188,11 +188,11 @@ def test_closure_3_stops_failing_coarsest_draws_early_and_picks_the_same_law(nam
     TORUS_BUDGET per point: draws that close stay well under it, so the same law comes out as
     from whole draws (closure 2's way: the coarsest scale is closed alike by both)."""
     coarse = acquire_model(getattr(ski.data, name)()).scales.dpjs[0]
-    laws = [multiscale._coarsest_on_torus(coarse, (32, 40), seed, 3) for seed in range(6)]
-    assert laws == [multiscale._coarsest_on_torus(coarse, (32, 40), seed, 2)
+    laws = [multiscale._torus_law(coarse, (32, 40), seed, 3)[0] for seed in range(6)]
+    assert laws == [multiscale._torus_law(coarse, (32, 40), seed, 2)[0]
                     for seed in range(6)]
     monkeypatch.setattr(multiscale, "TORUS_BUDGET", 10 ** 9)
-    assert laws == [multiscale._coarsest_on_torus(coarse, (32, 40), seed, 3)
+    assert laws == [multiscale._torus_law(coarse, (32, 40), seed, 3)[0]
                     for seed in range(6)]
 
 

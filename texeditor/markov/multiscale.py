@@ -339,12 +339,6 @@ def _settle(job) -> None:
         pass
 
 
-def _coarsest_on_torus(dpj: DPJ, shape, seed: int, closure: int,
-                       redraws: int = OLD_REDRAWS) -> DPJ:
-    """The coarsest scale's law for a tileable draw (see _torus_law)."""
-    return _torus_law(dpj, shape, seed, closure, redraws)[0]
-
-
 def _torus_law(dpj: DPJ, shape, seed: int, closure: int,
                redraws: int = OLD_REDRAWS) -> tuple[DPJ, SynthesisResult | None]:
     """The coarsest scale's law for a tileable draw: its own, or the law of its largest
