@@ -338,7 +338,8 @@ def test_tileable_textures_of_the_previous_closures_replay_as_they_did(name):
         assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == \
             expected["tone_sha256"]
     new = dataclasses.replace(step, closure=4)
-    assert new.to_json()["version"] == expected["version"] + 1 and new.to_json()["closure"] == 4
+    assert new.to_json()["version"] == type(step).VERSION > expected["version"]
+    assert new.to_json()["closure"] == 4
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     if name == "synthesize-tileable":

@@ -26,6 +26,7 @@ from ..errors import Cancelled, InputError
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import check_levels, has_colour, quantize, to_grey
+from .particles import PARTICLES, Shares, check_particles
 from .synthesis import (SynthesisResult, build_tables, check_seed, check_size, derived,
                         synthesize, synthesize_given)
 
@@ -36,8 +37,9 @@ COARSE_WINDOW = (5, 5)      # the coarsest scale: a wide window over few levels 
 COARSE_LEVELS = 2
 WINDOW = (3, 2)             # finer scales: the parents carry the layout, a small window the edges
 LEVELS = 4
-FREQUENCY_TOLERANCE = 0.01  # a coarse scale is redrawn while a level's share is further off
-COARSE_TRIES = 8            # draws of a coarse scale (the next-to-finest: 2; the finest: 1)
+FREQUENCY_TOLERANCE = 0.01  # a coarse scale is drawn again while a level's share is further off
+COARSE_TRIES = 8            # recipes before particles: draws of a coarse scale (the
+                            # next-to-finest: 2; the finest: 1)
 TORUS_TOLERANCE = 0.01      # a tileable coarsest draw may leave this share of windows off its DPJ
 TORUS_BUDGET = 0.5          # closure 3: a trial coarsest draw redrawing rows more often than this
                             # per point will not close (those that close: ≤ 0.22; the others
@@ -210,7 +212,8 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       cancel: Callable[[], bool] | None = None,
                       rows_final: Callable[[np.ndarray, int], None] | None = None,
                       tileable: bool = False, closure: int = SCALES_CLOSURE,
-                      coarse_redraws: int = COARSE_REDRAWS) -> SynthesisResult:
+                      coarse_redraws: int = COARSE_REDRAWS,
+                      particles: int = PARTICLES) -> SynthesisResult:
     """Draw the coarsest scale, then each finer one given the one under it; the finest levels
     (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
     ``tileable``: every scale is drawn on the torus (``closure``: which seam closure, 1 to
@@ -218,15 +221,18 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     end before it backs off (COARSE_REDRAWS; OLD_REDRAWS in older recipes).
 
     A coarse scale's field has long-range correlations: one draw of it can hold a level's share
-    a tenth off the model's, and every finer scale inherits it. So a coarse scale is drawn again
-    (up to COARSE_TRIES times, with seeds derived from ``seed``) until every level's share is
-    within FREQUENCY_TOLERANCE of its DPJ's: the field conditioned on its level histogram (the
-    closest draw is kept if none is). The same model and seed give the same matrix."""
+    a tenth off the model's, and every finer scale inherits it. So each scale but the finest is
+    drawn given its level shares (its DPJ's): once plainly, and if a level's share is then
+    further off than FREQUENCY_TOLERANCE, again as ``particles`` drafts (markov.particles),
+    the closer of the two kept. ``particles`` = 0, as recipes before it: drawn again up to
+    COARSE_TRIES times instead, the first within the tolerance or the closest kept. The same
+    model and seed give the same matrix."""
     seed = check_seed(seed)
     shapes = scale_shapes(check_size(shape), model.scales)
     _check_scale_sizes(model, shapes)
     closure = check_scales_closure(closure)
     coarse_redraws = check_coarse_redraws(coarse_redraws)
+    particles = check_particles(particles)
     weights = np.array([h * w for h, w in shapes], float)
     done = np.concatenate([[0], np.cumsum(weights)]) / weights.sum()
     repairs = redraws = 0
@@ -243,7 +249,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
             if built[k] is not None:
                 built[k].result()
             r = _draw_scale_closest(model, k, shapes, levels, seed, done, progress, cancel,
-                                    rows_final, tileable, closure, coarse_redraws,
+                                    rows_final, tileable, closure, coarse_redraws, particles,
                                     trial if k == 0 < model.scales - 1 else None)
             levels, repairs, redraws = r.levels, repairs + r.repairs, redraws + r.redraws
     finally:
@@ -264,20 +270,29 @@ def _check_scale_sizes(model: MultiScaleDPJ, shapes) -> None:
 
 
 def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel, rows_final,
-                        tileable, closure, coarse_redraws, first=None) -> SynthesisResult:
-    """Scale k drawn up to its tries (see _tries), the closest to its level shares kept;
-    ``done``: the share of the work done before each scale (progress); ``first``: the first
-    try, when it is already drawn (the trial draw that chose the coarsest law on the torus)."""
+                        tileable, closure, coarse_redraws, particles,
+                        first=None) -> SynthesisResult:
+    """Scale k drawn as close to its level shares as synthesize_scales says; ``done``: the
+    share of the work done before each scale (progress); ``first``: the first try, when it is
+    already drawn (the trial draw that chose the coarsest law on the torus)."""
     report = None if progress is None else (
         lambda f: progress(done[k] + f * (done[k + 1] - done[k])))
     final = rows_final if k == model.scales - 1 else None
+    expected = model.frequencies(k)
 
-    def draw(t, report, cancel):
+    def draw(t, report, cancel, shares=None):
         if t == 0 and first is not None:
             return first
         return _draw_scale(model, k, shapes[k], parents, _try_seed(seed, k, t), report,
-                           cancel, final, bool(tileable), closure, coarse_redraws)
-    return _closest_draw(draw, _tries(k, model.scales), model.frequencies(k), report, cancel)
+                           cancel, final, bool(tileable), closure, coarse_redraws, shares)
+    if particles == 0 or k == model.scales - 1:
+        return _closest_draw(draw, _tries(k, model.scales), expected, report, cancel)
+    plain = draw(0, report and (lambda f: report(f / 2)), cancel)
+    if _frequency_error(plain.levels, expected) <= FREQUENCY_TOLERANCE:
+        return plain
+    drafted = draw(1, report and (lambda f: report((1 + f) / 2)), cancel,
+                   Shares(expected, particles))
+    return min(plain, drafted, key=lambda r: _frequency_error(r.levels, expected))
 
 
 def _closest_draw(draw, tries: int, expected, progress, cancel) -> SynthesisResult:
@@ -405,16 +420,16 @@ def _tries(k: int, scales: int) -> int:
 
 
 def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final, tileable,
-                closure, coarse_redraws):
+                closure, coarse_redraws, shares=None):
     dpj = model.dpjs[k]
     if k == 0:
         return synthesize(dpj, shape, seed=seed, progress=progress, cancel=cancel,
                           rows_final=rows_final, tileable=tileable, closure=closure,
-                          max_redraws=coarse_redraws)
+                          max_redraws=coarse_redraws, shares=shares)
     up = upsample_torus(parents, shape) if tileable else upsample(parents, shape)
     return synthesize_given(dpj, up, parent_levels(model.dpjs, k), seed=seed,
                             progress=progress, cancel=cancel, rows_final=rows_final,
-                            tileable=tileable, closure=closure)
+                            tileable=tileable, closure=closure, shares=shares)
 
 
 def _frequency_error(levels: np.ndarray, expected: np.ndarray) -> float:

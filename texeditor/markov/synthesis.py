@@ -24,7 +24,9 @@ from typing import Callable, NamedTuple
 import numpy as np
 from numba import njit
 
+from . import particles
 from .dpj import DPJ, encode
+from .particles import Shares
 from ..errors import Cancelled, InputError
 
 MAX_PIXELS = 2**28
@@ -62,7 +64,8 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
                cancel: Callable[[], bool] | None = None, max_redraws: int = 16,
                rows_final: Callable[[np.ndarray, int], None] | None = None,
                tileable: bool = False, closure: int = CLOSURE,
-               redraw_budget: int | None = None) -> SynthesisResult:
+               redraw_budget: int | None = None, shares: Shares | None = None
+               ) -> SynthesisResult:
     """Draw an (H, W) level matrix from ``dpj``; same DPJ and seed → same matrix.
 
     ``progress(fraction)`` is called between bands of rows; ``cancel()`` returning True stops the
@@ -82,12 +85,16 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
 
     ``redraw_budget``: give up once the rows have been redrawn more often than this (the
     result then has ``redraws`` above it and is not a texture): a quick "will it close?".
+
+    ``shares``: the field is drawn given its level shares (markov.particles: several drafts
+    side by side, those off course dropped between bands of rows; not with ``rows_final`` or
+    ``redraw_budget``).
     """
     h, w = _check_request(dpj, shape)
     out = np.zeros((h, w), dtype=np.uint8)
     across = _tables(_transposed(dpj)) if tileable else None
     return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws, rows_final, across,
-                 _check_closure(closure), redraw_budget)
+                 _check_closure(closure), redraw_budget, shares)
 
 
 def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed: int = 0,
@@ -95,14 +102,16 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
                      cancel: Callable[[], bool] | None = None,
                      max_redraws: int = 16,
                      rows_final: Callable[[np.ndarray, int], None] | None = None,
-                     tileable: bool = False, closure: int = CLOSURE) -> SynthesisResult:
+                     tileable: bool = False, closure: int = CLOSURE,
+                     shares: Shares | None = None) -> SynthesisResult:
     """Draw a level matrix given a parent level at every point (a finer scale given the coarser
     one under it, markov.multiscale): ``dpj``'s levels are composite, parent · G + level, with
     G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
     parents, as :func:`synthesize`; the result holds the G-levels alone (so do the rows
     ``rows_final`` is told of). ``tileable``: on the torus, the parents tiling too
     (``closure`` 3 and 4: as 2 with CLOSE_TRIES_3 tries a seam, what multi-scale synthesis
-    uses; 4 over stretches from CLOSE_SPAN_4 windows)."""
+    uses; 4 over stretches from CLOSE_SPAN_4 windows); ``shares``: the own levels' shares
+    it is drawn given (see synthesize)."""
     gp = int(parent_levels)
     if gp < 2 or dpj.levels % gp:
         raise InputError(f"a DPJ of {dpj.levels} composite levels cannot have {gp} parent levels")
@@ -117,7 +126,8 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     out = (parents.astype(np.uint8) * np.uint8(gx))
     across = _tables(_transposed(dpj), gp) if tileable else None
     result = _draw(out, _tables(dpj, gp), seed, progress, cancel, max_redraws,
-                   rows_final and _own_levels(out, gx, rows_final, tileable), across, closure)
+                   rows_final and _own_levels(out, gx, rows_final, tileable), across, closure,
+                   None, shares)
     np.remainder(result.levels, gx, out=result.levels)
     return result
 
@@ -136,7 +146,7 @@ def _own_levels(out, gx, rows_final, tileable):
 
 
 def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
-          across=None, closure=CLOSURE, budget=None) -> SynthesisResult:
+          across=None, closure=CLOSURE, budget=None, shares=None) -> SynthesisResult:
     """Fill ``out`` band by band (progress, cancel and the rows now final between bands).
 
     Tileable (``across``: the tables of the DPJ transposed): drawn on the torus — in a copy of
@@ -148,6 +158,44 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
     state = np.random.SeedSequence(check_seed(seed)).generate_state(1, np.uint64)
     work = np.pad(out, ((0, t.v - 1), (0, t.u - 1)), mode="wrap") if tileable else out
     tile_h, tile_w = (np.int64(h), np.int64(w)) if tileable else (np.int64(0), np.int64(0))
+    if shares is not None:
+        if rows_final is not None or budget is not None:
+            raise InputError("a synthesis given its level shares has no rows_final or budget")
+        work, repairs, redraws = _draw_given_shares(work, (h, w), t, seed, progress, cancel,
+                                                    max_redraws, tile_h, tile_w, closure, shares)
+        if not tileable:
+            out[:] = work
+    else:
+        work, repairs, redraws = _draw_bands(out, work, t, state, progress, cancel, max_redraws,
+                                             rows_final, tile_h, tile_w, closure, budget)
+        if budget is not None and redraws > budget:
+            return SynthesisResult(out, int(repairs), int(redraws), int(seed))
+    if tileable:
+        turned = np.ascontiguousarray(work.T)
+        repairs += _close_columns(turned, across, state, tile_w, tile_h, np.int64(closure))
+        out[:] = turned.T[:h, :w]
+        if rows_final is not None:
+            rows_final(out, h)
+    return SynthesisResult(out, int(repairs), int(redraws), int(seed))
+
+
+def _draw_given_shares(work, shape, t, seed, progress, cancel, max_redraws, tile_h, tile_w,
+                       closure, shares):
+    """The rows of ``work`` drafted given ``shares`` (markov.particles): the draft chosen, what
+    it cost."""
+    def extend(draft, r0, r1):
+        return _sample_rows(draft.rows, r0, r1, t, draft.state, max_redraws, tile_h, tile_w,
+                            np.int64(closure), np.int64(NO_BUDGET))
+    chosen = particles.draw(work, shape, t.v, t.levels, t.gx, extend, shares, check_seed(seed),
+                            MAX_REDRAW_DEPTH, cancel, progress)
+    return chosen.rows, chosen.repairs, chosen.redraws
+
+
+def _draw_bands(out, work, t, state, progress, cancel, max_redraws, rows_final, tile_h, tile_w,
+                closure, budget):
+    """The rows of ``work`` drawn band by band; stops once past ``budget`` redraws."""
+    h, w = out.shape
+    tileable = tile_h > 0
     bands = 1 if rows_final is None else FINAL_BANDS
     band = max(t.v, min(ROWS_PER_CALL_PIXELS // w, -(-h // bands)))
     repairs = redraws = 0
@@ -160,20 +208,14 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
         repairs += rep
         redraws += red
         if budget is not None and redraws > budget:
-            return SynthesisResult(out, int(repairs), int(redraws), int(seed))
+            break
         if progress is not None:
             progress(min(h, r0 + band) / h)
         if rows_final is not None and r0 + band < h:
             rows_final(work[:h, :w] if tileable else out, max(0, r0 + band - MAX_REDRAW_DEPTH))
         elif rows_final is not None and not tileable:
             rows_final(out, h)
-    if tileable:
-        turned = np.ascontiguousarray(work.T)
-        repairs += _close_columns(turned, across, state, tile_w, tile_h, np.int64(closure))
-        out[:] = turned.T[:h, :w]
-        if rows_final is not None:
-            rows_final(out, h)
-    return SynthesisResult(out, int(repairs), int(redraws), int(seed))
+    return work, repairs, redraws
 
 
 _derived: dict[tuple[int, str], tuple[weakref.ref, object]] = {}

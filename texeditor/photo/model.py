@@ -22,6 +22,7 @@ from ..errors import FormatError, InputError
 from ..fileio import load_json, read_limited, write_file
 from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers
 from ..markov.levels import to_grey
+from ..markov.particles import PARTICLES
 from ..markov.multiscale import (COARSE_LEVELS, COARSE_REDRAWS, COARSE_WINDOW, LEVELS,
                                  SCALES_CLOSURE, WINDOW,
                                  MultiScaleDPJ, check_scales_closure, estimate_scales,
@@ -82,17 +83,18 @@ class PhotoModel:
 
     def synthesize(self, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
                    closure: int = SCALES_CLOSURE, coarse_redraws: int = COARSE_REDRAWS,
-                   tone_balance: bool = True,
+                   tone_balance: bool = True, particles: int = PARTICLES,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
         drawn on a second thread as the finest rows come out (the same picture as
         ``render(levels, wrap=tone_wrap(tileable, closure, tone_balance))`` afterwards, in
         about half the time on two cores). ``tileable``: the levels and the picture repeat
-        without a seam (``closure``, ``coarse_redraws``: see markov.multiscale.synthesize_scales;
+        without a seam (``closure``, ``coarse_redraws``, ``particles``: see
+        markov.multiscale.synthesize_scales;
         ``tone_balance``: each level's greys keep the photo's histogram, tone.BALANCED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
-                    closure=closure, coarse_redraws=coarse_redraws)
+                    closure=closure, coarse_redraws=coarse_redraws, particles=particles)
         if not tone or self.tone is None:
             result = synthesize_scales(self.scales, shape, **draw)
             image = self.render(result.levels, seed=seed, tone=False)

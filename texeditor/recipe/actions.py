@@ -16,6 +16,7 @@ import numpy as np
 from ..markov.dpj import MAX_LEVELS, grey_ramp
 from ..markov.scan import ROWS, SCANS, check_scan
 from ..markov.multiscale import COARSE_REDRAWS, OLD_REDRAWS, SCALES_CLOSURE
+from ..markov.particles import MAX_PARTICLES, PARTICLES
 from ..markov.synthesis import CLOSURE
 from ..errors import FormatError, InputError, check_unicode
 
@@ -460,10 +461,16 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Version 4 had closures 1 to 3 (default 3). Versions 1 to 3 also tried OLD_REDRAWS times
-    at a dead end of the coarsest scale and drew their tone without balance; version 1 had no
-    ``closure`` (closed the first way), version 2 closures 1 and 2 (default 2), version 3 1 to
-    3 (default 3)."""
+    """Versions 1 to 5 drew a coarse scale again to fit its level shares (no ``particles``).
+    Version 5 had closures 1 to 4, version 4 1 to 3 (default 3). Versions 1 to 3 also tried
+    OLD_REDRAWS times at a dead end of the coarsest scale and drew their tone without balance;
+    version 1 had no ``closure`` (closed the first way), version 2 closures 1 and 2 (default
+    2), version 3 1 to 3 (default 3)."""
+    if "particles" in params:
+        raise FormatError(f"action {cls.TYPE!r} version {version} has no particles")
+    params = {**params, "particles": 0}
+    if version == 5:
+        return _closure_as_written(cls, version, params, 4)
     if version == 4:
         return _closure_as_written(cls, version, params, 3)
     if version not in (1, 2, 3) or "coarse_redraws" in params or "tone_balance" in params:
@@ -542,7 +549,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 5
+    VERSION: ClassVar[int] = 6
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -563,6 +570,10 @@ class SynthesizeScales(Action):
     tone_balance: bool = param("bool", default=True,
                                doc="the tone keeps each level's histogram of the photo's greys "
                                    "(current; recipes before version 4 drew it without)")
+    particles: int = param("int", 0, MAX_PARTICLES, default=PARTICLES,
+                           doc="a scale whose level shares come out off is drawn again as this "
+                               f"many drafts side by side ({PARTICLES}: current; 0: drawn "
+                               "again whole, as recipes before version 6)")
 
     upgrade = classmethod(_scales_of_version)
 
@@ -579,7 +590,7 @@ class SynthesizeScales(Action):
         return synthesize_scales(_scales(dpjs), (self.height, self.width),
                                  seed=self.seed, progress=progress, cancel=cancel,
                                  tileable=self.tileable, closure=self.closure,
-                                 coarse_redraws=self.coarse_redraws)
+                                 coarse_redraws=self.coarse_redraws, particles=self.particles)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
