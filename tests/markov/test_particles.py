@@ -12,7 +12,7 @@ from texeditor.errors import Cancelled, InputError
 from texeditor.markov import particles
 from texeditor.markov.particles import Shares, band_edges
 from texeditor.markov.synthesis import synthesize_given
-from tests.markov.test_tileable import off_the_dpj, photo_dpj
+from tests.support.torus import off_the_dpj, photo_dpj
 
 BLOBS = ski.data.binary_blobs(256, blob_size_fraction=0.1, volume_fraction=0.5,
                               rng=1).astype(np.uint8)

@@ -5,30 +5,14 @@ law; nothing blended)."""
 import numpy as np
 import pytest
 import skimage as ski
-from numpy.lib.stride_tricks import sliding_window_view
 
-from texeditor import DPJ, estimate_dpj, quantize, synthesize
+from texeditor import DPJ, synthesize
 from texeditor.errors import InputError
-from texeditor.markov.dpj import encode
 from texeditor.markov import multiscale
 from texeditor.markov.multiscale import estimate_scales, synthesize_scales
 from texeditor.photo import acquire_model
 from texeditor.photo.tone import context_codes
-
-
-def off_the_dpj(levels, dpj, torus=True) -> float:
-    """Share of the windows (read on the torus: across both seams and the corner too) that the
-    DPJ does not have."""
-    u, v = dpj.window
-    a = np.pad(levels, ((0, v - 1), (0, u - 1)), mode="wrap") if torus else levels
-    codes = encode(np.ascontiguousarray(sliding_window_view(a, (v, u)).reshape(-1, v, u)),
-                   dpj.levels)
-    return float(np.mean(~np.isin(codes, dpj.codes)))
-
-
-def photo_dpj(name, window, levels=4):
-    q = quantize(getattr(ski.data, name)(), levels, "lloyd")
-    return estimate_dpj(q.levels, window, levels, wrap=True)
+from tests.support.torus import off_the_dpj, photo_dpj
 
 
 def random_dpj(seed, g=3):

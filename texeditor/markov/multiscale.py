@@ -38,6 +38,7 @@ COARSE_LEVELS = 2
 WINDOW = (3, 2)             # finer scales: the parents carry the layout, a small window the edges
 LEVELS = 4
 FREQUENCY_TOLERANCE = 0.01  # a coarse scale is drawn again while a level's share is further off
+PLAIN_TRIES = 2             # plain draws of a scale (side by side) before it is drafted
 COARSE_TRIES = 8            # recipes before particles: draws of a coarse scale (the
                             # next-to-finest: 2; the finest: 1)
 TORUS_TOLERANCE = 0.01      # a tileable coarsest draw may leave this share of windows off its DPJ
@@ -222,9 +223,9 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
 
     A coarse scale's field has long-range correlations: one draw of it can hold a level's share
     a tenth off the model's, and every finer scale inherits it. So each scale but the finest is
-    drawn given its level shares (its DPJ's): once plainly, and if a level's share is then
-    further off than FREQUENCY_TOLERANCE, again as ``particles`` drafts (markov.particles),
-    the closer of the two kept. ``particles`` = 0, as recipes before it: drawn again up to
+    drawn given its level shares (its DPJ's): plainly (PLAIN_TRIES draws side by side, the
+    first within FREQUENCY_TOLERANCE of them kept), and if no draw is, again as ``particles``
+    drafts (markov.particles), the closer to the shares kept. ``particles`` = 0, as recipes before it: drawn again up to
     COARSE_TRIES times instead, the first within the tolerance or the closest kept. The same
     model and seed give the same matrix."""
     seed = check_seed(seed)
@@ -287,10 +288,11 @@ def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel,
                            cancel, final, bool(tileable), closure, coarse_redraws, shares)
     if particles == 0 or k == model.scales - 1:
         return _closest_draw(draw, _tries(k, model.scales), expected, report, cancel)
-    plain = draw(0, report and (lambda f: report(f / 2)), cancel)
+    plain = _closest_draw(draw, PLAIN_TRIES, expected, report and (lambda f: report(f / 2)),
+                          cancel)
     if _frequency_error(plain.levels, expected) <= FREQUENCY_TOLERANCE:
         return plain
-    drafted = draw(1, report and (lambda f: report((1 + f) / 2)), cancel,
+    drafted = draw(PLAIN_TRIES, report and (lambda f: report((1 + f) / 2)), cancel,
                    Shares(expected, particles))
     return min(plain, drafted, key=lambda r: _frequency_error(r.levels, expected))
 
