@@ -272,3 +272,29 @@ def test_the_finer_scales_tables_are_built_while_the_coarsest_is_drawn(tileable,
                                tileable)
     before = multiscale.synthesize_scales(fresh, (96, 96), seed=4, tileable=tileable)
     assert np.array_equal(ahead.levels, before.levels)
+
+
+def test_a_scale_is_drafted_only_when_its_plain_draws_stray_and_it_is_not_too_large(monkeypatch):
+    """Drafts (particles) cost several draws: a scale gets them only when its two plain draws
+    both leave a level's share off, and only up to MAX_DRAFTED_POINTS (a 1024² scale of a
+    2048² texture is drawn plainly: its drafts would take about a second)."""
+    model, _ = multiscale.estimate_scales(ski.data.coffee()[100:292, 150:342], scales=3)
+    calls = []
+    draw_scale = multiscale._draw_scale
+
+    def spy(model, k, shape, *args):
+        calls.append((k, args[-1] is not None))
+        return draw_scale(model, k, shape, *args)
+    monkeypatch.setattr(multiscale, "_draw_scale", spy)
+    drafted = multiscale.synthesize_scales(model, (100, 140), seed=2).levels
+    assert (1, True) in calls or (0, True) in calls
+    assert not any(shares for k, shares in calls if k == model.scales - 1)
+    calls.clear()
+    monkeypatch.setattr(multiscale, "MAX_DRAFTED_POINTS", 100)
+    plain = multiscale.synthesize_scales(model, (100, 140), seed=2).levels
+    assert calls and not any(shares for _, shares in calls)
+    assert not np.array_equal(plain, drafted)
+    calls.clear()
+    multiscale.synthesize_scales(multiscale.MultiScaleDPJ(model.dpjs[:1]),
+                                 (40, 40), seed=1)
+    assert calls == [(0, False)]
