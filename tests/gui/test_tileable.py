@@ -6,6 +6,7 @@ import numpy as np
 from PySide6 import QtCore, QtWidgets
 
 from texeditor.markov.levels import load_image
+from texeditor.markov.particles import PARTICLES
 from texeditor.photo import acquire_model, tone
 
 from .support import fill_a_cell, synthesise, undo_to_start
@@ -62,6 +63,9 @@ def test_a_photo_model_draws_and_shows_a_tiling_texture(qtbot, window, photo_pat
     synthesise(qtbot, window, 96, 64, 2)
     step = window.history.actions[-1]
     assert step.TYPE == "synthesize_scales" and step.tileable and step.closure == 4
+    assert step.particles == PARTICLES
+    assert np.array_equal(window.document.levels, window.photo_model.synthesize(
+        (64, 96), seed=2, tileable=True, tone=False).levels)     # the model's own draw
     picture = window.canvas.picture
     expected = window.photo_model.render(window.document.levels, seed=2,   # closure 4's
                                          wrap=tone.TILED_LANES | tone.BALANCED)  # tiling tone

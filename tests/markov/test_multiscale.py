@@ -94,13 +94,15 @@ def correlation_lengths(levels):
 @pytest.mark.parametrize("seed", [3, 4])
 def test_blobs_keep_their_size_across_scales(seed):
     """Structure larger than the window: blobs about 15 points across come out at their size
-    both ways, where one 3×2 window draws streaks (far longer down than across)."""
+    both ways (on average over seeds: one seed in ten is 40 % off), where one 3×2 window draws
+    streaks (far longer down than across)."""
     photo = blobs(seed, (256, 256), sigma=14)
     model, lv = multiscale.estimate_scales(photo, scales=4)
-    out = multiscale.synthesize_scales(model, (256, 256), seed=1).levels
+    out = np.mean([correlation_lengths(multiscale.synthesize_scales(
+        model, (256, 256), seed=s).levels) for s in range(5)], axis=0)
     single = synthesize(estimate_dpj(lv[-1], (3, 2), 4, wrap=True), (256, 256), seed=1).levels
     want = correlation_lengths(lv[-1])
-    assert np.all(np.abs(correlation_lengths(out) - want) <= 0.4 * want)
+    assert np.all(np.abs(out - want) <= 0.3 * want)
     assert np.any(np.abs(correlation_lengths(single) - want) > 0.4 * want)
 
 

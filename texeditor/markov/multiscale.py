@@ -39,6 +39,8 @@ WINDOW = (3, 2)             # finer scales: the parents carry the layout, a smal
 LEVELS = 4
 FREQUENCY_TOLERANCE = 0.01  # a coarse scale is drawn again while a level's share is further off
 PLAIN_TRIES = 2             # plain draws of a scale (side by side) before it is drafted
+DRAFT_TRIGGER = 0.03        # ... when a level's share in both is further off than this (as far
+                            # as a texture's may stray from its photo's; drafts aim at 0.01)
 MAX_DRAFTED_POINTS = 2**18  # a larger scale is only drawn plainly: its drafts would take about
                             # a second (a 1024² scale of a 2048² texture)
 COARSE_TRIES = 8            # recipes before particles: draws of a coarse scale (the
@@ -226,8 +228,9 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     A coarse scale's field has long-range correlations: one draw of it can hold a level's share
     a tenth off the model's, and every finer scale inherits it. So each scale but the finest is
     drawn given its level shares (its DPJ's): plainly (PLAIN_TRIES draws side by side, the
-    first within FREQUENCY_TOLERANCE of them kept), and if no draw is, again as ``particles``
-    drafts (markov.particles), the closer to the shares kept (up to MAX_DRAFTED_POINTS). ``particles`` = 0, as recipes before it: drawn again up to
+    first within FREQUENCY_TOLERANCE kept, else the closer), and if that one is still further
+    off than DRAFT_TRIGGER, again as ``particles`` drafts (markov.particles), the closer to the
+    shares kept (scales up to MAX_DRAFTED_POINTS). ``particles`` = 0, as recipes before it: drawn again up to
     COARSE_TRIES times instead, the first within the tolerance or the closest kept. The same
     model and seed give the same matrix."""
     seed = check_seed(seed)
@@ -293,7 +296,7 @@ def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel,
     drafts = shapes[k][0] * shapes[k][1] <= MAX_DRAFTED_POINTS
     plain = _closest_draw(draw, PLAIN_TRIES, expected,
                           report and (lambda f: report(f / 2 if drafts else f)), cancel)
-    if _frequency_error(plain.levels, expected) <= FREQUENCY_TOLERANCE or not drafts:
+    if _frequency_error(plain.levels, expected) <= DRAFT_TRIGGER or not drafts:
         return plain
     drafted = draw(PLAIN_TRIES, report and (lambda f: report((1 + f) / 2)), cancel,
                    Shares(expected, particles))

@@ -27,7 +27,8 @@ import numpy as np
 
 from ..errors import Cancelled, InputError
 
-PARTICLES = 8        # drafts drawn side by side (two lanes: one per core)
+PARTICLES = 6        # drafts drawn side by side (two lanes: one per core; 8 held the shares
+                     # no closer on six scene photos, and took longer)
 MAX_PARTICLES = 64
 BANDS = 16           # weighed and perhaps resampled after each of this many bands of rows
 SPREAD = 0.04        # how far a level's share may still move over the rest of a field
