@@ -180,16 +180,22 @@ def test_textures_of_version_5_replay_drawing_a_coarse_scale_again_whole(name):
 def test_a_multiscale_step_keeps_how_it_fits_its_level_shares(version, obj, particles):
     """Particles came with SynthesizeScales version 6: an older step draws a scale again whole
     (particles 0) and cannot name them; version 6 names 0 to MAX_PARTICLES, default PARTICLES."""
+    if particles is None:
+        with pytest.raises(FormatError):
+            read_scales_step(version, obj)
+    else:
+        assert read_scales_step(version, obj).particles == particles
+
+
+def read_scales_step(version: int, obj: dict):
+    """A multi-scale step of ``version`` as a file holds it (closure 2 from version 2 on),
+    with ``obj``'s fields, read as today's code reads it."""
     from texeditor.recipe.codec import action_from_json
     step = {"type": "synthesize_scales", "version": version, "dpjs": ["0123456789abcdef"],
             "width": 30, "height": 20, "seed": 1, "tileable": False, **obj}
     if version > 1:
         step["closure"] = 2
-    if particles is None:
-        with pytest.raises(FormatError):
-            action_from_json(step)
-    else:
-        assert action_from_json(step).particles == particles
+    return action_from_json(step)
 
 
 @pytest.mark.parametrize("obj, closure", [({"closure": 2}, 2), ({"closure": 1}, 1), ({}, 2),
@@ -241,17 +247,13 @@ def test_a_multiscale_step_keeps_its_coarse_redraws(version, obj, redraws):
     """Steps before version 4 tried 16 times at a dead end of the coarsest scale and drew their
     tone without balance (and cannot name either); version 4 names both: 0 to 16 redraws,
     default COARSE_REDRAWS, and balance, default on."""
-    from texeditor.recipe.codec import action_from_json
-    step = {"type": "synthesize_scales", "version": version, "dpjs": ["0123456789abcdef"],
-            "width": 30, "height": 20, "seed": 1, "tileable": False, **obj}
-    if version > 1:
-        step["closure"] = 2
     if redraws is None:
         with pytest.raises(FormatError):
-            action_from_json(step)
+            read_scales_step(version, obj)
     else:
-        assert action_from_json(step).coarse_redraws == redraws
-        assert action_from_json(step).tone_balance == obj.get("tone_balance", version == 4)
+        step = read_scales_step(version, obj)
+        assert step.coarse_redraws == redraws
+        assert step.tone_balance == obj.get("tone_balance", version == 4)
 
 
 def _rezip(data: bytes, change) -> bytes:
