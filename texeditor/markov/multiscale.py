@@ -230,9 +230,9 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     drawn given its level shares (its DPJ's): plainly (PLAIN_TRIES draws side by side, the
     first within FREQUENCY_TOLERANCE kept, else the closer), and if that one is still further
     off than DRAFT_TRIGGER, again as ``particles`` drafts (markov.particles), the closer to the
-    shares kept (scales up to MAX_DRAFTED_POINTS). ``particles`` = 0, as recipes before it: drawn again up to
-    COARSE_TRIES times instead, the first within the tolerance or the closest kept. The same
-    model and seed give the same matrix."""
+    shares kept (scales up to MAX_DRAFTED_POINTS). ``particles`` = 0, as recipes before it:
+    drawn again up to COARSE_TRIES times instead, the first within the tolerance or the
+    closest kept. The same model and seed give the same matrix."""
     seed = check_seed(seed)
     shapes = scale_shapes(check_size(shape), model.scales)
     _check_scale_sizes(model, shapes)
