@@ -26,7 +26,6 @@ from numba import njit
 
 from . import particles
 from .dpj import DPJ, encode
-from .particles import Shares
 from ..errors import Cancelled, InputError
 
 MAX_PIXELS = 2**28
@@ -64,7 +63,7 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
                cancel: Callable[[], bool] | None = None, max_redraws: int = 16,
                rows_final: Callable[[np.ndarray, int], None] | None = None,
                tileable: bool = False, closure: int = CLOSURE,
-               redraw_budget: int | None = None, shares: Shares | None = None
+               redraw_budget: int | None = None, shares: particles.Shares | None = None
                ) -> SynthesisResult:
     """Draw an (H, W) level matrix from ``dpj``; same DPJ and seed → same matrix.
 
@@ -103,7 +102,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
                      max_redraws: int = 16,
                      rows_final: Callable[[np.ndarray, int], None] | None = None,
                      tileable: bool = False, closure: int = CLOSURE,
-                     shares: Shares | None = None) -> SynthesisResult:
+                     shares: particles.Shares | None = None) -> SynthesisResult:
     """Draw a level matrix given a parent level at every point (a finer scale given the coarser
     one under it, markov.multiscale): ``dpj``'s levels are composite, parent · G + level, with
     G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
