@@ -62,12 +62,12 @@ def test_a_photo_model_draws_and_shows_a_tiling_texture(qtbot, window, photo_pat
     qtbot.mouseClick(dock.tileable_box, LEFT)
     synthesise(qtbot, window, 96, 64, 2)
     step = window.history.actions[-1]
-    assert step.TYPE == "synthesize_scales" and step.tileable and step.closure == 4
+    assert step.TYPE == "synthesize_scales" and step.tileable and step.closure == 5
     assert step.particles == PARTICLES
     assert np.array_equal(window.document.levels, window.photo_model.synthesize(
         (64, 96), seed=2, tileable=True, tone=False).levels)     # the model's own draw
     picture = window.canvas.picture
-    expected = window.photo_model.render(window.document.levels, seed=2,   # closure 4's
+    expected = window.photo_model.render(window.document.levels, seed=2,   # closure 5's
                                          wrap=tone.TILED_LANES | tone.BALANCED)  # tiling tone
     assert np.array_equal(picture[..., 0] if expected.ndim == 2 else picture,
                           expected if expected.ndim == 2 else expected)

@@ -117,7 +117,7 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = SynthesizeScales(step.dpjs, 80, 60, seed=7, tileable=True,
                            tone_photo=step.tone_photo, tone_levels=step.tone_levels)
-    assert new.to_json()["version"] == 6 and new.closure == 4 and new.tone_balance
+    assert new.to_json()["version"] == 7 and new.closure == 5 and new.tone_balance
     assert new.particles == PARTICLES and step.particles == 0
     assert step_wrap(new) == tone.TILED_LANES | tone.BALANCED
 
@@ -140,7 +140,7 @@ def test_textures_of_version_3_replay_with_16_coarse_redraws_as_they_did(name):
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, coarse_redraws=COARSE_REDRAWS, particles=PARTICLES)
-    assert new.to_json()["version"] == 6 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
+    assert new.to_json()["version"] == 7 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     model = document_model(doc, step)
@@ -165,7 +165,7 @@ def test_textures_of_version_5_replay_drawing_a_coarse_scale_again_whole(name):
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, particles=PARTICLES)
-    assert new.to_json()["version"] == 6 and new.to_json()["particles"] == PARTICLES
+    assert new.to_json()["version"] == 7 and new.to_json()["particles"] == PARTICLES
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     model = document_model(doc, step)
@@ -176,7 +176,8 @@ def test_textures_of_version_5_replay_drawing_a_coarse_scale_again_whole(name):
 @pytest.mark.parametrize("version, obj, particles", [
     (5, {}, 0), (4, {}, 0), (1, {}, 0), (5, {"particles": 8}, None), (3, {"particles": 0}, None),
     (6, {}, PARTICLES), (6, {"particles": 0}, 0), (6, {"particles": 3}, 3),
-    (6, {"particles": MAX_PARTICLES + 1}, None), (6, {"particles": True}, None)])
+    (6, {"particles": MAX_PARTICLES + 1}, None), (6, {"particles": True}, None),
+    (7, {}, PARTICLES), (7, {"particles": 0}, 0)])
 def test_a_multiscale_step_keeps_how_it_fits_its_level_shares(version, obj, particles):
     """Particles came with SynthesizeScales version 6: an older step draws a scale again whole
     (particles 0) and cannot name them; version 6 names 0 to MAX_PARTICLES, default PARTICLES."""
@@ -218,14 +219,17 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 3, {"closure": 4}, None), ("synthesize_scales", 5, {}, 4),
     ("synthesize_scales", 5, {"closure": 3}, 3), ("synthesize_scales", 5, {"closure": 5}, None),
     ("synthesize_scales", 6, {}, 4), ("synthesize_scales", 6, {"closure": 5}, None),
+    ("synthesize_scales", 6, {"closure": 3}, 3), ("synthesize_scales", 7, {}, 5),
+    ("synthesize_scales", 7, {"closure": 4}, 4), ("synthesize_scales", 7, {"closure": 6}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
     ("synthesize", 3, {"closure": 5}, None)])
 def test_steps_keep_the_closure_of_their_version(kind, version, obj, closure):
     """Closure 4 (seams closed over shorter stretches) came with Synthesize version 3 and
-    SynthesizeScales version 5: an older step keeps the closure it names, or its version's
-    default, and cannot name 4."""
+    SynthesizeScales version 5, closure 5 (the coarsest law chosen quicker) with
+    SynthesizeScales version 7: an older step keeps the closure it names, or its version's
+    default, and cannot name a later one."""
     from texeditor.recipe.codec import action_from_json
     step = {"type": kind, "version": version, "width": 30, "height": 20, "seed": 1,
             "tileable": True, **obj,

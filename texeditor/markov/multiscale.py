@@ -27,8 +27,8 @@ from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import check_levels, has_colour, quantize, to_grey
 from .particles import PARTICLES, Shares, check_particles
-from .synthesis import (SynthesisResult, build_tables, check_seed, check_size, derived,
-                        synthesize, synthesize_given)
+from .synthesis import (CLOSURE, SynthesisResult, build_tables, check_seed, check_size,
+                        derived, synthesize, synthesize_given)
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
 PYRAMID_ROWS = 256          # the first halving converts the photo this many rows at a time
@@ -55,12 +55,16 @@ COARSE_REDRAWS = 4          # a dead end of the coarsest scale: tries redrawing 
                             # 20–34 thousand redraws, most in runs of 16 that end in a back-off,
                             # 90 % of the scale's time); recipes before it kept 16 (OLD_REDRAWS)
 OLD_REDRAWS = 16
-SCALES_CLOSURE = 4          # the seam closure of a tileable multi-scale synthesis: 3 closes every
+TORUS_REPAIRS = 0.02        # closure 5: ... or backing off at more than this share of its points
+                            # (a back-off leaves about one window off the DPJ: those that close
+                            # back off at ≤ 0.012, the others at 0.03–0.15 of their points)
+SCALES_CLOSURE = 5          # the seam closure of a tileable multi-scale synthesis: 3 closes every
                             # scale with fewer tries than 2 (synthesis.CLOSE_TRIES_3), stops the
                             # coarsest law's failing trial draws early (TORUS_BUDGET) and has its
                             # tone drawn beside the levels (photo.tone.TILED_LANES); 4 is 3 over
-                            # shorter stretches (synthesis.CLOSE_SPAN_4); 3, 2 and 1 are kept
-                            # for older recipes
+                            # shorter stretches (synthesis.CLOSE_SPAN_4); 5 is 4 with the trial
+                            # draws stopped earlier still (TORUS_REPAIRS); 4 to 1 are kept for
+                            # older recipes
 
 
 @dataclass(frozen=True)
@@ -375,17 +379,21 @@ def _torus_law(dpj: DPJ, shape, seed: int, closure: int,
     outside the DPJ, a band the finer scales inherit). A smaller window branches more and
     closes; the first draw that leaves at most TORUS_TOLERANCE of its windows outside says
     which (judged on ``scale_seed(seed, 0)``, so the same seed picks the same window;
-    closure 3 stops a draw past TORUS_BUDGET redraws a point: it does not close; each draw
-    tries ``redraws`` times at a dead end, as the coarsest scale's draws will)."""
+    closure 3 stops a draw past TORUS_BUDGET redraws a point: it does not close; closure 5
+    also past TORUS_REPAIRS back-offs a point; each draw tries ``redraws`` times at a dead
+    end, as the coarsest scale's draws will)."""
     laws = derived(dpj, "torus laws", _sub_windows)
-    budget = int(TORUS_BUDGET * shape[0] * shape[1]) if closure >= 3 else None
+    points = shape[0] * shape[1]
+    budget = int(TORUS_BUDGET * points) if closure >= 3 else None
+    repairs = int(TORUS_REPAIRS * points) if closure >= 5 else None
 
     def closes(t, progress, cancel):
         law = laws[t]
         drawn = synthesize(law, shape, seed=scale_seed(seed, 0), tileable=True,
-                           closure=closure, cancel=cancel, redraw_budget=budget,
-                           max_redraws=redraws)
-        if budget is not None and drawn.redraws > budget:
+                           closure=_seam(closure), cancel=cancel, redraw_budget=budget,
+                           repair_budget=repairs, max_redraws=redraws)
+        if (budget is not None and drawn.redraws > budget) or \
+                (repairs is not None and drawn.repairs > repairs):
             return None
         seen = estimate_dpj(drawn.levels, law.window, law.levels, wrap=True)
         return drawn if seen.probs[~np.isin(seen.codes, law.codes)].sum() <= TORUS_TOLERANCE \
@@ -421,6 +429,11 @@ def check_scales_closure(closure) -> int:
     return int(closure)
 
 
+def _seam(closure: int) -> int:
+    """The seam closure (synthesis.CLOSURE) a closure of the scales draws each scale with."""
+    return min(closure, CLOSURE)
+
+
 def _tries(k: int, scales: int) -> int:
     """The finest scale is drawn once (it is most of the work, and given its parents its level
     shares come out right), the next one at most twice, the small coarse ones more often."""
@@ -432,12 +445,12 @@ def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final, ti
     dpj = model.dpjs[k]
     if k == 0:
         return synthesize(dpj, shape, seed=seed, progress=progress, cancel=cancel,
-                          rows_final=rows_final, tileable=tileable, closure=closure,
+                          rows_final=rows_final, tileable=tileable, closure=_seam(closure),
                           max_redraws=coarse_redraws, shares=shares)
     up = upsample_torus(parents, shape) if tileable else upsample(parents, shape)
     return synthesize_given(dpj, up, parent_levels(model.dpjs, k), seed=seed,
                             progress=progress, cancel=cancel, rows_final=rows_final,
-                            tileable=tileable, closure=closure, shares=shares)
+                            tileable=tileable, closure=_seam(closure), shares=shares)
 
 
 def _frequency_error(levels: np.ndarray, expected: np.ndarray) -> float:

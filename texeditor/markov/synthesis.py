@@ -63,8 +63,8 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
                cancel: Callable[[], bool] | None = None, max_redraws: int = 16,
                rows_final: Callable[[np.ndarray, int], None] | None = None,
                tileable: bool = False, closure: int = CLOSURE,
-               redraw_budget: int | None = None, shares: particles.Shares | None = None
-               ) -> SynthesisResult:
+               redraw_budget: int | None = None, repair_budget: int | None = None,
+               shares: particles.Shares | None = None) -> SynthesisResult:
     """Draw an (H, W) level matrix from ``dpj``; same DPJ and seed → same matrix.
 
     ``progress(fraction)`` is called between bands of rows; ``cancel()`` returning True stops the
@@ -83,17 +83,18 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
     outside the DPJ); older ones are kept so older recipes replay the same.
 
     ``redraw_budget``: give up once the rows have been redrawn more often than this (the
-    result then has ``redraws`` above it and is not a texture): a quick "will it close?".
+    result then has ``redraws`` above it and is not a texture): a quick "will it close?";
+    ``repair_budget`` the same for the positions that backed off (``repairs``).
 
     ``shares``: the field is drawn given its level shares (markov.particles: several drafts
     side by side, those off course dropped between bands of rows; not with ``rows_final`` or
-    ``redraw_budget``).
+    a budget).
     """
     h, w = _check_request(dpj, shape)
     out = np.zeros((h, w), dtype=np.uint8)
     across = _tables(_transposed(dpj)) if tileable else None
     return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws, rows_final, across,
-                 _check_closure(closure), redraw_budget, shares)
+                 _check_closure(closure), (redraw_budget, repair_budget), shares)
 
 
 def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed: int = 0,
@@ -126,7 +127,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     across = _tables(_transposed(dpj), gp) if tileable else None
     result = _draw(out, _tables(dpj, gp), seed, progress, cancel, max_redraws,
                    rows_final and _own_levels(out, gx, rows_final, tileable), across, closure,
-                   None, shares)
+                   (None, None), shares)
     np.remainder(result.levels, gx, out=result.levels)
     return result
 
@@ -145,7 +146,7 @@ def _own_levels(out, gx, rows_final, tileable):
 
 
 def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
-          across=None, closure=CLOSURE, budget=None, shares=None) -> SynthesisResult:
+          across=None, closure=CLOSURE, budget=(None, None), shares=None) -> SynthesisResult:
     """Fill ``out`` band by band (progress, cancel and the rows now final between bands).
 
     Tileable (``across``: the tables of the DPJ transposed): drawn on the torus — in a copy of
@@ -158,7 +159,7 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
     work = np.pad(out, ((0, t.v - 1), (0, t.u - 1)), mode="wrap") if tileable else out
     tile_h, tile_w = (np.int64(h), np.int64(w)) if tileable else (np.int64(0), np.int64(0))
     if shares is not None:
-        if rows_final is not None or budget is not None:
+        if rows_final is not None or budget != (None, None):
             raise InputError("a synthesis given its level shares has no rows_final or budget")
         work, repairs, redraws = _draw_given_shares(work, (h, w), t, seed, progress, cancel,
                                                     max_redraws, tile_h, tile_w, closure, shares)
@@ -167,7 +168,7 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
     else:
         work, repairs, redraws = _draw_bands(out, work, t, state, progress, cancel, max_redraws,
                                              rows_final, tile_h, tile_w, closure, budget)
-        if budget is not None and redraws > budget:
+        if _past(budget, redraws, repairs):
             return SynthesisResult(out, int(repairs), int(redraws), int(seed))
     if tileable:
         turned = np.ascontiguousarray(work.T)
@@ -184,7 +185,7 @@ def _draw_given_shares(work, shape, t, seed, progress, cancel, max_redraws, tile
     it cost."""
     def extend(draft, r0, r1):
         return _sample_rows(draft.rows, r0, r1, t, draft.state, max_redraws, tile_h, tile_w,
-                            np.int64(closure), np.int64(NO_BUDGET))
+                            np.int64(closure), np.int64(NO_BUDGET), np.int64(NO_BUDGET))
     chosen = particles.draw(work, shape, t.v, t.levels, t.gx, extend, shares, check_seed(seed),
                             MAX_REDRAW_DEPTH, cancel, progress)
     return chosen.rows, chosen.repairs, chosen.redraws
@@ -192,7 +193,8 @@ def _draw_given_shares(work, shape, t, seed, progress, cancel, max_redraws, tile
 
 def _draw_bands(out, work, t, state, progress, cancel, max_redraws, rows_final, tile_h, tile_w,
                 closure, budget):
-    """The rows of ``work`` drawn band by band; stops once past ``budget`` redraws."""
+    """The rows of ``work`` drawn band by band; stops once past ``budget`` (redraws,
+    repairs; None: no limit)."""
     h, w = out.shape
     tileable = tile_h > 0
     bands = 1 if rows_final is None else FINAL_BANDS
@@ -201,12 +203,12 @@ def _draw_bands(out, work, t, state, progress, cancel, max_redraws, rows_final, 
     for r0 in range(0, h, band):
         if cancel is not None and cancel():
             raise Cancelled("synthesis cancelled")
-        left = np.int64(NO_BUDGET if budget is None else budget - redraws)
         rep, red = _sample_rows(work, r0, min(h, r0 + band), t, state, max_redraws, tile_h,
-                                tile_w, np.int64(closure), left)
+                                tile_w, np.int64(closure), _left(budget[0], redraws),
+                                _left(budget[1], repairs))
         repairs += rep
         redraws += red
-        if budget is not None and redraws > budget:
+        if _past(budget, redraws, repairs):
             break
         if progress is not None:
             progress(min(h, r0 + band) / h)
@@ -215,6 +217,15 @@ def _draw_bands(out, work, t, state, progress, cancel, max_redraws, rows_final, 
         elif rows_final is not None and not tileable:
             rows_final(out, h)
     return work, repairs, redraws
+
+
+def _left(budget, used) -> np.int64:
+    return np.int64(NO_BUDGET if budget is None else budget - used)
+
+
+def _past(budget, redraws, repairs) -> bool:
+    """Past the (redraws, repairs) budget, either of which may be None (no limit)."""
+    return any(b is not None and x > b for b, x in zip(budget, (redraws, repairs)))
 
 
 _derived: dict[tuple[int, str], tuple[weakref.ref, object]] = {}
@@ -886,10 +897,12 @@ def _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws):
 
 
 @njit(cache=True, nogil=True)
-def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w, closure, budget):
+def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w, closure, budget,
+                 repair_budget):
     """Rows r0..r1-1. Without parents the first call (r0 = 0) draws the first v rows as the
     chain of column states; with parents each of them is drawn with the rows above it. Stops
-    after the row that takes the redraws past ``budget``.
+    after the row that takes the redraws past ``budget`` or the repairs past
+    ``repair_budget``.
 
     Tileable (tile_h > 0): ``out`` is the (tile_h, tile_w) torus with its first v-1 rows and
     u-1 columns copied after its last (see _draw); each row is drawn, then closed across the
@@ -920,7 +933,7 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w, closure, bu
         if tile_h > 0:
             repairs += _close_row(out, r, kmin, tile_w, tile_w, t, seg, state, closure,
                                   np.int64(0), np.int64(0)) < 0
-        if redraws > budget:
+        if redraws > budget or repairs > repair_budget:
             break
     return repairs, redraws
 

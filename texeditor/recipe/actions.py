@@ -430,10 +430,11 @@ def _closure():
 
 def _scales_closure():
     return param("int", 1, SCALES_CLOSURE, default=SCALES_CLOSURE,
-                 doc="how a tileable texture's seams are closed: 4 (current: as 3 over "
-                     "stretches from one window), 3 (the scales as 2, a quicker choice of the "
-                     "coarsest window, the tone drawn beside the levels on two lanes), 2 and 1 "
-                     "(earlier ways, kept so older recipes replay the same)")
+                 doc="how a tileable texture's seams are closed: 5 (current: as 4, the "
+                     "coarsest window chosen quicker still), 4 (as 3 over stretches from one "
+                     "window), 3 (the scales as 2, a quicker choice of the coarsest window, "
+                     "the tone drawn beside the levels on two lanes), 2 and 1 (earlier ways, "
+                     "kept so older recipes replay the same)")
 
 
 def _closure_of_version_1(cls, version: int, params: dict) -> dict:
@@ -461,11 +462,13 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 5 drew a coarse scale again to fit its level shares (no ``particles``).
-    Version 5 had closures 1 to 4, version 4 1 to 3 (default 3). Versions 1 to 3 also tried
-    OLD_REDRAWS times at a dead end of the coarsest scale and drew their tone without balance;
-    version 1 had no ``closure`` (closed the first way), version 2 closures 1 and 2 (default
-    2), version 3 1 to 3 (default 3)."""
+    """Version 6 had closures 1 to 4 (default 4). Versions 1 to 5 drew a coarse scale again to
+    fit its level shares (no ``particles``); version 5 had closures 1 to 4, version 4 1 to 3
+    (default 3). Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest
+    scale and drew their tone without balance; version 1 had no ``closure`` (closed the first
+    way), version 2 closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
+    if version == 6:
+        return _closure_as_written(cls, version, params, 4)
     if "particles" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} has no particles")
     params = {**params, "particles": 0}
@@ -549,7 +552,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 6
+    VERSION: ClassVar[int] = 7
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
