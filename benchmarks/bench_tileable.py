@@ -13,8 +13,8 @@ torus:
   interior of one seed, subsampled to the band's count, against the interior of the next seed —
   random windows, so less spread than any contiguous band shows even without a seam);
 - time of a tileable draw over a plain one (best of the seeds, warm), at the size and by size
-  (128² to 1024²), for the 3×3 DPJ and for a photo model (256² to 1024², its seam closure 3
-  beside closure 2, which older recipes keep);
+  (128² to 1024²), for the 3×3 DPJ and for a photo model (256² to 1024², its seam closure 5
+  beside closure 4, which version-6 recipes keep);
 - a photo model (multi-scale + tone): mean grey jump across each seam over the mean jump between
   neighbours inside (1: no seam to see), plain and tileable.
 """
@@ -136,8 +136,8 @@ def sweep(dpj, model, seeds, sizes=(128, 256, 512, 1024)):
         k = max(2, seeds // 2)
         one = best_time(lambda s: model.synthesize((n, n), seed=s), k)
         two = best_time(lambda s: model.synthesize((n, n), seed=s, tileable=True), k)
-        old = best_time(lambda s: model.synthesize((n, n), seed=s, tileable=True, closure=2), k)
-        line.append(f"{n}² {two / one:.2f} ({two:.2f} / {one:.2f} s; closure 2: {old / one:.2f})")
+        old = best_time(lambda s: model.synthesize((n, n), seed=s, tileable=True, closure=4), k)
+        line.append(f"{n}² {two / one:.2f} ({two:.2f} / {one:.2f} s; closure 4: {old / one:.2f})")
     print("  photo model (scales + tone) time tileable/plain: " + ", ".join(line))
 
 
