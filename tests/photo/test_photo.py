@@ -173,6 +173,28 @@ def test_textures_of_version_5_replay_drawing_a_coarse_scale_again_whole(name):
                                                     tileable=step.tileable, tone=False).levels)
 
 
+def test_a_tileable_texture_of_version_6_replays_with_closure_4():
+    """A file written by SynthesizeScales version 6 (tests/data/scales-v6: tileable, closure 4,
+    particles 6) comes out bit-identical, levels and tone. A new step of it records closure 5
+    (version 7) and draws what the model draws with it."""
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_model, document_tone
+    expected = json.loads((DATA / "scales-v6" / "expected.json").read_text())["scales-tileable"]
+    doc = render_texture(DATA / "scales-v6" / "scales-tileable.texture")
+    step = doc.actions[-1]
+    assert step.closure == expected["closure"] == 4 and step.particles == PARTICLES
+    assert step.tileable and expected["version"] == 6
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
+    new = dataclasses.replace(step, closure=5)
+    assert new.to_json()["version"] == 7 and new.to_json()["closure"] == 5
+    model = document_model(doc, step)
+    assert np.array_equal(new.prepare(doc), model.synthesize((100, 140), seed=step.seed,
+                                                             tileable=True, tone=False).levels)
+
+
 @pytest.mark.parametrize("version, obj, particles", [
     (5, {}, 0), (4, {}, 0), (1, {}, 0), (5, {"particles": 8}, None), (3, {"particles": 0}, None),
     (6, {}, PARTICLES), (6, {"particles": 0}, 0), (6, {"particles": 3}, 3),
