@@ -53,6 +53,7 @@ MIN_GAP = 1e-6                  # two meridians closer than this along the equat
 MIN_AREA = 1e-6                 # an envelope with less area (points²) has no width
 MAX_STAMP_SIDE = 16384
 MAX_RELIEF_POINTS = 2**24       # a relief is shaded from the whole spot: 4096² points at most
+MARK_POINTS = 2**20             # interior marks are mapped this many points of the spot at a time
 FRACTAL_ROUGHNESS = 0.5         # a fractal curve's roughness and seed when none is given
 MAX_CURVE_SEED = 2**32 - 1
 
@@ -899,12 +900,14 @@ def _interior_marks(envelope, perturbation, seed, placement, env_local, top, lef
     inside = _polygon_mask((env_local - lo) / cell, 0, 0, grid)
     values = noise[inside] if inside.any() else noise.ravel()
     threshold = np.quantile(values, 1.0 - perturbation.density)
-    rows, cols = np.nonzero(mask)
-    plane = np.column_stack([rows + top, cols + left]).astype(float)
-    local = (placement.invert(envelope, plane) - lo) / cell
-    sampled = ndimage.map_coordinates(noise, local.T, order=1, mode="nearest")
     marked = np.zeros_like(mask)
-    marked[rows, cols] = sampled > threshold if perturbation.density < 1 else True
+    band = max(1, MARK_POINTS // max(mask.shape[1], 1))
+    for a in range(0, mask.shape[0], band):      # by bands: 32 bytes a point while mapped
+        rows, cols = np.nonzero(mask[a:a + band])
+        plane = np.column_stack([rows + a + top, cols + left]).astype(float)
+        local = (placement.invert(envelope, plane) - lo) / cell
+        sampled = ndimage.map_coordinates(noise, local.T, order=1, mode="nearest")
+        marked[rows + a, cols] = sampled > threshold if perturbation.density < 1 else True
     return marked
 
 
