@@ -203,10 +203,27 @@ def test_delete_one_spot_of_a_scatter_then_another():
     fresh.apply(scatter)
     doc = fresh.document
     assert np.array_equal(history.document.levels,
-                          replay_without(doc.actions, {}, {1: {2, 4}}))
+                          replay_without(doc.actions, doc, {1: {2, 4}}))
     assert np.array_equal(replay(history.actions, {}).levels, history.document.levels)
     with pytest.raises(InputError, match="no spot 7"):
         history.apply(DeleteSpot(1, spot_ref(scatter), 6))
+
+
+def test_a_spot_deletes_under_a_later_step_that_reads_a_photo():
+    """Deleting a spot replays the steps after it: a histogram matched to a photo of the
+    document read no photo there, and the deletion failed ('exemplar … is not part of this
+    document'; found by a monkey walk of the Models dialogs)."""
+    from texeditor.spectral.actions import MatchHistogram
+    history = canvas(40, 32)
+    history.apply(PlaceSpot(DISC, 12, 14, level=2))
+    photo = np.random.default_rng(1).integers(0, 256, (24, 24), dtype=np.uint8)
+    history.apply(MatchHistogram(history.add_exemplar(photo)))
+    palette = history.document.palette.copy()
+    delete(history, 1)
+    assert not history.document.levels.any()                  # the spot is gone
+    assert np.array_equal(history.document.palette, palette)  # the matched palette stays
+    again = replay(history.actions, {}, exemplars=dict(history.document.exemplars))
+    assert np.array_equal(again.levels, history.document.levels)
 
 
 def test_deleting_twice_changes_nothing_more_and_unknown_placements_are_refused():

@@ -508,7 +508,7 @@ class DeleteSpot(Action):
                              f"there is no spot {self.spot + 1}")
         skipped = deleted_spots(actions)
         _skip(skipped, k, self.spot)
-        without = replay_without(actions, doc.dpjs, skipped)
+        without = replay_without(actions, doc, skipped)
         if without.shape != doc.shape:
             raise InputError("the canvas changed size since the spot was placed: it cannot be "
                              "deleted on its own")
@@ -545,13 +545,15 @@ def deleted_spots(actions) -> dict:
     return skipped
 
 
-def replay_without(actions, dpjs: dict, skipped: dict) -> np.ndarray:
+def replay_without(actions, sources, skipped: dict) -> np.ndarray:
     """The levels the log gives with the ``skipped`` spots left out (and deletions doing nothing,
-    their effect being in ``skipped``), replayed from the last reset."""
+    their effect being in ``skipped``), replayed from the last reset with the DPJs and exemplar
+    photos of ``sources`` (the document: a model step after the spot reads its photo)."""
     actions = list(actions)
     start = max((i for i, a in enumerate(actions) if a.EFFECT == "reset"), default=0)
     scratch = Document()
-    scratch.dpjs = dpjs
+    scratch.dpjs = sources.dpjs
+    scratch.exemplars = sources.exemplars
     scratch.set_log(actions[:start])
 
     def run(i, action, _progress):
