@@ -35,6 +35,9 @@ MODEL_SEEDS = {                  # walks with the Models dialogs too (--models)
     1: "a selection clicked on a canvas a model step then made smaller: the global operators "
        "acted on its point, off the canvas ('This change cannot be made'); a selection whose "
        "point is off the canvas now counts as none (ExtractTool.live_selection)",
+    42: "a spot deleted (Spot tool, delete mode) under a later Match histogram step: the "
+        "deletion replayed the steps after the spot without the document's photos ('exemplar … "
+        "is not part of this document'; spots.actions.replay_without)",
 }
 
 
