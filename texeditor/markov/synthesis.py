@@ -311,7 +311,6 @@ class _Tables(NamedTuple):
     gp: int                    # parent levels Gp (1: no parent), part of every context key
     amod: int                  # rows above enter a context modulo this (gx: without parents)
     ient: np.ndarray           # (4, entries) int64: HEAD, TAIL, BCODE, ROT of each entry
-    digits: np.ndarray         # (u, entries) uint8: the bottom code's points, left to right
     fent: np.ndarray           # (2, entries) float64: Q (probability), M (horizontal transition)
     ctx: np.ndarray            # (3, contexts) int64: CODE (sorted per level), START, END entries
     lvl: np.ndarray            # (2, v) int64: OFF and LEN of each level's contexts in ctx
@@ -416,11 +415,9 @@ def _build_tables(dpj: DPJ, gp: int = 1, amod: int = 256) -> _Tables:
     cat = np.concatenate
     bcode = cat(bcode)
     ient = np.stack([bcode // gx, bcode % gx ** (u - 1), bcode, cat(rot)])
-    digits = np.stack([bcode // gx ** (u - 1 - j) % gx for j in range(u)]).astype(np.uint8)
     ctx_table = np.stack([cat(ctx), cat(start), cat(end)]).astype(np.int64)
     return _Tables(
-        levels=g, u=u, v=v, gx=gx, gp=gp, amod=amod, ient=ient, digits=digits,
-        fent=np.stack([cat(q), cat(m)]),
+        levels=g, u=u, v=v, gx=gx, gp=gp, amod=amod, ient=ient, fent=np.stack([cat(q), cat(m)]),
         ctx=ctx_table, lvl=np.array([off, length], np.int64),
         direct=_direct_index(ctx[0], g ** (u * (v - 1)) * gp ** u),
         first_q=dpj.probs, first_cum=np.cumsum(dpj.probs), first_configs=dpj.configs,
@@ -630,23 +627,18 @@ def _plain_weights(tb, toff, lo, hi, weight):
 
 
 @njit(cache=True, nogil=True)
-def _keep_fixed(out, r, n, c0, c1, g, u, tb, toff, lo, hi, digits):
+def _keep_fixed(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode):
     """Zero the weight of entries disagreeing with the fixed points (outside [c0, c1));
-    ``g`` is the base of the bottom codes (a point's parent, if any, is not compared). Each
-    fixed point is read once and compared with the entries' stored ``digits``: the seams'
-    short redraws weigh most positions here, and dividing every entry's code was most of
-    their time."""
-    for j in range(u):
-        col = n + j
-        if c0 <= col < c1:
-            continue
-        want = out[r, col] % g
-        digit = digits[j]
-        for e in range(lo, hi):
-            if digit[e] != want:
-                tb[toff + e - lo] = 0.0
+    ``g`` is the base of the bottom codes (a point's parent, if any, is not compared)."""
     total = 0.0
     for e in range(lo, hi):
+        code = bcode[e]
+        for j in range(u - 1, -1, -1):
+            col = n + j
+            if (col < c0 or col >= c1) and out[r, col] % g != code % g:
+                tb[toff + e - lo] = 0.0
+                break
+            code //= g
         total += tb[toff + e - lo]
     return total
 
@@ -682,7 +674,7 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below
     """
     g, u, v, direct, lvl = t.levels, t.u, t.v, t.direct, t.lvl
     gx, gp = t.gx, t.gp
-    head, tail = t.ient[HEAD], t.ient[TAIL]
+    head, tail, bcode = t.ient[HEAD], t.ient[TAIL], t.ient[BCODE]
     q, m = t.fent[Q], t.fent[M]
     code, start, end = t.ctx[CODE], t.ctx[START], t.ctx[END]
     big_r, pos, inv, tb = work.big_r, work.pos, work.inv, work.tb[0]
@@ -713,9 +705,9 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below
             else:
                 total = _chain_weights(tb, toff, lo, hi, big_r, head, m)
             if n < c0 or n + u > c1:
-                total = _keep_fixed(out, r, n, c0, c1, gx, u, tb, toff, lo, hi, t.digits)
+                total = _keep_fixed(out, r, n, c0, c1, gx, u, tb, toff, lo, hi, bcode)
             if below > 0 and n != lenient_at and n < below_to:
-                total = _keep_below(out, r, n, below, tb, toff, lo, hi, t)
+                total = _keep_below(out, r, n, below, tb, toff, lo, hi, bcode, t)
             if total > 0.0:
                 repairs += k > kmin
                 break
@@ -1059,13 +1051,13 @@ def _first_bad(out, r, below, n0, n1, t):
     width when there is none."""
     for n in range(n0, n1):
         for k in range(below + 1):
-            if _window_m(out, r + k, n, np.int64(-1), np.int64(-1), t) == 0.0:
+            if _window_m(out, r + k, n, np.int64(-1), np.int64(0), t) == 0.0:
                 return np.int64(n + t.u - 1)
     return np.int64(out.shape[1] - t.u + 1)
 
 
 @njit(cache=True, nogil=True)
-def _keep_below(out, r, n, below, tb, toff, lo, hi, t):
+def _keep_below(out, r, n, below, tb, toff, lo, hi, bcode, t):
     """Weigh each entry by how the ``below`` fixed rows under row r continue from it: the
     horizontal transition m of each window ending in one of them (0: not in the DPJ). The
     rows below are drawn as chains of such transitions, so this is their likelihood but for
@@ -1076,23 +1068,23 @@ def _keep_below(out, r, n, below, tb, toff, lo, hi, t):
         for k in range(1, below + 1):
             if x == 0.0:
                 break
-            x *= _window_m(out, r + k, n, r, e, t)
+            x *= _window_m(out, r + k, n, r, bcode[e], t)
         tb[toff + e - lo] = x
         total += x
     return total
 
 
 @njit(cache=True, nogil=True)
-def _window_m(out, r, n, sub, sub_entry, t):
+def _window_m(out, r, n, sub, sub_code, t):
     """The horizontal transition m of the window ending in row r at position n (level 0 of the
     tables), 0 when the DPJ lacks it; row ``sub``, if one of its rows, is read as the bottom
-    row of entry ``sub_entry``."""
+    code ``sub_code``."""
     g, gx, gp, u, v = t.levels, t.gx, t.gp, t.u, t.v
     key = 0
     for i in range(r - v + 1, r):
         for j in range(u):
             if i == sub:
-                x = t.digits[j, sub_entry]
+                x = sub_code // gx ** (u - 1 - j) % gx
             else:
                 x = out[i, n + j] % t.amod
             key = key * g + x
