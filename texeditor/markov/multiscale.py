@@ -56,8 +56,9 @@ COARSE_REDRAWS = 4          # a dead end of the coarsest scale: tries redrawing 
                             # 90 % of the scale's time); recipes before it kept 16 (OLD_REDRAWS)
 OLD_REDRAWS = 16
 TORUS_REPAIRS = 0.02        # closure 5: ... or backing off at more than this share of its points
-                            # (a back-off leaves about one window off the DPJ: those that close
-                            # back off at ≤ 0.012, the others at 0.03–0.15 of their points)
+                            # (a back-off leaves about one window off the DPJ: the draws that
+                            # closed in our trials backed off at ≤ 0.012 of their points; most
+                            # 5×5 draws that do not close, at 0.02–0.16, are stopped part way)
 SCALES_CLOSURE = 5          # the seam closure of a tileable multi-scale synthesis: 3 closes every
                             # scale with fewer tries than 2 (synthesis.CLOSE_TRIES_3), stops the
                             # coarsest law's failing trial draws early (TORUS_BUDGET) and has its
