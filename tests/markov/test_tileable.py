@@ -207,19 +207,6 @@ def test_closure_5_stops_failing_coarsest_draws_at_their_back_offs(name, monkeyp
     assert {b for b, _ in trials} == {None}
 
 
-def test_a_repair_budget_stops_a_draw_that_backs_off_everywhere():
-    coarse = acquire_model(ski.data.brick()).scales.dpjs[0]
-    budget = int(multiscale.TORUS_REPAIRS * 64 * 64)
-    full = synthesize(coarse, (64, 64), seed=0, tileable=True)
-    assert full.repairs > 4 * budget                    # its 5×5 law does not close at 64²
-    cut = synthesize(coarse, (64, 64), seed=0, tileable=True, repair_budget=budget)
-    assert budget < cut.repairs < full.repairs / 2 and cut.redraws < full.redraws / 2
-    three = coarse.marginal(rows=slice(0, 3), cols=slice(0, 3))     # its 3×3 law closes
-    closing = synthesize(three, (64, 64), seed=0, tileable=True, repair_budget=budget)
-    assert closing.repairs <= budget
-    assert np.array_equal(closing.levels, synthesize(three, (64, 64), seed=0, tileable=True).levels)
-
-
 @pytest.mark.parametrize("closure", [2, 3, 5])
 def test_the_trial_draw_that_chose_the_coarsest_law_is_its_first_try(closure, monkeypatch):
     """A tileable multi-scale draw does not draw the coarsest scale's first try again: the
@@ -254,16 +241,20 @@ def test_the_trial_draw_that_chose_the_coarsest_law_is_its_first_try(closure, mo
 
 
 
-def test_a_redraw_budget_stops_a_draw_that_meets_dead_ends_everywhere():
+@pytest.mark.parametrize("kind, share", [("redraw", "TORUS_BUDGET"), ("repair", "TORUS_REPAIRS")])
+def test_a_budget_stops_a_draw_that_meets_dead_ends_everywhere(kind, share):
+    """A draw given a budget of redraws (or of back-offs, ``repairs``) stops once past it; a
+    draw that stays within it is the draw made without one."""
     coarse = acquire_model(ski.data.brick()).scales.dpjs[0]
-    budget = int(multiscale.TORUS_BUDGET * 64 * 64)
+    budget = int(getattr(multiscale, share) * 64 * 64)
+    spent = lambda drawn: getattr(drawn, kind + "s")
     full = synthesize(coarse, (64, 64), seed=0, tileable=True)
-    assert full.redraws > 2 * budget                    # its 5×5 law does not close at 64²
-    cut = synthesize(coarse, (64, 64), seed=0, tileable=True, redraw_budget=budget)
-    assert budget < cut.redraws < full.redraws / 2
+    assert spent(full) > 2 * budget                    # its 5×5 law does not close at 64²
+    cut = synthesize(coarse, (64, 64), seed=0, tileable=True, **{kind + "_budget": budget})
+    assert budget < spent(cut) < spent(full) / 2
     three = coarse.marginal(rows=slice(0, 3), cols=slice(0, 3))     # its 3×3 law closes
-    closing = synthesize(three, (64, 64), seed=0, tileable=True, redraw_budget=budget)
-    assert closing.redraws <= budget and off_the_dpj(closing.levels, three) < 0.01
+    closing = synthesize(three, (64, 64), seed=0, tileable=True, **{kind + "_budget": budget})
+    assert spent(closing) <= budget and off_the_dpj(closing.levels, three) < 0.01
     assert np.array_equal(closing.levels, synthesize(three, (64, 64), seed=0, tileable=True).levels)
 
 
