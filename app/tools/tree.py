@@ -28,6 +28,7 @@ PICK_PIXELS = 9             # a click this close to a vertex (on screen) picks i
 EDGE = QtGui.QColor(40, 200, 255)
 PARENT = QtGui.QColor(255, 220, 60)
 GHOST_ALPHA = 170
+STATUS_MS = 8000            # how long the status bar says a tree was kept, not drawn
 Key = QtCore.Qt.Key
 
 
@@ -158,7 +159,7 @@ class TreeTool(Tool):
         self.show_tree()
 
     def deactivate(self) -> None:
-        self.finish()
+        self.finish(leaving=True)
         if self._unsubscribe is not None:
             self._unsubscribe()
             self._unsubscribe = None
@@ -256,14 +257,22 @@ class TreeTool(Tool):
             high=None if s.high < 0 else s.high,
             wrap=s.wrap or self.main_window.canvas.tiled)
 
-    def finish(self) -> bool:
-        """Apply the tree as one step (Enter); a refused one stays on screen to be mended."""
+    def finish(self, leaving: bool = False) -> bool:
+        """Apply the tree as one step (Enter); a refused one stays on screen to be mended.
+        ``leaving`` (another tool chosen): a tree that cannot be drawn is kept for when the
+        tool comes back, said in the status bar — not a dialog at every change of tool."""
         if not self.points:
             return False
         try:
             action = self.action()
+            if leaving:
+                action.points_on(self.document.levels, self.document.num_levels)
         except TexeditorError as exc:
-            self.main_window.show_error("This tree cannot be drawn", exc)
+            if leaving:
+                self.main_window.statusBar().showMessage(
+                    f"The tree was kept, not drawn: {exc}", STATUS_MS)
+            else:
+                self.main_window.show_error("This tree cannot be drawn", exc)
             return False
         self.main_window.canvas.set_overlay(None)
         if not self.main_window.submit(action):

@@ -165,6 +165,13 @@ def test_a_tree_deeper_than_the_levels_stays_on_screen_to_be_mended(window, qtbo
     key(window, Key.Key_Return)
     assert window.errors and len(tree.points) == 3             # refused, nothing lost
     assert not window.document.levels.any()
+    errors = len(window.errors)
+    press_key(window, Key.Key_B)                # another tool: kept, said in the status bar,
+    assert window.tool is not tree and len(window.errors) == errors     # no dialog
+    assert "kept, not drawn" in window.statusBar().currentMessage()
+    assert len(tree.points) == 3 and not window.document.levels.any()
+    window.set_tool(tree)                       # back: the tree is there to be mended
+    assert "use more levels" in tree.opts.status.text()
     tree.opts.low.setValue(1)
     key(window, Key.Key_Return)
     assert window.document.levels[5, [5, 15, 25]].tolist() == [3, 2, 1]
