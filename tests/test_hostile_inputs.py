@@ -524,3 +524,44 @@ def test_synth_of_a_model_at_size_0x0_says_one_line_without_warnings(tmp_path, c
                      "-o", str(tmp_path / "x.png")])
     err = capsys.readouterr().err
     assert code == 2 and "no points" in err and len(err.strip().splitlines()) == 1
+
+
+# -- zips that Python's zipfile cannot read -----------------------------------------------------------
+
+def unreadable_zip(data: bytes, field: str) -> bytes:
+    """``data`` with every central directory entry asking for a zip version (``version``) or a
+    compression method (``method``) Python's zipfile does not implement: it raises
+    NotImplementedError, not BadZipFile (found by a fuzz run with a random seed)."""
+    out = bytearray(data)
+    at = out.find(b"PK\x01\x02")
+    while at >= 0:
+        offset, value = (6, 255) if field == "version" else (10, 99)
+        out[at + offset:at + offset + 2] = value.to_bytes(2, "little")
+        at = out.find(b"PK\x01\x02", at + 4)
+    return bytes(out)
+
+
+@pytest.mark.parametrize("field", ["version", "method"])
+def test_zips_of_a_version_or_method_python_cannot_read_are_refused_cleanly(field, tmp_path):
+    """A DPJ, a texture, a photo model and a bank picture in such a zip are a FormatError (the
+    picture: None, as any damaged one), never a NotImplementedError."""
+    from texeditor.bank.store import picture_bytes, read_picture, result_hash
+    from texeditor.photo import acquire_model
+    from texeditor.photo.model import model_from_bytes
+    dpj = TINY_DPJS[0]
+    history = History.from_log([Synthesize(REFS[0], 12, 10, seed=1)], {REFS[0]: dpj})
+    photo = np.random.default_rng(2).integers(0, 256, (64, 64), dtype=np.uint8)
+    for data, read in ((dpj.to_bytes(), lambda b: DPJ.from_bytes(b, "x.dpj")),
+                       (tf.texture_bytes(history.document, history.actions)[0],
+                        lambda b: tf.parse_texture(b, "x.texture")),
+                       (acquire_model(photo, scales=2).to_bytes(),
+                        lambda b: model_from_bytes(b, "x.dpj"))):
+        bad = unreadable_zip(data, field)
+        assert bad != data
+        with pytest.raises(FormatError):
+            read(bad)
+    levels = np.zeros((4, 5), np.uint8)
+    palette = np.zeros((2, 3), np.uint8)
+    path = tmp_path / "picture.npz"
+    path.write_bytes(unreadable_zip(picture_bytes(levels, palette), field))
+    assert read_picture(path, result_hash(levels, palette), (4, 5), 2) is None

@@ -1045,7 +1045,8 @@ def read_picture(path, sha256: str, shape: tuple, levels: int):
                 return None
             arrays = {n[:-4]: np.load(io.BytesIO(zf.read(n)), allow_pickle=False)
                       for n in limits}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zipfile.LargeZipFile):
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zipfile.LargeZipFile,
+            NotImplementedError):
         return None
     grid, palette = arrays["levels"], arrays["palette"]
     if (grid.dtype != np.uint8 or grid.shape != (h, w) or palette.dtype != np.uint8

@@ -282,7 +282,7 @@ def model_from_bytes(data: bytes, name: str = "model") -> PhotoModel | DPJ:
     try:
         zf = zipfile.ZipFile(io.BytesIO(data))
         names = [i.filename for i in zf.infolist()]
-    except (zipfile.BadZipFile, OSError, ValueError):
+    except (zipfile.BadZipFile, OSError, ValueError, NotImplementedError):
         raise FormatError(f"{name}: not a DPJ file (not a zip archive)") from None
     if "model.json" not in names:
         return DPJ.from_bytes(data, name)

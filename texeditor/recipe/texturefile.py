@@ -208,7 +208,8 @@ def read_texture(path) -> TextureFile:
 def parse_texture(data: bytes, name: str = "texture") -> TextureFile:
     try:
         zf = zipfile.ZipFile(io.BytesIO(data))
-    except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, ValueError, EOFError):
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, ValueError, EOFError,
+            NotImplementedError):      # a member of a zip version Python cannot read
         raise FormatError(f"{name}: not a texture file (not a zip archive, or truncated)") from None
     with zf:
         infos = _check_members(zf, name)
