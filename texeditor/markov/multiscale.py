@@ -28,7 +28,7 @@ from .estimation import estimate_dpj
 from .levels import check_levels, has_colour, quantize, to_grey
 from .particles import PARTICLES, Shares, check_particles
 from .synthesis import (CLOSURE, SynthesisResult, build_tables, check_seed, check_size,
-                        derived, synthesize, synthesize_given)
+                        derived, past_budget, synthesize, synthesize_given)
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
 PYRAMID_ROWS = 256          # the first halving converts the photo this many rows at a time
@@ -393,8 +393,7 @@ def _torus_law(dpj: DPJ, shape, seed: int, closure: int,
         drawn = synthesize(law, shape, seed=scale_seed(seed, 0), tileable=True,
                            closure=_seam(closure), cancel=cancel, redraw_budget=budget,
                            repair_budget=repairs, max_redraws=redraws)
-        if (budget is not None and drawn.redraws > budget) or \
-                (repairs is not None and drawn.repairs > repairs):
+        if past_budget((budget, repairs), drawn.redraws, drawn.repairs):
             return None
         seen = estimate_dpj(drawn.levels, law.window, law.levels, wrap=True)
         return drawn if seen.probs[~np.isin(seen.codes, law.codes)].sum() <= TORUS_TOLERANCE \

@@ -168,7 +168,7 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
     else:
         work, repairs, redraws = _draw_bands(out, work, t, state, progress, cancel, max_redraws,
                                              rows_final, tile_h, tile_w, closure, budget)
-        if _past(budget, redraws, repairs):
+        if past_budget(budget, redraws, repairs):
             return SynthesisResult(out, int(repairs), int(redraws), int(seed))
     if tileable:
         turned = np.ascontiguousarray(work.T)
@@ -208,7 +208,7 @@ def _draw_bands(out, work, t, state, progress, cancel, max_redraws, rows_final, 
                                 _left(budget[1], repairs))
         repairs += rep
         redraws += red
-        if _past(budget, redraws, repairs):
+        if past_budget(budget, redraws, repairs):
             break
         if progress is not None:
             progress(min(h, r0 + band) / h)
@@ -223,7 +223,7 @@ def _left(budget, used) -> np.int64:
     return np.int64(NO_BUDGET if budget is None else budget - used)
 
 
-def _past(budget, redraws, repairs) -> bool:
+def past_budget(budget, redraws, repairs) -> bool:
     """Past the (redraws, repairs) budget, either of which may be None (no limit)."""
     return any(b is not None and x > b for b, x in zip(budget, (redraws, repairs)))
 
