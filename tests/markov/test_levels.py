@@ -332,17 +332,28 @@ def test_lab_lays_rgba_on_white_and_refuses_fewer_colours_than_classes():
         lv.quantize(image, 3, "lab")
 
 
+@pytest.mark.parametrize("pixels", [1, 2, 4097, lv.COUNTED_COLOURS - 1, lv.COUNTED_COLOURS + 3])
 @pytest.mark.parametrize("colours", [7, 5000, 1 << 24])
-def test_a_large_photos_colours_are_counted_as_np_unique_finds_them(colours):
-    """From COUNTED_COLOURS pixels on, the colours are found by counting the 24-bit codes: the
-    same colours, places and counts as np.unique; a large photo's classes are unchanged."""
+def test_a_photos_colours_are_found_as_np_unique_finds_them(colours, pixels):
+    """Below COUNTED_COLOURS pixels the 24-bit codes are radix-sorted, from it on counted: the
+    same colours, places and counts as np.unique either way."""
     rng = np.random.default_rng(colours)
-    codes = rng.integers(0, colours, lv.COUNTED_COLOURS + 3).astype(np.uint32)
+    codes = rng.integers(0, colours, pixels).astype(np.uint32)
     expected = np.unique(codes, return_inverse=True, return_counts=True)
     found = lv._unique_colours(codes)
     for a, b in zip(expected, found):
         assert np.array_equal(a, b)
     assert found[0].dtype == expected[0].dtype
+
+
+def test_an_8_bit_photos_colour_codes_are_those_of_the_same_photo_as_floats():
+    """8-bit RGB is coded straight from its bytes: the codes the float path gives every value."""
+    rng = np.random.default_rng(3)
+    photo = np.stack([np.arange(256, dtype=np.uint8)] * 3, axis=-1)[None].repeat(300, axis=0)
+    photo[:, :, 1] = rng.permutation(256).astype(np.uint8)
+    for other in (photo / 255.0, photo.astype(np.uint16) * 257):
+        assert np.array_equal(lv._colour_codes(photo), lv._colour_codes(other))
+    assert lv._colour_codes(photo)[0, 7] == (7 << 16) | (int(photo[0, 7, 1]) << 8) | 7
 
 
 def test_a_large_colour_photo_gets_the_classes_sorting_would_give(monkeypatch):
