@@ -629,16 +629,22 @@ def _plain_weights(tb, toff, lo, hi, weight):
 @njit(cache=True, nogil=True)
 def _keep_fixed(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode):
     """Zero the weight of entries disagreeing with the fixed points (outside [c0, c1));
-    ``g`` is the base of the bottom codes (a point's parent, if any, is not compared)."""
+    ``g`` is the base of the bottom codes (a point's parent, if any, is not compared). The
+    fixed points are the window's first p and last s: an entry agrees when its code's first
+    p digits and last s digits are theirs (a division each, not one a point)."""
+    p = min(u, max(0, c0 - n))
+    s = min(u - p, max(0, n + u - c1))
+    first = last = 0
+    for j in range(p):
+        first = first * g + out[r, n + j] % g
+    for j in range(u - s, u):
+        last = last * g + out[r, n + j] % g
+    cut, tail = g ** (u - p), g ** s
     total = 0.0
     for e in range(lo, hi):
         code = bcode[e]
-        for j in range(u - 1, -1, -1):
-            col = n + j
-            if (col < c0 or col >= c1) and out[r, col] % g != code % g:
-                tb[toff + e - lo] = 0.0
-                break
-            code //= g
+        if code // cut != first or code % tail != last:
+            tb[toff + e - lo] = 0.0
         total += tb[toff + e - lo]
     return total
 
