@@ -132,7 +132,8 @@ def _synth_model(model, width, height, seed, out, tone=True, tileable=False) -> 
     print(f"{out}: {width}x{height}, seed {seed}{', tileable' if tileable else ''}, "
           f"{model.scales.scales} scales, "
           f"{'photographic tone' if tone and model.tone is not None else 'palette'}, "
-          f"dead-end repairs {result.repairs}")
+          f"dead-end repairs {result.repairs}"
+          + (f", level shares rebalanced ({result.moved} border moves)" if result.moved else ""))
     return 0
 
 

@@ -32,6 +32,7 @@ def _compile() -> None:
     """Call every kernel once on tiny inputs of the types real work passes (so nothing compiles
     again later). First the small ones the GUI thread may call, then the synthesis."""
     from .texture import grain_render
+    from .markov.balance import rebalance
     from .markov.dpj import DPJ
     from .markov.synthesis import synthesize
 
@@ -40,7 +41,8 @@ def _compile() -> None:
         kernel()
     _gui_done.set()
     dpj = DPJ.from_codes(np.arange(16), np.full(16, 1 / 16), 2, (2, 2))
-    synthesize(dpj, (8, 8), seed=0)
+    levels = synthesize(dpj, (8, 8), seed=0).levels
+    rebalance(levels, dpj, [0.0, 1.0])        # shares far off: every kernel of it runs
 
 
 def warm_up(then: Callable[[], None] | None = None) -> float:

@@ -117,8 +117,9 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = SynthesizeScales(step.dpjs, 80, 60, seed=7, tileable=True,
                            tone_photo=step.tone_photo, tone_levels=step.tone_levels)
-    assert new.to_json()["version"] == 7 and new.closure == 5 and new.tone_balance
+    assert new.to_json()["version"] == 8 and new.closure == 5 and new.tone_balance
     assert new.particles == PARTICLES and step.particles == 0
+    assert new.rebalance and not step.rebalance
     assert step_wrap(new) == tone.TILED_LANES | tone.BALANCED
 
 
@@ -140,12 +141,13 @@ def test_textures_of_version_3_replay_with_16_coarse_redraws_as_they_did(name):
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, coarse_redraws=COARSE_REDRAWS, particles=PARTICLES)
-    assert new.to_json()["version"] == 7 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
+    assert new.to_json()["version"] == 8 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     model = document_model(doc, step)
     assert np.array_equal(redrawn, model.synthesize((120, 160), seed=7, tileable=step.tileable,
-                                                    closure=step.closure, tone=False).levels)
+                                                    closure=step.closure, tone=False,
+                                                    rebalance=False).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -165,12 +167,13 @@ def test_textures_of_version_5_replay_drawing_a_coarse_scale_again_whole(name):
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, particles=PARTICLES)
-    assert new.to_json()["version"] == 7 and new.to_json()["particles"] == PARTICLES
+    assert new.to_json()["version"] == 8 and new.to_json()["particles"] == PARTICLES
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     model = document_model(doc, step)
     assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed,
-                                                    tileable=step.tileable, tone=False).levels)
+                                                    tileable=step.tileable, tone=False,
+                                                    rebalance=False).levels)
 
 
 def test_a_tileable_texture_of_version_6_replays_with_closure_4():
@@ -189,17 +192,63 @@ def test_a_tileable_texture_of_version_6_replays_with_closure_4():
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, closure=5)
-    assert new.to_json()["version"] == 7 and new.to_json()["closure"] == 5
+    assert new.to_json()["version"] == 8 and new.to_json()["closure"] == 5
     model = document_model(doc, step)
     assert np.array_equal(new.prepare(doc), model.synthesize((100, 140), seed=step.seed,
-                                                             tileable=True, tone=False).levels)
+                                                             tileable=True, tone=False,
+                                                             rebalance=False).levels)
+
+
+def test_a_texture_of_version_7_replays_without_rebalancing():
+    """A file written by SynthesizeScales version 7 (tests/data/scales-v7: a crop of chelsea whose
+    finest level shares come out 0.14 off the model's) comes out bit-identical, levels and tone:
+    its step keeps the shares as drawn. A new step (version 8) of it rebalances them: the same
+    seed draws the same texture with region borders moved, within TRIGGER of the shares."""
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.markov.balance import TRIGGER
+    from texeditor.photo import document_model, document_tone
+    expected = json.loads((DATA / "scales-v7" / "expected.json").read_text())["scales-plain"]
+    doc = render_texture(DATA / "scales-v7" / "scales-plain.texture")
+    step = doc.actions[-1]
+    assert not step.rebalance and step.closure == expected["closure"] == 5
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
+    model = document_model(doc, step)
+    shares = np.bincount(doc.levels.ravel(), minlength=4) / doc.levels.size
+    assert np.abs(shares - model.frequencies()).max() > 0.1
+    new = dataclasses.replace(step, rebalance=True)
+    assert new.to_json()["version"] == 8 and new.to_json()["rebalance"] is True
+    redrawn = new.prepare(doc)
+    moved = redrawn != doc.levels
+    assert 0 < moved.mean() < 0.25
+    shares = np.bincount(redrawn.ravel(), minlength=4) / redrawn.size
+    assert np.abs(shares - model.frequencies()).max() <= TRIGGER
+    drawn = model.synthesize((100, 140), seed=step.seed)
+    assert np.array_equal(drawn.levels, redrawn) and drawn.moved >= moved.sum()   # moves
+    assert np.array_equal(drawn.image, model.render(redrawn, seed=step.seed))
+
+
+@pytest.mark.parametrize("version, obj, rebalance", [
+    (7, {}, False), (6, {}, False), (2, {}, False), (7, {"rebalance": True}, None),
+    (5, {"rebalance": False}, None), (8, {}, True), (8, {"rebalance": False}, False),
+    (8, {"rebalance": 1}, None)])
+def test_a_multiscale_step_keeps_whether_it_rebalances(version, obj, rebalance):
+    """Rebalancing came with SynthesizeScales version 8: an older step keeps its shares as drawn
+    and cannot name it; version 8 names it, default on."""
+    if rebalance is None:
+        with pytest.raises(FormatError):
+            read_scales_step(version, obj)
+    else:
+        assert read_scales_step(version, obj).rebalance is rebalance
 
 
 @pytest.mark.parametrize("version, obj, particles", [
     (5, {}, 0), (4, {}, 0), (1, {}, 0), (5, {"particles": 8}, None), (3, {"particles": 0}, None),
     (6, {}, PARTICLES), (6, {"particles": 0}, 0), (6, {"particles": 3}, 3),
     (6, {"particles": MAX_PARTICLES + 1}, None), (6, {"particles": True}, None),
-    (7, {}, PARTICLES), (7, {"particles": 0}, 0)])
+    (7, {}, PARTICLES), (7, {"particles": 0}, 0), (8, {"particles": 2}, 2)])
 def test_a_multiscale_step_keeps_how_it_fits_its_level_shares(version, obj, particles):
     """Particles came with SynthesizeScales version 6: an older step draws a scale again whole
     (particles 0) and cannot name them; version 6 names 0 to MAX_PARTICLES, default PARTICLES."""
@@ -243,6 +292,7 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 6, {}, 4), ("synthesize_scales", 6, {"closure": 5}, None),
     ("synthesize_scales", 6, {"closure": 3}, 3), ("synthesize_scales", 7, {}, 5),
     ("synthesize_scales", 7, {"closure": 4}, 4), ("synthesize_scales", 7, {"closure": 6}, None),
+    ("synthesize_scales", 8, {}, 5), ("synthesize_scales", 8, {"closure": 6}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
@@ -484,6 +534,22 @@ def test_cancel_stops_the_synthesis_and_its_tone(model):
         model.synthesize((600, 600), seed=1, progress=calls.append,
                          cancel=lambda: len(calls) >= 3)
     assert model.synthesize((40, 40), seed=1).image.shape == (40, 40)   # nothing left stuck
+
+
+@pytest.mark.parametrize("way", [tone.PLAIN | tone.BALANCED, tone.TILED_LANES])
+def test_a_tone_told_to_stop_stops_between_chunks(model, way):
+    """A rendering whose levels went stale (rebalanced after their rows were told final) is
+    stopped at its next chunk of rows, wherever it is."""
+    from texeditor.errors import Cancelled
+    levels = model.synthesize((160, 300), seed=1, tone=False).levels
+    stop, chunks = [False], []
+    renderer = tone.Renderer(levels.shape, 4, model.tone.levels, model.tone.grey, seed=6,
+                             wrap=way, cancel=lambda: chunks.append(1) or stop[0])
+    renderer.advance(levels, 60)
+    assert chunks and renderer.done > 0
+    stop[0] = True
+    with pytest.raises(Cancelled):
+        renderer.advance(levels, 160)
 
 
 def test_a_colour_photo_gives_colour_classes_at_every_scale():

@@ -23,6 +23,7 @@ import numpy as np
 import skimage as ski
 
 from ..errors import Cancelled, InputError
+from .balance import rebalance
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import check_levels, has_colour, quantize, to_grey
@@ -223,7 +224,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       rows_final: Callable[[np.ndarray, int], None] | None = None,
                       tileable: bool = False, closure: int = SCALES_CLOSURE,
                       coarse_redraws: int = COARSE_REDRAWS,
-                      particles: int = PARTICLES) -> SynthesisResult:
+                      particles: int = PARTICLES, rebalance: bool = True) -> SynthesisResult:
     """Draw the coarsest scale, then each finer one given the one under it; the finest levels
     (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
     ``tileable``: every scale is drawn on the torus (``closure``: which seam closure, 1 to
@@ -237,7 +238,10 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     off than DRAFT_TRIGGER, again as ``particles`` drafts (markov.particles), the closer to the
     shares kept (scales up to MAX_DRAFTED_POINTS). ``particles`` = 0, as recipes before it:
     drawn again up to COARSE_TRIES times instead, the first within the tolerance or the
-    closest kept. The same model and seed give the same matrix."""
+    closest kept. ``rebalance``: the finest scale's level shares, when they come out off,
+    are then brought back by moving region borders (markov.balance; ``moved`` counts the
+    moves, made after rows_final was told the rows were final; False, as recipes before it). The same model
+    and seed give the same matrix."""
     seed = check_seed(seed)
     shapes = scale_shapes(check_size(shape), model.scales)
     _check_scale_sizes(model, shapes)
@@ -247,7 +251,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     weights = np.array([h * w for h, w in shapes], float)
     done = np.concatenate([[0], np.cumsum(weights)]) / weights.sum()
     repairs = redraws = 0
-    levels = None
+    levels = parents = None
     ahead = ThreadPoolExecutor(1, thread_name_prefix="tables")   # the finer scales' tables are
     try:                                                           # built as the coarse are drawn
         built = [None] + [ahead.submit(build_tables, model.dpjs[k], parent_levels(model.dpjs, k),
@@ -262,10 +266,29 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
             r = _draw_scale_closest(model, k, shapes, levels, seed, done, progress, cancel,
                                     rows_final, tileable, closure, coarse_redraws, particles,
                                     trial if k == 0 < model.scales - 1 else None)
-            levels, repairs, redraws = r.levels, repairs + r.repairs, redraws + r.redraws
+            parents, levels = levels, r.levels
+            repairs, redraws = repairs + r.repairs, redraws + r.redraws
     finally:
         ahead.shutdown(wait=False, cancel_futures=True)
-    return SynthesisResult(levels, repairs, redraws, int(seed))
+    moved = 0
+    if rebalance:
+        if cancel is not None and cancel():
+            raise Cancelled("synthesis cancelled")
+        levels, moved = _rebalanced(model, levels, parents, seed, tileable)
+    return SynthesisResult(levels, repairs, redraws, int(seed), moved)
+
+
+def _rebalanced(model: MultiScaleDPJ, levels, parents, seed: int, tileable: bool):
+    """The finest levels with their shares brought back (a copy, when points moved)."""
+    k = model.scales - 1
+    up = None
+    if k > 0:
+        up = (upsample_torus if tileable else upsample)(parents, levels.shape)
+    moved_levels = levels.copy()
+    moved = rebalance(moved_levels, model.dpjs[k], model.frequencies(k), parents=up,
+                      parent_levels=parent_levels(model.dpjs, k), seed=scale_seed(seed, k),
+                      wrap=bool(tileable))
+    return (moved_levels, moved) if moved else (levels, 0)
 
 
 def _check_scale_sizes(model: MultiScaleDPJ, shapes) -> None:

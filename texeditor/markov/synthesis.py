@@ -56,6 +56,7 @@ class SynthesisResult:
     repairs: int          # window positions drawn from a backed-off (smaller) context
     redraws: int          # rows redrawn to get past a dead end
     seed: int
+    moved: int = 0        # moves of points bringing the level shares back (markov.balance)
 
 
 def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,

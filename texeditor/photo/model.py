@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import io
 import json
+import threading
 import zipfile
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -18,7 +19,7 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from ..errors import FormatError, InputError
+from ..errors import Cancelled, FormatError, InputError
 from ..fileio import load_json, read_limited, write_file
 from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers
 from ..markov.levels import to_grey
@@ -54,6 +55,7 @@ class Resynthesis:
     model_frequencies: np.ndarray  # each level's share in the photo (the model's law)
     repairs: int
     seed: int
+    moved: int = 0               # moves of points bringing the level shares back (markov.balance)
 
 
 @dataclass(frozen=True, eq=False)
@@ -84,28 +86,32 @@ class PhotoModel:
     def synthesize(self, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
                    closure: int = SCALES_CLOSURE, coarse_redraws: int = COARSE_REDRAWS,
                    tone_balance: bool = True, particles: int = PARTICLES,
+                   rebalance: bool = True,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
         drawn on a second thread as the finest rows come out (the same picture as
         ``render(levels, wrap=tone_wrap(tileable, closure, tone_balance))`` afterwards, in
         about half the time on two cores). ``tileable``: the levels and the picture repeat
-        without a seam (``closure``, ``coarse_redraws``, ``particles``: see
+        without a seam (``closure``, ``coarse_redraws``, ``particles``, ``rebalance``: see
         markov.multiscale.synthesize_scales; ``tone_balance``: each level's greys keep the
         photo's histogram, tone.BALANCED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
-                    closure=closure, coarse_redraws=coarse_redraws, particles=particles)
+                    closure=closure, coarse_redraws=coarse_redraws, particles=particles,
+                    rebalance=rebalance)
         if not tone or self.tone is None:
             result = synthesize_scales(self.scales, shape, **draw)
             image = self.render(result.levels, seed=seed, tone=False)
         else:
             result, image = self._synthesize_with_tone(shape, draw, tone_balance)
-        return Resynthesis(image, result.levels, self.frequencies(), result.repairs, int(seed))
+        return Resynthesis(image, result.levels, self.frequencies(), result.repairs, int(seed),
+                           result.moved)
 
     def _synthesize_with_tone(self, shape, draw, balance):
         renderer, latest = [], [None]
         seed = draw["seed"]
         wrap = tone_wrap(draw["tileable"], draw["closure"], balance)
+        stale = threading.Event()           # the levels were rebalanced: stop this tone
         with ThreadPoolExecutor(1, thread_name_prefix="tone") as worker:
             index = worker.submit(self._index)     # built while the coarse scales are drawn
             jobs = []
@@ -119,7 +125,8 @@ class PhotoModel:
                 if not renderer:
                     renderer.append(Renderer(levels.shape, self.levels, self.tone.levels,
                                              self.tone.grey, self.tone.colour, seed=seed,
-                                             index=index.result(), wrap=wrap))
+                                             index=index.result(), wrap=wrap,
+                                             cancel=stale.is_set))
                 if jobs and jobs[-1].done():
                     jobs[-1].result()                   # a tone error stops the synthesis
                 latest[0] = (levels, n)
@@ -130,8 +137,12 @@ class PhotoModel:
                 for job in jobs:
                     job.cancel()
                 raise
+            if result.moved:            # rebalanced after its rows were told final: the
+                stale.set()             # tone drawn so far is of other levels
             for job in jobs:
-                job.result()
+                _settle(job, stale.is_set())
+        if result.moved:
+            return result, self.render(result.levels, seed=seed, wrap=wrap)
         grey, colour = renderer[0].result()
         return result, (grey if colour is None else colour)
 
@@ -193,6 +204,17 @@ class PhotoModel:
         photo = self.tone.grey if self.tone.colour is None else self.tone.colour
         return (np.ascontiguousarray(photo[:MAX_SIDE, :MAX_SIDE]),
                 np.ascontiguousarray(self.tone.levels[:MAX_SIDE, :MAX_SIDE]))
+
+
+def _settle(job, stale: bool) -> None:
+    """Wait for a tone job; a stale one's end, cancelled or not, is not waited for twice."""
+    if stale and job.cancel():
+        return
+    try:
+        job.result()
+    except Cancelled:
+        if not stale:
+            raise
 
 
 def document_tone(doc) -> np.ndarray | None:

@@ -28,7 +28,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..errors import InputError
+from ..errors import Cancelled, InputError
 from ..markov.synthesis import uniform
 
 RANDOM_CANDIDATES = 8      # drawn from the photo points sharing the context
@@ -247,7 +247,8 @@ class Renderer:
     Its arrays hold the points in drawing order (TILED_LANES: the picture turned, _turned)."""
 
     def __init__(self, shape, num_levels: int, photo_levels, photo_grey, photo_pixels=None, *,
-                 seed: int = 0, index: ToneIndex | None = None, wrap=False):
+                 seed: int = 0, index: ToneIndex | None = None, wrap=False, cancel=None):
+        """``cancel()`` returning True stops the rendering between chunks (Cancelled)."""
         shape = tuple(shape)
         if len(shape) != 2 or 0 in shape:
             raise InputError(f"tone needs a non-empty matrix of levels 0..{num_levels - 1}")
@@ -255,6 +256,7 @@ class Renderer:
         if way & ~BALANCED not in (PLAIN, TILED, TILED_LANES) or way < 0:
             raise InputError(f"a tone tiles in no way {wrap!r}")
         self.num_levels = num_levels
+        self.cancel = cancel
         self.photo_grey = np.ascontiguousarray(photo_grey, dtype=np.uint8)
         self.photo_pixels = photo_pixels
         self.index = index or tone_index(photo_levels, num_levels)
@@ -377,6 +379,8 @@ class Renderer:
         """Render rows (i0, i1), row i0 + k over columns (j0, j1) moved ``skew``·k left and
         clipped to them (``codes``: the contexts of the rows from ``at`` = (row, column,
         width) on); ``count``: their greys count for balance."""
+        if self.cancel is not None and self.cancel():
+            raise Cancelled("tone cancelled")
         ix = self.index
         _render(codes, ix.codes, ix.keys, ix.starts, ix.points, self.photo_grey, self.source,
                 self.grey, self.state0, at[0], at[1], at[2], rows[0], rows[1], columns[0],

@@ -462,11 +462,18 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Version 6 had closures 1 to 4 (default 4). Versions 1 to 5 drew a coarse scale again to
-    fit its level shares (no ``particles``); version 5 had closures 1 to 4, version 4 1 to 3
-    (default 3). Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest
-    scale and drew their tone without balance; version 1 had no ``closure`` (closed the first
-    way), version 2 closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
+    """Versions 1 to 7 kept the finest scale's level shares as drawn (no ``rebalance``);
+    version 7 had closures 1 to 5 (default 5), version 6 1 to 4 (default 4). Versions 1 to 5
+    drew a coarse scale again to fit its level shares (no ``particles``); version 5 had
+    closures 1 to 4, version 4 1 to 3 (default 3). Versions 1 to 3 also tried OLD_REDRAWS
+    times at a dead end of the coarsest scale and drew their tone without balance; version 1
+    had no ``closure`` (closed the first way), version 2 closures 1 and 2 (default 2),
+    version 3 1 to 3 (default 3)."""
+    if "rebalance" in params:
+        raise FormatError(f"action {cls.TYPE!r} version {version} has no rebalance")
+    params = {**params, "rebalance": False}
+    if version == 7:
+        return _closure_as_written(cls, version, params, 5)
     if version == 6:
         return _closure_as_written(cls, version, params, 4)
     if "particles" in params:
@@ -552,7 +559,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 7
+    VERSION: ClassVar[int] = 8
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -577,6 +584,10 @@ class SynthesizeScales(Action):
                            doc="a scale whose level shares come out off is drawn again as this "
                                f"many drafts side by side ({PARTICLES}: current; 0: drawn "
                                "again whole, as recipes before version 6)")
+    rebalance: bool = param("bool", default=True,
+                            doc="the finest scale's level shares, when they come out off, are "
+                                "brought back by moving region borders (current; recipes "
+                                "before version 8 kept them as drawn)")
 
     upgrade = classmethod(_scales_of_version)
 
@@ -593,7 +604,8 @@ class SynthesizeScales(Action):
         return synthesize_scales(_scales(dpjs), (self.height, self.width),
                                  seed=self.seed, progress=progress, cancel=cancel,
                                  tileable=self.tileable, closure=self.closure,
-                                 coarse_redraws=self.coarse_redraws, particles=self.particles)
+                                 coarse_redraws=self.coarse_redraws, particles=self.particles,
+                                 rebalance=self.rebalance)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
