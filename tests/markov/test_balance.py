@@ -72,6 +72,25 @@ def test_shares_close_enough_are_left_alone():
     assert np.array_equal(kept, field)
 
 
+def test_a_field_too_large_keeps_its_shares(monkeypatch):
+    dpj, field = blob_field(seed=3)
+    monkeypatch.setattr(balance, "MAX_POINTS", field.size - 1)
+    kept = field.copy()
+    assert rebalance(kept, dpj, shares(field, 2) + [0.1, -0.1]) == 0
+    assert np.array_equal(kept, field)
+
+
+def test_a_pass_tries_the_points_in_random_runs_each_read_forwards():
+    items = np.arange(0, 30000, 3, dtype=np.int32)
+    out = np.empty_like(items)
+    balance._in_runs(items, len(items), np.array([5], np.uint64), out)
+    assert np.array_equal(np.sort(out), items)
+    falls = np.flatnonzero(np.diff(out) < 0)          # where one run ends and the next starts
+    assert len(falls) == balance.RUNS - 1
+    assert all(abs(len(run) - len(items) / balance.RUNS) < 150
+               for run in np.split(out, falls + 1))
+
+
 def test_the_same_seed_moves_the_same_points():
     dpj, field = blob_field(seed=5)
     aim = shares(field, 2) + [0.05, -0.05]
