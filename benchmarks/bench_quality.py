@@ -6,7 +6,7 @@ Run: python benchmarks/bench_quality.py [--photos brick grass gravel] [--size 51
 Photos are scikit-image data names or picture files; random-phase noise, Heeger–Bergen and the
 flow texture are timed (at both sizes) and scored too (rows, not in the montage). Metrics (benchmarks/quality.py) compare each
 output with the photo in grey; lower is closer. Time: the whole photo → picture call, warmed on
-64² first (numba), best of --seeds; the metrics are those of the first seed's output.
+64² first and with every kernel loaded (numba), best of --seeds; the metrics are those of the first seed's output.
 Montage per photo, <montage-dir>/quality-<photo>.png, panels left to right without captions:
 photo | texeditor 1984 single scale | texeditor multi-scale + tone (when it exists).
 The Heeger–Bergen row (steerable-pyramid histograms, companion 004) is timed and scored like the
@@ -30,6 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import quality  # noqa: E402  (the module next to this script)
 
 import texeditor  # noqa: E402
+from texeditor import warmup  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 PEERS = ROOT.parent / "shared" / "peers"
@@ -189,6 +190,7 @@ def main() -> None:
     ap.add_argument("--large", type=int, default=2048, help="also time this size (0: no)")
     ap.add_argument("--montage-dir", type=Path, default=ROOT / "docs" / "img")
     args = ap.parse_args()
+    warmup.warm_up()           # every kernel loaded (a 64² warm-up draw may not need them all)
     print("lower is closer; copied% = share of the output's 8x8 blocks found as is in the photo")
     args.montage_dir.mkdir(parents=True, exist_ok=True)
     for name in args.photos:
