@@ -142,9 +142,13 @@ def test_a_scene_photos_finest_scale_comes_out_at_its_shares(tileable, monkeypat
         return count
     monkeypatch.setattr(multiscale, "rebalance", spy)
     aim = model.frequencies(model.scales - 1)
+    told = {False: [], True: []}
     kept = multiscale.synthesize_scales(model, (100, 140), seed=2, tileable=tileable,
-                                        rebalance=False)
-    drawn = multiscale.synthesize_scales(model, (100, 140), seed=2, tileable=tileable)
+                                        rebalance=False,
+                                        rows_final=lambda lv, n: told[False].append(n))
+    drawn = multiscale.synthesize_scales(model, (100, 140), seed=2, tileable=tileable,
+                                         rows_final=lambda lv, n: told[True].append(n))
+    assert told[False][-1] == 100 and told[True] == told[False][:-1]   # no "all final" call
     assert np.abs(shares(kept.levels, 4) - aim).max() > 0.05
     assert np.abs(shares(drawn.levels, 4) - aim).max() <= 0.03
     assert drawn.moved == seen[0][0] > 0 and seen[0][1] == 0

@@ -240,7 +240,8 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     drawn again up to COARSE_TRIES times instead, the first within the tolerance or the
     closest kept. ``rebalance``: the finest scale's level shares, when they come out off,
     are then brought back by moving region borders (markov.balance; ``moved`` counts the
-    moves, made after rows_final was told the rows were final; False, as recipes before it). The same model
+    moves, made after rows_final was told of all rows but the last band, and the last call,
+    all rows final, is not made then; False, as recipes before it). The same model
     and seed give the same matrix."""
     seed = check_seed(seed)
     shapes = scale_shapes(check_size(shape), model.scales)
@@ -252,6 +253,9 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     done = np.concatenate([[0], np.cumsum(weights)]) / weights.sum()
     repairs = redraws = 0
     levels = parents = None
+    told, held = rows_final, []
+    if rebalance and rows_final is not None:
+        told = _holding_the_last(rows_final, shapes[-1][0], held)
     ahead = ThreadPoolExecutor(1, thread_name_prefix="tables")   # the finer scales' tables are
     try:                                                           # built as the coarse are drawn
         built = [None] + [ahead.submit(build_tables, model.dpjs[k], parent_levels(model.dpjs, k),
@@ -264,7 +268,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
             if built[k] is not None:
                 built[k].result()
             r = _draw_scale_closest(model, k, shapes, levels, seed, done, progress, cancel,
-                                    rows_final, tileable, closure, coarse_redraws, particles,
+                                    told, tileable, closure, coarse_redraws, particles,
                                     trial if k == 0 < model.scales - 1 else None)
             parents, levels = levels, r.levels
             repairs, redraws = repairs + r.repairs, redraws + r.redraws
@@ -275,7 +279,20 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
         if cancel is not None and cancel():
             raise Cancelled("synthesis cancelled")
         levels, moved = _rebalanced(model, levels, parents, seed, tileable)
+        if held and not moved:
+            rows_final(*held[-1])
     return SynthesisResult(levels, repairs, redraws, int(seed), moved)
+
+
+def _holding_the_last(rows_final, height: int, held: list):
+    """rows_final, but for its last call (all rows final), kept in ``held`` until the shares
+    are rebalanced: when points move, the levels it would give are not the texture's."""
+    def told(levels, n):
+        if n >= height:
+            held.append((levels, n))
+        else:
+            rows_final(levels, n)
+    return told
 
 
 def _rebalanced(model: MultiScaleDPJ, levels, parents, seed: int, tileable: bool):
