@@ -252,7 +252,7 @@ def _rebalance(comp, own, g, u, v, big_g, keys, table, bits, target, counts, sla
                thetas, least, wrap):
     h, w = own.shape
     listed = np.zeros(h * w, np.uint8)      # the pass (+1) a point is listed for
-    todo = np.empty(h * w, np.int32)        # 4 bytes a point: an 8192² field's two lists 0.5 GB
+    todo = np.empty(h * w, np.int32)        # points as int32: h · w ≤ MAX_POINTS
     order = np.empty(h * w, np.int32)
     n = _borders(own, todo)
     tally = np.zeros(g, np.int64)

@@ -207,7 +207,8 @@ class PhotoModel:
 
 
 def _settle(job, stale: bool) -> None:
-    """Wait for a tone job; a stale one's end, cancelled or not, is not waited for twice."""
+    """Wait for a tone job to end. Once the tone is stale, a job not started yet is dropped and
+    one stopped part way (Cancelled) is as good as done."""
     if stale and job.cancel():
         return
     try:
