@@ -698,6 +698,36 @@ def test_the_tone_index_groups_points_as_a_stable_sort_would(seed, space):
     assert np.array_equal(got[2], order)
 
 
+@pytest.mark.parametrize("g", [2, 4, 5, 6])
+def test_the_tone_finds_a_context_by_table_or_by_search_alike(g, monkeypatch):
+    """Below DIRECT_SPACE (G ≤ 5) a 3×3 context finds its photo points in a look-up table, else
+    by a binary search: both give the same pictures (plain, balanced, tiling, colour)."""
+    photo = ski.data.coffee()[:90, :120]
+    levels = texeditor.quantize(photo, g, "lab").levels
+    grey = (ski.color.rgb2gray(photo) * 255).astype(np.uint8)
+    out = np.ascontiguousarray(np.rot90(levels)[:70, :80])
+    out[10:20, 5:40] = np.random.default_rng(g).integers(0, g, (10, 35))   # unseen contexts
+    table = tone.tone_index(levels, g)
+    assert (len(table.direct) == g ** 9) is (g ** 9 <= tone.DIRECT_SPACE)
+    monkeypatch.setattr(tone, "DIRECT_SPACE", 0)
+    searched = tone.tone_index(levels, g)
+    assert len(searched.direct) == 0
+    for way in (tone.PLAIN, tone.PLAIN | tone.BALANCED, tone.TILED, tone.TILED_LANES):
+        args = (out, g, levels, grey, photo)
+        a = tone.render(*args, seed=3, wrap=way, index=table)
+        b = tone.render(*args, seed=3, wrap=way, index=searched)
+        assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(1, 2**20), st.integers(0, 2**40 - 1))
+def test_a_photo_point_splits_into_row_and_column_as_a_division_would(pw, s):
+    assert tone._split(np.int64(s), np.int64(pw), 1.0 / pw) == divmod(s, pw)
+    k = s // pw * pw                                # the multiples, where a float quotient
+    for t in (k, k + pw - 1, max(k - 1, 0)):        # may round to either side
+        assert tone._split(np.int64(t), np.int64(pw), 1.0 / pw) == divmod(t, pw)
+
+
 def test_a_models_level_shares_are_counted_once_and_cannot_be_changed_from_outside(model):
     shares = model.frequencies()
     shares[:] = 0
