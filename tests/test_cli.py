@@ -214,6 +214,21 @@ def test_resynth_and_photo_models_end_to_end(tmp_path, photo, capsys):
     assert code == 0 and "scale 1 of 2" in out
     code, _, err = run(capsys, "resynth", photo, "--scales", "9", "-o", tmp_path / "x.png")
     assert code == 2 and "1..6" in err and not (tmp_path / "x.png").exists()
+    code, out, _ = run(capsys, "resynth", photo, "--scales", "1", "--size", "40x30", "-o",
+                       tmp_path / "one.png")
+    assert code == 0 and "1 scale," in out
+
+
+def test_resynth_names_what_a_too_small_photo_lacks(tmp_path, capsys):
+    """A photo under 8 points a side: one line, without a reduction it would not have."""
+    path = tmp_path / "tiny.png"
+    skio.imsave(path, (np.arange(9).reshape(3, 3) * 25).astype(np.uint8), check_contrast=False)
+    code, _, err = run(capsys, "resynth", path, "--size", "40x30", "-o", tmp_path / "x.png")
+    assert code == 2 and err.count("\n") == 1
+    assert "3x3 photo is too small: a photo has at least 8 points a side" in err
+    code, _, err = run(capsys, "resynth", path, "--scales", "2", "-o", tmp_path / "x.png")
+    assert code == 2 and "too small for 2 scales (its coarsest reduction" in err
+    assert not (tmp_path / "x.png").exists()
 
 
 def test_resynth_says_when_it_rebalanced_the_level_shares(tmp_path, capsys):

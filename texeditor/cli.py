@@ -130,7 +130,7 @@ def _synth_model(model, width, height, seed, out, tone=True, tileable=False) -> 
     else:
         write_npy(out, result.levels)
     print(f"{out}: {width}x{height}, seed {seed}{', tileable' if tileable else ''}, "
-          f"{model.scales.scales} scales, "
+          f"{model.scales.scales} scale{'s' if model.scales.scales > 1 else ''}, "
           f"{'photographic tone' if tone and model.tone is not None else 'palette'}, "
           f"dead-end repairs {result.repairs}"
           + (f", level shares rebalanced ({result.moved} border moves)" if result.moved else ""))

@@ -133,8 +133,10 @@ def pyramid(photo: np.ndarray, scales: int, as_float=np.asarray) -> list[np.ndar
     n = 2 ** (scales - 1)
     h, w = photo.shape[0] // n * n, photo.shape[1] // n * n
     if h < n * 8 or w < n * 8:
-        raise InputError(f"a {photo.shape[1]}x{photo.shape[0]} photo is too small for {scales} "
-                         f"scales (its coarsest reduction would have fewer than 8 points a side)")
+        size = f"a {photo.shape[1]}x{photo.shape[0]} photo is too small"
+        raise InputError(f"{size}: a photo has at least 8 points a side" if scales == 1 else
+                         f"{size} for {scales} scales (its coarsest reduction would have fewer "
+                         f"than 8 points a side)")
     out = [photo[:h, :w]]
     block = (2, 2) + (1,) * (photo.ndim - 2)          # a colour photo: each channel
     if scales > 1:
