@@ -20,7 +20,8 @@ from texeditor.markov.dpj import DPJ, MAX_SIDE
 from texeditor.errors import Cancelled, TexeditorError
 from texeditor.markov.estimation import estimate_dpj
 from texeditor.markov.levels import load_image, quantize
-from texeditor.markov.multiscale import MAX_SCALES, MultiScaleDPJ, default_scales, estimate_scales
+from texeditor.markov.multiscale import (MAX_SCALES, MultiScaleDPJ, default_scales, estimate_scales,
+                                         scales_phrase)
 from texeditor.markov.scan import ROWS, SCAN_NAMES
 from texeditor.photo import PhotoModel, photo_tone
 
@@ -463,7 +464,7 @@ class AcquireDialog(QtWidgets.QDialog):
                                                   else "greys")
                 if model.tone is not None else "shown with the palette (no tone)")
         self.info.setStyleSheet("")
-        self.info.setText(f"<b>A photo model of {ms.scales} scales</b> from a {w}×{h} photo — "
+        self.info.setText(f"<b>A photo model of {scales_phrase(ms.scales)}</b> from a {w}×{h} photo — "
                           f"{'; '.join(parts)}.<br>"
                           f"<span style='color: #308030'>Each finer scale is drawn given the "
                           f"coarser one under it; textures are {tone}.</span>")

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor import warmup
+from texeditor.markov.multiscale import scales_phrase
 from texeditor.recipe.actions import SetPalette, Synthesize, SynthesizeScales
 from texeditor.errors import TexeditorError
 from texeditor.recipe.history import EVERYTHING, History
@@ -675,7 +676,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
             self.show_error("Cannot synthesise", exc)
             return
         dpjs = [self.history.document.dpjs[r] for r in refs]
-        self._run_synthesis(action, dpjs, f"Synthesising {width}×{height} on {len(refs)} scales…")
+        self._run_synthesis(action, dpjs, f"Synthesising {width}×{height} on {scales_phrase(len(refs))}…")
 
     def _run_synthesis(self, action, source, label: str) -> None:
         """Draw ``action``'s levels from ``source`` (its DPJ or DPJs) in the worker, with

@@ -37,6 +37,7 @@ def _pair(text: str, what: str) -> tuple[int, int]:
 def cmd_acquire(args) -> int:
     from .markov.estimation import estimate_dpj
     from .markov.levels import load_image, quantize
+    from .markov.multiscale import scales_phrase
 
     out = output_path(args.output, (".dpj",))
     if args.scales is not None and (args.scan or args.stationary):
@@ -46,8 +47,8 @@ def cmd_acquire(args) -> int:
         model = _acquire_model(image, args)
         model.save(out)
         windows = ", ".join(f"{d.window[0]}x{d.window[1]}" for d in model.scales.dpjs)
-        print(f"{out}: photo model, {model.scales.scales} scales ({windows}), G = {model.levels}, "
-              f"tone {'kept' if model.tone is not None else 'off'}, {len(out.read_bytes())} bytes")
+        print(f"{out}: photo model, {scales_phrase(model.scales.scales)} ({windows}), "
+              f"G = {model.levels}, tone {'kept' if model.tone is not None else 'off'}, {len(out.read_bytes())} bytes")
         return 0
     u, v = _pair(args.window or "2x2", "the window")
     method = args.quantizer or "band"
@@ -114,6 +115,7 @@ def _synth_model(model, width, height, seed, out, tone=True, tileable=False) -> 
     """A photo model: its picture (PNG: tone or palette), its levels (.npy) or a .texture whose
     log draws the same levels from the scales' DPJs."""
     from .export import write_npy, write_picture
+    from .markov.multiscale import scales_phrase
     from .recipe.texturefile import save_texture, synthesize_scales_texture
 
     suffix = out.suffix.lower()
@@ -130,7 +132,7 @@ def _synth_model(model, width, height, seed, out, tone=True, tileable=False) -> 
     else:
         write_npy(out, result.levels)
     print(f"{out}: {width}x{height}, seed {seed}{', tileable' if tileable else ''}, "
-          f"{model.scales.scales} scale{'s' if model.scales.scales > 1 else ''}, "
+          f"{scales_phrase(model.scales.scales)}, "
           f"{'photographic tone' if tone and model.tone is not None else 'palette'}, "
           f"dead-end repairs {result.repairs}"
           + (f", level shares rebalanced ({result.moved} border moves)" if result.moved else ""))

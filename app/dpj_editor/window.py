@@ -15,6 +15,7 @@ from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.markov import dpj_edit
 from texeditor.markov.dpj import DPJ, MAX_LEVELS, MAX_SIDE, check_window, decode
+from texeditor.markov.multiscale import scales_phrase
 from texeditor.errors import TexeditorError
 from texeditor.photo import load_model
 
@@ -458,7 +459,7 @@ class DPJEditor(QtWidgets.QMainWindow):
             return False
         if not isinstance(dpj, DPJ):
             self.show_error(f"Cannot open {path.name}", f"{path.name} is a photo model of "
-                            f"{dpj.scales.scales} scales: open it with the main window's File ▸ "
+                            f"{scales_phrase(dpj.scales.scales)}: open it with the main window's File ▸ "
                             "Open DPJ or photo model…, which adds each scale's DPJ to the "
                             "texture; Edit DPJ then opens the current one here.")
             return False

@@ -113,6 +113,16 @@ def test_default_scales_bring_the_coarsest_side_near_64():
     assert multiscale.default_scales((10**5, 10**5)) == multiscale.MAX_SCALES
 
 
+def test_scales_are_counted_in_words_a_reader_expects():
+    """Messages and History labels say "1 scale", "2 scales"."""
+    from texeditor.recipe.actions import SynthesizeScales
+    assert multiscale.scales_phrase(1) == "1 scale"
+    assert multiscale.scales_phrase(4) == "4 scales"
+    refs = ("0123456789abcdef", "fedcba9876543210")
+    assert "on 1 scale," in SynthesizeScales(refs[:1], 40, 30).label()
+    assert "on 2 scales," in SynthesizeScales(refs, 40, 30).label()
+
+
 def test_bad_scales_are_refused_with_a_reason():
     photo = blobs(0, (64, 64))
     with pytest.raises(InputError, match="too small"):

@@ -119,6 +119,11 @@ def check_scales(dpjs) -> None:
         below = dpjs[k].levels // gp
 
 
+def scales_phrase(n: int) -> str:
+    """"1 scale", "3 scales": how messages and labels count scales."""
+    return f"{n} scale" if n == 1 else f"{n} scales"
+
+
 def default_scales(shape) -> int:
     """Enough halvings to bring the photo's shorter side to about COARSEST_SIDE points."""
     side = min(shape[:2])

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..markov.dpj import MAX_LEVELS, grey_ramp
 from ..markov.scan import ROWS, SCANS, check_scan
-from ..markov.multiscale import COARSE_REDRAWS, OLD_REDRAWS, SCALES_CLOSURE
+from ..markov.multiscale import COARSE_REDRAWS, OLD_REDRAWS, SCALES_CLOSURE, scales_phrase
 from ..markov.particles import MAX_PARTICLES, PARTICLES
 from ..markov.synthesis import CLOSURE
 from ..errors import FormatError, InputError, check_unicode
@@ -629,7 +629,7 @@ class SynthesizeScales(Action):
     def label(self) -> str:
         tiles = ", tileable" if self.tileable else ""
         tone = ", with its photo's tone" if self.tone_photo is not None else ""
-        return (f"Synthesise {self.width}×{self.height} on {len(self.dpjs)} scales, "
+        return (f"Synthesise {self.width}×{self.height} on {scales_phrase(len(self.dpjs))}, "
                 f"seed {self.seed}{tiles}{tone}")
 
 
