@@ -629,7 +629,8 @@ def _render(out_codes, photo_codes, keys, starts, points, direct, photo, source,
     contexts of rows ``base`` on and columns ``base_col`` .. ``base_col + codes_width - 1``.
     Point n = i·w + j draws from SplitMix64 at state0 + DRAWS·n·GAMMA, whichever order the
     chunks run in. ``wrap``: neighbours across the seams count once drawn (_before).
-    ``balance`` = (shares, row counts, counts above, balanced, count): see _penalties."""
+    ``balance`` = (shares, row counts, counts above, balanced, count): see _penalties.
+    ``direct``: ToneIndex.direct (empty: the 3×3 contexts are searched in ``keys[0]``)."""
     h, w = grey.shape
     ph, pw = photo.shape
     shares, row_counts, above, balanced, count_them = balance
