@@ -9,9 +9,11 @@ torus:
 - the seam band (windows starting within BAND points of a seam) against the interior: total
   variation distance of their 3×3 window histograms, beside two yardsticks: the same cross-shaped
   band moved to the middle of the same texture, where no seam is, against the same interior (the
-  fair one: its windows are as correlated as the seam band's), and the seed-to-seed spread (the
-  interior of one seed, subsampled to the band's count, against the interior of the next seed —
-  random windows, so less spread than any contiguous band shows even without a seam);
+  fair one: its windows are as correlated as the seam band's), and the seed-to-seed spread, two
+  ways: the interior of one seed, subsampled to the band's count, against the interior of the
+  next seed (random windows, so less spread than any contiguous band shows even without a
+  seam), and the next seed's band moved to the middle against this seed's interior (a band of
+  the same shape: the spread the seam band is to be read against);
 - time of a tileable draw over a plain one (best of the seeds, warm), at the size and by size
   (128² to 1024²), for the 3×3 DPJ and for a photo model (256² to 1024², its seam closure 5
   beside closure 4, which version-6 recipes keep);
@@ -109,9 +111,12 @@ def bench(name, size, seeds):
             rng = np.random.default_rng(0)
             spread = [tv(rng.choice(codes[s][~mask], mask.sum(), replace=False),
                          codes[(s + 1) % seeds][~mask]) for s in range(seeds)]
+            banded = [tv(codes[(s + 1) % seeds][middle], codes[s][rest]) for s in range(seeds)]
             print(f"  3x3 seam band vs interior TV {np.mean(seam):.3f} (worst {max(seam):.3f}); "
                   f"the band moved to the middle {np.mean(moved):.3f} (worst {max(moved):.3f}); "
-                  f"interior seed-to-seed spread {np.mean(spread):.3f} (worst {max(spread):.3f})")
+                  f"interior seed-to-seed spread {np.mean(spread):.3f} (worst {max(spread):.3f}); "
+                  f"the next seed's band vs this interior {np.mean(banded):.3f} "
+                  f"(worst {max(banded):.3f})")
     model = texeditor.acquire_model(photo)
     sweep(dpj, model, seeds)
     for tileable in (False, True):
