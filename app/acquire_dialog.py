@@ -464,8 +464,8 @@ class AcquireDialog(QtWidgets.QDialog):
                                                   else "greys")
                 if model.tone is not None else "shown with the palette (no tone)")
         self.info.setStyleSheet("")
-        self.info.setText(f"<b>A photo model of {scales_phrase(ms.scales)}</b> from a {w}×{h} photo — "
-                          f"{'; '.join(parts)}.<br>"
+        self.info.setText(f"<b>A photo model of {scales_phrase(ms.scales)}</b> from a {w}×{h} "
+                          f"photo — {'; '.join(parts)}.<br>"
                           f"<span style='color: #308030'>Each finer scale is drawn given the "
                           f"coarser one under it; textures are {tone}.</span>")
         self.info.setToolTip("The coarsest scale is an ordinary DPJ; each finer one is a "

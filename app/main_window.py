@@ -676,7 +676,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
             self.show_error("Cannot synthesise", exc)
             return
         dpjs = [self.history.document.dpjs[r] for r in refs]
-        self._run_synthesis(action, dpjs, f"Synthesising {width}×{height} on {scales_phrase(len(refs))}…")
+        self._run_synthesis(action, dpjs,
+                            f"Synthesising {width}×{height} on {scales_phrase(len(refs))}…")
 
     def _run_synthesis(self, action, source, label: str) -> None:
         """Draw ``action``'s levels from ``source`` (its DPJ or DPJs) in the worker, with

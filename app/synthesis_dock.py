@@ -36,7 +36,8 @@ def scales_summary(dpjs) -> tuple[str, str]:
     """Two lines for a photo model's scales: its name and number of scales, the finest one."""
     name = dpjs[-1].meta.get("name", "photo model").rpartition(" scale ")[0] or "photo model"
     u, v = dpjs[-1].window
-    return f"{name}: {scales_phrase(len(dpjs))}", f"finest {u}×{v}, G = {MultiScaleDPJ(tuple(dpjs)).levels}"
+    return (f"{name}: {scales_phrase(len(dpjs))}",
+            f"finest {u}×{v}, G = {MultiScaleDPJ(tuple(dpjs)).levels}")
 
 
 class SynthesisDock(QtWidgets.QDockWidget):

@@ -48,7 +48,8 @@ def cmd_acquire(args) -> int:
         model.save(out)
         windows = ", ".join(f"{d.window[0]}x{d.window[1]}" for d in model.scales.dpjs)
         print(f"{out}: photo model, {scales_phrase(model.scales.scales)} ({windows}), "
-              f"G = {model.levels}, tone {'kept' if model.tone is not None else 'off'}, {len(out.read_bytes())} bytes")
+              f"G = {model.levels}, tone {'kept' if model.tone is not None else 'off'}, "
+              f"{len(out.read_bytes())} bytes")
         return 0
     u, v = _pair(args.window or "2x2", "the window")
     method = args.quantizer or "band"

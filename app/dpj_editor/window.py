@@ -459,9 +459,10 @@ class DPJEditor(QtWidgets.QMainWindow):
             return False
         if not isinstance(dpj, DPJ):
             self.show_error(f"Cannot open {path.name}", f"{path.name} is a photo model of "
-                            f"{scales_phrase(dpj.scales.scales)}: open it with the main window's File ▸ "
-                            "Open DPJ or photo model…, which adds each scale's DPJ to the "
-                            "texture; Edit DPJ then opens the current one here.")
+                            f"{scales_phrase(dpj.scales.scales)}: open it with the main "
+                            "window's File ▸ Open DPJ or photo model…, which adds each "
+                            "scale's DPJ to the texture; Edit DPJ then opens the current one "
+                            "here.")
             return False
         dpj = DPJ(dpj.configs, dpj.probs, dpj.levels, palette=dpj.palette,
                   meta={"name": path.stem, **dpj.meta})
