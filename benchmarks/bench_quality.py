@@ -108,6 +108,13 @@ def row(label: str, seconds, figures) -> str:
     return f"{label:<42} {t:>7} {g:>6.3f} {s:>8.3f} {tv:>7.3f} {100 * copied:>7.1f}"
 
 
+def bands_line(image, grey) -> str:
+    """Where its spectrum distance lies: log10 power over the photo's, by band of periods."""
+    d = quality.spectrum_by_band(image, grey)
+    return (f"{'':<42} log power - photo's, periods >=64: {d[0]:+.2f}, 8-64: {d[1]:+.2f}, "
+            f"2.7-8: {d[2]:+.2f}, 2-2.7: {d[3]:+.2f}")
+
+
 def level_drift(result) -> float | None:
     """Largest |level frequency of the output − the model's|, when the result exposes both."""
     model = getattr(result, "model_frequencies", None)
@@ -143,10 +150,13 @@ def bench_photo(name: str, size: int, seeds: int, large: int) -> tuple[str, list
                                 for seed in range(1, DRIFT_SEEDS)]
             print(f"{'':<42} largest |level frequency - model's| = {drift:.3f} "
                   f"(seeds 0..{DRIFT_SEEDS - 1}: {max(drifts):.3f})")
+        if title == MULTI:
+            print(bands_line(image, grey))
     for k in (9, 30):
         peer = PEERS / f"{label}-resynthesizer-{k}.png"
         if peer.exists():
             print(row(f"Resynthesizer-{k} (peer file)", None, scores(io.imread(peer), grey)))
+            print(bands_line(io.imread(peer), grey))
     if resynthesize is None:
         print(f"({MULTI}: skipped, texeditor.resynthesize does not exist yet)")
     elif large:

@@ -97,6 +97,22 @@ def spectrum_distance(output, photo) -> float:
     return float(np.sqrt(np.mean(d ** 2)))
 
 
+SPECTRUM_BANDS = (0, 1 / 32, 1 / 4, 3 / 4, 1)   # radius over Nyquist: periods ≥ 64, 8–64,
+#                                                 2.7–8, 2–2.7 points
+
+
+def spectrum_by_band(output, photo) -> list[float]:
+    """The mean log10-power difference (output − photo) over bands of spectrum_distance's
+    radial bins (SPECTRUM_BANDS), which says where the distance comes from: structure too
+    large, or pixel noise."""
+    a, b = grey_u8(output), grey_u8(photo)
+    bins = min(min(a.shape), min(b.shape)) // 2
+    d = log_spectrum(a, bins) - log_spectrum(b, bins)
+    radius = np.arange(1, bins + 1) / bins
+    bands = [(radius > lo) & (radius <= hi) for lo, hi in zip(SPECTRUM_BANDS, SPECTRUM_BANDS[1:])]
+    return [float(d[band].mean()) if band.any() else float("nan") for band in bands]
+
+
 # -- 3×3 level configurations ------------------------------------------------------------------
 def window_histogram(levels: np.ndarray, g: int, window: int = 3) -> np.ndarray:
     """Frequencies of the window×window configurations (g^(window²) codes, no wrap): the

@@ -41,6 +41,18 @@ def test_spectrum_compares_sizes_on_the_same_scale():
     assert quality.spectrum_distance(big[:256, :256], big) < 0.15
 
 
+def test_the_spectrum_by_band_says_where_the_power_differs(photo, shuffled):
+    """Zero against itself; shuffled pixels (white noise) have too little power at long periods
+    and too much at the shortest; a blurred copy loses more the shorter the period."""
+    from scipy import ndimage
+    assert quality.spectrum_by_band(photo, photo) == pytest.approx([0] * 4, abs=1e-12)
+    low, *_, high = quality.spectrum_by_band(shuffled, photo)
+    assert low < -0.3 and high > 0.3
+    blurred = ndimage.gaussian_filter(photo.astype(float), 1.5).astype(np.uint8)
+    low, mid, short, high = quality.spectrum_by_band(blurred, photo)
+    assert abs(low) < 0.1 and high < short < mid < 0 and high < -1
+
+
 def test_copied_share(photo, shuffled):
     assert quality.copied_share(photo, photo) == 1.0
     assert quality.copied_share(photo[10:80, 20:90], photo) == 1.0
