@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 from texeditor import DPJ
 from texeditor.markov import dpj_edit as E
@@ -115,7 +115,10 @@ def test_make_stationary_drops_transitions_that_never_come_back():
 @given(st.integers(0, 10_000), st.sampled_from([(2, 2), (3, 1), (1, 3), (3, 2)]),
        st.floats(0.0, 0.8))
 @settings(max_examples=25, deadline=None)
-def test_make_stationary_always_reaches_the_tolerance(seed, window, sparsity):
+@example(seed=307, window=(3, 2), sparsity=0.625)     # its projection stalled: it came back
+def test_make_stationary_always_reaches_the_tolerance(seed, window, sparsity):  # unbalanced
+    """Stationary within the tolerance, or an InputError saying why not: never a DPJ that only
+    looks done."""
     d = E.random_dpj(window, 2, seed=seed, sparsity=sparsity)
     try:
         s = E.make_stationary(d)

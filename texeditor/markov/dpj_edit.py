@@ -17,7 +17,8 @@ from ..errors import Cancelled, InputError
 MAX_RANDOM_CONFIGS = 2**22     # a seeded DPJ draws every configuration: G^(u·v) must stay small
 STATIONARY_TOL = 1e-11         # L1 residual make_stationary aims below (the checks want 1e-9)
 FADED = 1e-8                   # an entry make_stationary shrinks by more is fading to 0: dropped
-MAX_PRUNINGS = 8
+MAX_PRUNINGS = 16              # rounds dropping entries no stationary law keeps
+STATIONARY_CHECK = 1e-10       # ... until the law's residual is below this (the checks want 1e-9)
 
 
 
@@ -118,18 +119,21 @@ def make_stationary(dpj: DPJ, *, tol: float = STATIONARY_TOL, max_steps: int = 1
     for _ in range(MAX_PRUNINGS):
         keep = _recurrent_support(dpj, keep)
         if not keep.any():
-            raise InputError("no stationary DPJ uses only these configurations: each of them "
-                             "leads to a sub-window that never comes back; add configurations "
-                             "that close the cycles")
+            break
         logw = _balance(dpj, keep, tol, max_steps, cancel)
         logq = logw - logw.max()
         logq -= np.log(np.exp(logq).sum())
-        fading = logq - np.log(dpj.probs[keep] / dpj.total) < np.log(FADED)
+        shrink = logq - np.log(dpj.probs[keep] / dpj.total)
+        fading = shrink < np.log(FADED)
+        balanced = _rebuild(dpj, dpj.codes[keep], np.exp(logq) * dpj.total)
         if not fading.any():
-            break
+            if _worst_residual(balanced) <= STATIONARY_CHECK:
+                return balanced
+            fading = shrink == shrink.min()   # the projection stalled on its way to dropping it
         keep[np.flatnonzero(keep)[fading]] = False
-    probs = np.exp(logq) * dpj.total
-    return _rebuild(dpj, dpj.codes[keep], probs)
+    raise InputError("no stationary DPJ uses only these configurations: each of them "
+                     "leads to a sub-window that never comes back; add configurations "
+                     "that close the cycles")
 
 
 def _check_usable(dpj: DPJ) -> None:

@@ -24,7 +24,7 @@ from typing import Callable, NamedTuple
 import numpy as np
 from numba import njit
 
-from . import particles
+from . import particles, steering
 from .dpj import DPJ, encode
 from ..errors import Cancelled, InputError
 
@@ -65,7 +65,7 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
                rows_final: Callable[[np.ndarray, int], None] | None = None,
                tileable: bool = False, closure: int = CLOSURE,
                redraw_budget: int | None = None, repair_budget: int | None = None,
-               shares: particles.Shares | None = None) -> SynthesisResult:
+               shares: particles.Shares | None = None, steer=None) -> SynthesisResult:
     """Draw an (H, W) level matrix from ``dpj``; same DPJ and seed → same matrix.
 
     ``progress(fraction)`` is called between bands of rows; ``cancel()`` returning True stops the
@@ -90,12 +90,15 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
     ``shares``: the field is drawn given its level shares (markov.particles: several drafts
     side by side, those off course dropped between bands of rows; not with ``rows_final`` or
     a budget).
+
+    ``steer``: level shares the rows are steered towards as they are drawn (markov.steering:
+    the law tilted band by band; not with ``shares``).
     """
     h, w = _check_request(dpj, shape)
     out = np.zeros((h, w), dtype=np.uint8)
     across = _tables(_transposed(dpj)) if tileable else None
     return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws, rows_final, across,
-                 _check_closure(closure), (redraw_budget, repair_budget), shares)
+                 _check_closure(closure), (redraw_budget, repair_budget), shares, steer)
 
 
 def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed: int = 0,
@@ -104,7 +107,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
                      max_redraws: int = 16,
                      rows_final: Callable[[np.ndarray, int], None] | None = None,
                      tileable: bool = False, closure: int = CLOSURE,
-                     shares: particles.Shares | None = None) -> SynthesisResult:
+                     shares: particles.Shares | None = None, steer=None) -> SynthesisResult:
     """Draw a level matrix given a parent level at every point (a finer scale given the coarser
     one under it, markov.multiscale): ``dpj``'s levels are composite, parent · G + level, with
     G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
@@ -112,7 +115,8 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     ``rows_final`` is told of). ``tileable``: on the torus, the parents tiling too
     (``closure`` 3 and 4: as 2 with CLOSE_TRIES_3 tries a seam, what multi-scale synthesis
     uses; 4 over stretches from CLOSE_SPAN_4 windows); ``shares``: the own levels' shares
-    it is drawn given (see synthesize)."""
+    it is drawn given; ``steer``: the own levels' shares it is steered towards, given these
+    parents (see synthesize)."""
     gp = int(parent_levels)
     if gp < 2 or dpj.levels % gp:
         raise InputError(f"a DPJ of {dpj.levels} composite levels cannot have {gp} parent levels")
@@ -128,7 +132,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     across = _tables(_transposed(dpj), gp) if tileable else None
     result = _draw(out, _tables(dpj, gp), seed, progress, cancel, max_redraws,
                    rows_final and _own_levels(out, gx, rows_final, tileable), across, closure,
-                   (None, None), shares)
+                   (None, None), shares, steer, parents)
     np.remainder(result.levels, gx, out=result.levels)
     return result
 
@@ -147,8 +151,10 @@ def _own_levels(out, gx, rows_final, tileable):
 
 
 def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
-          across=None, closure=CLOSURE, budget=(None, None), shares=None) -> SynthesisResult:
-    """Fill ``out`` band by band (progress, cancel and the rows now final between bands).
+          across=None, closure=CLOSURE, budget=(None, None), shares=None, steer=None,
+          parents=None) -> SynthesisResult:
+    """Fill ``out`` band by band (progress, cancel and the rows now final between bands;
+    ``steer``: the level shares the bands are steered towards, given ``parents``).
 
     Tileable (``across``: the tables of the DPJ transposed): drawn on the torus — in a copy of
     ``out`` whose first v-1 rows and u-1 columns are repeated after its last, so every window
@@ -159,16 +165,21 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
     state = np.random.SeedSequence(check_seed(seed)).generate_state(1, np.uint64)
     work = np.pad(out, ((0, t.v - 1), (0, t.u - 1)), mode="wrap") if tileable else out
     tile_h, tile_w = (np.int64(h), np.int64(w)) if tileable else (np.int64(0), np.int64(0))
+    steered = None
+    if steer is not None:
+        steered = steering.steering(t, _check_shares(steer, t.gx), parents)
     if shares is not None:
-        if rows_final is not None or budget != (None, None):
-            raise InputError("a synthesis given its level shares has no rows_final or budget")
+        if rows_final is not None or budget != (None, None) or steer is not None:
+            raise InputError("a synthesis given its level shares has no rows_final, budget or "
+                             "steering")
         work, repairs, redraws = _draw_given_shares(work, (h, w), t, seed, progress, cancel,
                                                     max_redraws, tile_h, tile_w, closure, shares)
         if not tileable:
             out[:] = work
     else:
         work, repairs, redraws = _draw_bands(out, work, t, state, progress, cancel, max_redraws,
-                                             rows_final, tile_h, tile_w, closure, budget)
+                                             rows_final, tile_h, tile_w, closure, budget,
+                                             steered)
         if past_budget(budget, redraws, repairs):
             return SynthesisResult(out, int(repairs), int(redraws), int(seed))
     if tileable:
@@ -193,31 +204,52 @@ def _draw_given_shares(work, shape, t, seed, progress, cancel, max_redraws, tile
 
 
 def _draw_bands(out, work, t, state, progress, cancel, max_redraws, rows_final, tile_h, tile_w,
-                closure, budget):
+                closure, budget, steered=None):
     """The rows of ``work`` drawn band by band; stops once past ``budget`` (redraws,
-    repairs; None: no limit)."""
+    repairs; None: no limit). ``steered``: a markov.steering.Steering; the rows are then
+    drawn in shorter bands (steering.band_rows), each after the first from the law it tilts,
+    and each moving it."""
     h, w = out.shape
     tileable = tile_h > 0
     bands = 1 if rows_final is None else FINAL_BANDS
-    band = max(t.v, min(ROWS_PER_CALL_PIXELS // w, -(-h // bands)))
+    band = max(t.v, min(ROWS_PER_CALL_PIXELS // w, -(-h // bands)))   # rows_final's
+    step = band if steered is None else max(t.v, steering.band_rows(w))    # the same bands
+    #                                                                    with rows_final or not
     repairs = redraws = 0
-    for r0 in range(0, h, band):
+    law, told = t, band
+    for r0 in range(0, h, step):
+        r1 = min(h, r0 + step)
         if cancel is not None and cancel():
             raise Cancelled("synthesis cancelled")
-        rep, red = _sample_rows(work, r0, min(h, r0 + band), t, state, max_redraws, tile_h,
-                                tile_w, np.int64(closure), _left(budget[0], redraws),
+        if steered is not None and r0 > 0:
+            law = t._replace(fent=steered.tilted(t.fent))
+        rep, red = _sample_rows(work, r0, r1, law, state, max_redraws, tile_h, tile_w,
+                                np.int64(closure), _left(budget[0], redraws),
                                 _left(budget[1], repairs))
+        if steered is not None:
+            steered.update(work[r0:r1, :w], t.gx)
         repairs += rep
         redraws += red
         if past_budget(budget, redraws, repairs):
             break
         if progress is not None:
-            progress(min(h, r0 + band) / h)
-        if rows_final is not None and r0 + band < h:
-            rows_final(work[:h, :w] if tileable else out, max(0, r0 + band - MAX_REDRAW_DEPTH))
-        elif rows_final is not None and not tileable:
+            progress(r1 / h)
+        if rows_final is None or (r1 < told and r1 < h):
+            continue
+        told = r1 + band
+        if r1 < h:
+            rows_final(work[:h, :w] if tileable else out, max(0, r1 - MAX_REDRAW_DEPTH))
+        elif not tileable:
             rows_final(out, h)
     return work, repairs, redraws
+
+
+def _check_shares(shares, g: int) -> np.ndarray:
+    shares = np.asarray(shares, float)
+    if shares.shape != (g,) or not np.all(np.isfinite(shares)) or np.any(shares < 0) \
+            or not np.isclose(shares.sum(), 1.0):
+        raise InputError(f"level shares to steer towards: {g} non-negative numbers adding up to 1")
+    return shares
 
 
 def _left(budget, used) -> np.int64:

@@ -462,13 +462,20 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 7 kept the finest scale's level shares as drawn (no ``rebalance``);
+    """Versions 1 to 8 drew every scale without steering its level shares (no ``steer``);
+    version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the finest scale's level
+    shares as drawn (no ``rebalance``);
     version 7 had closures 1 to 5 (default 5), version 6 1 to 4 (default 4). Versions 1 to 5
     drew a coarse scale again to fit its level shares (no ``particles``); version 5 had
     closures 1 to 4, version 4 1 to 3 (default 3). Versions 1 to 3 also tried OLD_REDRAWS
     times at a dead end of the coarsest scale and drew their tone without balance; version 1
     had no ``closure`` (closed the first way), version 2 closures 1 and 2 (default 2),
     version 3 1 to 3 (default 3)."""
+    if "steer" in params:
+        raise FormatError(f"action {cls.TYPE!r} version {version} has no steer")
+    params = {**params, "steer": False}
+    if version == 8:
+        return _closure_as_written(cls, version, params, 5)
     if "rebalance" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} has no rebalance")
     params = {**params, "rebalance": False}
@@ -559,7 +566,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 8
+    VERSION: ClassVar[int] = 9
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -588,6 +595,10 @@ class SynthesizeScales(Action):
                             doc="the finest scale's level shares, when they come out off, are "
                                 "brought back by moving region borders (current; recipes "
                                 "before version 8 kept them as drawn)")
+    steer: bool = param("bool", default=True,
+                        doc="every scale's level shares are steered towards its DPJ's as its "
+                            "rows are drawn (current; recipes before version 9 drew them "
+                            "unsteered)")
 
     upgrade = classmethod(_scales_of_version)
 
@@ -605,7 +616,7 @@ class SynthesizeScales(Action):
                                  seed=self.seed, progress=progress, cancel=cancel,
                                  tileable=self.tileable, closure=self.closure,
                                  coarse_redraws=self.coarse_redraws, particles=self.particles,
-                                 rebalance=self.rebalance)
+                                 rebalance=self.rebalance, steer=self.steer)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels

@@ -1,0 +1,88 @@
+"""The user guide's level-share pictures:
+
+- steering.png: photo | drawn unsteered | steered (coffee at 2048², seed 1, and logo at 512²,
+  seed 0, shown whole at 320²: the level shares are the picture's overall make-up);
+- rebalance.png: photo | its finest shares as drawn | rebalanced (unsteered, as steps before
+  version 9 draw; 512² textures, seed 0, their top-left 320² shown).
+
+Run: PYTHONPATH=. python3 docs/make_share_pictures.py  (about half a minute)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from skimage import data, io, transform, util
+
+import texeditor
+
+IMG = Path(__file__).resolve().parent / "img"
+PHOTOS = ("chelsea", "rocket", "text")
+STEERED = (("coffee", 2048, 1), ("logo", 512, 0))
+SIDE, GAP = 320, 8
+
+
+def rgb(image: np.ndarray) -> np.ndarray:
+    return np.stack([image] * 3, axis=-1) if image.ndim == 2 else image[..., :3]
+
+
+def photo_panel(photo: np.ndarray) -> np.ndarray:
+    """The photo scaled to SIDE rows, cut or padded (white) to SIDE columns."""
+    width = round(SIDE * photo.shape[1] / photo.shape[0])
+    small = util.img_as_ubyte(transform.resize(rgb(photo), (SIDE, width), anti_aliasing=True))
+    panel = np.full((SIDE, SIDE, 3), 255, np.uint8)
+    panel[:, :min(SIDE, width)] = small[:, :SIDE]
+    return panel
+
+
+def whole(image: np.ndarray) -> np.ndarray:
+    return util.img_as_ubyte(transform.resize(rgb(image), (SIDE, SIDE), anti_aliasing=True))
+
+
+def share_error(model, drawn) -> float:
+    shares = np.bincount(drawn.levels.ravel(), minlength=model.levels) / drawn.levels.size
+    return float(np.abs(shares - model.frequencies()).max())
+
+
+def panels(photo: np.ndarray, *pictures) -> np.ndarray:
+    gap = np.full((SIDE, GAP, 3), 255, np.uint8)
+    parts = [photo_panel(photo)]
+    for picture in pictures:
+        parts += [gap, picture]
+    return np.concatenate(parts, axis=1)
+
+
+def rebalance_row(name: str) -> np.ndarray:
+    photo = getattr(data, name)()
+    model = texeditor.acquire_model(photo)
+    kept = model.synthesize((512, 512), seed=0, rebalance=False, steer=False)
+    moved = model.synthesize((512, 512), seed=0, steer=False)
+    print(f"{name}: {moved.moved} border moves")
+    return panels(photo, rgb(kept.image)[:SIDE, :SIDE], rgb(moved.image)[:SIDE, :SIDE])
+
+
+def steering_row(name: str, side: int, seed: int) -> np.ndarray:
+    photo = getattr(data, name)()
+    model = texeditor.acquire_model(photo)
+    plain = model.synthesize((side, side), seed=seed, steer=False)
+    steered = model.synthesize((side, side), seed=seed)
+    print(f"{name} {side}²: worst level share off by {share_error(model, plain):.3f} "
+          f"unsteered, {share_error(model, steered):.3f} steered")
+    return panels(photo, whole(plain.image), whole(steered.image))
+
+
+def save(rows, name: str) -> None:
+    gap = np.full((GAP, rows[0].shape[1], 3), 255, np.uint8)
+    picture = np.concatenate([part for r in rows for part in (r, gap)][:-1])
+    io.imsave(IMG / name, picture, check_contrast=False)
+    print(IMG / name)
+
+
+def main() -> None:
+    save([steering_row(*case) for case in STEERED], "steering.png")
+    save([rebalance_row(name) for name in PHOTOS], "rebalance.png")
+
+
+if __name__ == "__main__":
+    main()
