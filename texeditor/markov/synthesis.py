@@ -222,7 +222,7 @@ def _draw_bands(out, work, t, state, progress, cancel, max_redraws, rows_final, 
         if cancel is not None and cancel():
             raise Cancelled("synthesis cancelled")
         if steered is not None and r0 > 0:
-            law = t._replace(fent=steered.tilted(t.fent))
+            law = t.weighed(steered.tilted(t.fent))
         rep, red = _sample_rows(work, r0, r1, law, state, max_redraws, tile_h, tile_w,
                                 np.int64(closure), _left(budget[0], redraws),
                                 _left(budget[1], repairs))
@@ -353,6 +353,10 @@ class _Tables(NamedTuple):
     first_configs: np.ndarray
     pfx: np.ndarray            # (3, states) int64: CODE of the first u-1 columns, START, END
     pfx_entry: np.ndarray      # full-model entries grouped by their first u-1 columns
+
+    def weighed(self, fent: np.ndarray) -> "_Tables":
+        """These tables with other entry weights (a tilted law: markov.steering)."""
+        return self._replace(fent=fent)
 
 
 # rows of the packed tables
