@@ -44,15 +44,14 @@ class Steering:
 
     def __init__(self, entry_parent: np.ndarray, entry_level: np.ndarray, aims: np.ndarray,
                  seen: np.ndarray):
-        self.entry_parent, self.entry_level = entry_parent, entry_level
+        self.entry = entry_parent * aims.shape[1] + entry_level   # each entry's place in tilt
         self.aims = aims                  # (parent levels, G): each level's aim over a parent
         self.seen = seen                  # (parent levels,): the DPJ has points over it
         self.tilt = np.zeros_like(aims)
 
     def tilted(self, fent: np.ndarray) -> np.ndarray:
         """The kernels' entry weights (q, m) with every entry's last point tilted."""
-        factor = np.exp(self.tilt)[self.entry_parent, self.entry_level]
-        return np.ascontiguousarray(fent * factor)
+        return fent * np.exp(self.tilt).ravel().take(self.entry)
 
     def update(self, composite: np.ndarray, g: int) -> None:
         """Move the tilt after a band of rows (``composite``: parent · g + level)."""
