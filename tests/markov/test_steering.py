@@ -22,7 +22,7 @@ def chelsea():
 
 def test_steering_keeps_a_scene_at_its_level_shares_where_a_plain_draw_strays(chelsea):
     """Drawn given synthetic parents, chelsea's finest scale favours some levels (0.02–0.07 off,
-    seed after seed); steered, every scale keeps within 0.01 — before any border is moved."""
+    seed after seed); steered, its shares keep within 0.01 — before any border is moved."""
     want = chelsea.frequencies(chelsea.scales - 1)
     plain, steered = [], []
     for seed in range(3):
