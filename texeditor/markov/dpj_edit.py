@@ -125,8 +125,8 @@ def make_stationary(dpj: DPJ, *, tol: float = STATIONARY_TOL, max_steps: int = 1
         logq -= np.log(np.exp(logq).sum())
         shrink = logq - np.log(dpj.probs[keep] / dpj.total)
         fading = shrink < np.log(FADED)
-        balanced = _rebuild(dpj, dpj.codes[keep], np.exp(logq) * dpj.total)
         if not fading.any():
+            balanced = _rebuild(dpj, dpj.codes[keep], np.exp(logq) * dpj.total)
             if _worst_residual(balanced) <= STATIONARY_CHECK:
                 return balanced
             fading = shrink == shrink.min()   # the projection stalled on its way to dropping it

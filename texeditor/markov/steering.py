@@ -55,8 +55,8 @@ class Steering:
         """The kernels' entry weights (q, m) with every entry's last point tilted."""
         return fent * np.exp(self.tilt).ravel().take(self.entry)
 
-    def update(self, composite: np.ndarray, g: int) -> None:
-        """Move the tilt after a band of rows (``composite``: parent · g + level)."""
+    def update(self, composite: np.ndarray) -> None:
+        """Move the tilt after a band of rows (``composite``: parent · G + level)."""
         counts = np.bincount(composite.ravel(), minlength=self.aims.size)[: self.aims.size]
         counts = counts.reshape(self.aims.shape).astype(float)
         points = counts.sum(axis=1, keepdims=True)
@@ -89,7 +89,6 @@ def _fitted(law: np.ndarray, field: np.ndarray, shares: np.ndarray) -> np.ndarra
     """law(level | parent) times a factor per level, so that over the ``field``'s parent shares
     the levels' shares are ``shares`` (as near as the law allows)."""
     factor = np.zeros(len(shares))
-    aims = law
     for _ in range(FIT_ROUNDS):
         aims = law * np.exp(factor)
         aims /= aims.sum(axis=1, keepdims=True)

@@ -165,9 +165,6 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
     state = np.random.SeedSequence(check_seed(seed)).generate_state(1, np.uint64)
     work = np.pad(out, ((0, t.v - 1), (0, t.u - 1)), mode="wrap") if tileable else out
     tile_h, tile_w = (np.int64(h), np.int64(w)) if tileable else (np.int64(0), np.int64(0))
-    steered = None
-    if steer is not None:
-        steered = steering.steering(t, _check_shares(steer, t.gx), parents)
     if shares is not None:
         if rows_final is not None or budget != (None, None) or steer is not None:
             raise InputError("a synthesis given its level shares has no rows_final, budget or "
@@ -177,6 +174,8 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
         if not tileable:
             out[:] = work
     else:
+        steered = None if steer is None else steering.steering(t, _check_shares(steer, t.gx),
+                                                               parents)
         work, repairs, redraws = _draw_bands(out, work, t, state, progress, cancel, max_redraws,
                                              rows_final, tile_h, tile_w, closure, budget,
                                              steered)
@@ -227,7 +226,7 @@ def _draw_bands(out, work, t, state, progress, cancel, max_redraws, rows_final, 
                                 np.int64(closure), _left(budget[0], redraws),
                                 _left(budget[1], repairs))
         if steered is not None:
-            steered.update(work[r0:r1, :w], t.gx)
+            steered.update(work[r0:r1, :w])
         repairs += rep
         redraws += red
         if past_budget(budget, redraws, repairs):
