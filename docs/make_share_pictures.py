@@ -1,8 +1,7 @@
 """The user guide's level-share pictures:
 
-- steering.png: photo | drawn unsteered | steered, small scales as large ones (version 9) |
-  small scales steered closely (coffee at 2048², seed 1, and logo at 512², seed 0, shown whole
-  at 320²: the level shares are the picture's overall make-up);
+- steering.png: photo | drawn unsteered | steered (coffee at 2048², seed 1, and logo at 512²,
+  seed 0, shown whole at 320²: the level shares are the picture's overall make-up);
 - rebalance.png: photo | its finest shares as drawn | rebalanced (unsteered, as steps before
   version 9 draw; 512² textures, seed 0, their top-left 320² shown).
 
@@ -67,12 +66,10 @@ def steering_row(name: str, side: int, seed: int) -> np.ndarray:
     photo = getattr(data, name)()
     model = texeditor.acquire_model(photo)
     plain = model.synthesize((side, side), seed=seed, steer=False)
-    banded = model.synthesize((side, side), seed=seed, steer_small=False)
     steered = model.synthesize((side, side), seed=seed)
     print(f"{name} {side}²: worst level share off by {share_error(model, plain):.3f} "
-          f"unsteered, {share_error(model, banded):.3f} steered as version 9, "
-          f"{share_error(model, steered):.3f} small scales closely")
-    return panels(photo, whole(plain.image), whole(banded.image), whole(steered.image))
+          f"unsteered, {share_error(model, steered):.3f} steered")
+    return panels(photo, whole(plain.image), whole(steered.image))
 
 
 def save(rows, name: str) -> None:

@@ -237,15 +237,15 @@ def test_progress_of_coarse_tries_only_grows():
 def test_the_coarsest_scale_tries_coarse_redraws_times_at_a_dead_end():
     """Brick's coarsest law (5×5 over a 64² reduction) meets dead ends all over: a dead end is
     tried COARSE_REDRAWS times (redrawing the rows above) before it backs off, 16 in recipes
-    before it; the other scales keep 16. (Unsteered, to be compared with plain draws.)"""
+    before it; the other scales keep 16."""
     from texeditor.photo import acquire_model
     coarse = acquire_model(ski.data.brick()).scales.dpjs[0]
     alone = multiscale.MultiScaleDPJ((coarse,))         # drawn once: the coarsest scale's draw
     assert multiscale.COARSE_REDRAWS == 4 < multiscale.OLD_REDRAWS == 16
-    default = multiscale.synthesize_scales(alone, (64, 64), seed=1, steer=False)
+    default = multiscale.synthesize_scales(alone, (64, 64), seed=1)
     four = synthesize(coarse, (64, 64), seed=1, max_redraws=4)
     assert np.array_equal(default.levels, four.levels) and default.redraws == four.redraws
-    old = multiscale.synthesize_scales(alone, (64, 64), seed=1, coarse_redraws=16, steer=False)
+    old = multiscale.synthesize_scales(alone, (64, 64), seed=1, coarse_redraws=16)
     assert np.array_equal(old.levels, synthesize(coarse, (64, 64), seed=1).levels)
     assert not np.array_equal(old.levels, default.levels)
     for bad in (17, -1, True, "4"):
@@ -295,7 +295,7 @@ def test_a_scale_is_drafted_only_when_its_plain_draws_stray_and_it_is_not_too_la
     draw_scale = multiscale._draw_scale
 
     def spy(model, k, shape, *args):
-        calls.append((k, args[-3] is not None))         # shares (then steer, steer_small)
+        calls.append((k, args[-2] is not None))         # shares (then steer)
         return draw_scale(model, k, shape, *args)
     monkeypatch.setattr(multiscale, "_draw_scale", spy)
     drafted = multiscale.synthesize_scales(model, (100, 140), seed=2, steer=False).levels

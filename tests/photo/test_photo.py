@@ -117,7 +117,7 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = SynthesizeScales(step.dpjs, 80, 60, seed=7, tileable=True,
                            tone_photo=step.tone_photo, tone_levels=step.tone_levels)
-    assert new.to_json()["version"] == 10 and new.closure == 5 and new.tone_balance
+    assert new.to_json()["version"] == 9 and new.closure == 5 and new.tone_balance
     assert new.particles == PARTICLES and step.particles == 0
     assert new.rebalance and not step.rebalance
     assert step_wrap(new) == tone.TILED_LANES | tone.BALANCED
@@ -141,7 +141,7 @@ def test_textures_of_version_3_replay_with_16_coarse_redraws_as_they_did(name):
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, coarse_redraws=COARSE_REDRAWS, particles=PARTICLES)
-    assert new.to_json()["version"] == 10 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
+    assert new.to_json()["version"] == 9 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     model = document_model(doc, step)
@@ -167,7 +167,7 @@ def test_textures_of_version_5_replay_drawing_a_coarse_scale_again_whole(name):
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, particles=PARTICLES)
-    assert new.to_json()["version"] == 10 and new.to_json()["particles"] == PARTICLES
+    assert new.to_json()["version"] == 9 and new.to_json()["particles"] == PARTICLES
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     model = document_model(doc, step)
@@ -192,7 +192,7 @@ def test_a_tileable_texture_of_version_6_replays_with_closure_4():
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, closure=5)
-    assert new.to_json()["version"] == 10 and new.to_json()["closure"] == 5
+    assert new.to_json()["version"] == 9 and new.to_json()["closure"] == 5
     model = document_model(doc, step)
     assert np.array_equal(new.prepare(doc), model.synthesize((100, 140), seed=step.seed,
                                                              tileable=True, tone=False,
@@ -220,7 +220,7 @@ def test_a_texture_of_version_7_replays_without_rebalancing():
     shares = np.bincount(doc.levels.ravel(), minlength=4) / doc.levels.size
     assert np.abs(shares - model.frequencies()).max() > 0.1
     new = dataclasses.replace(step, rebalance=True)
-    assert new.to_json()["version"] == 10 and new.to_json()["rebalance"] is True
+    assert new.to_json()["version"] == 9 and new.to_json()["rebalance"] is True
     redrawn = new.prepare(doc)
     moved = redrawn != doc.levels
     assert 0 < moved.mean() < 0.25
@@ -252,40 +252,32 @@ def test_a_texture_of_version_8_replays_unsteered():
     doc = render_texture(DATA / "scales-v8" / "scales-plain.texture")
     step = doc.actions[-1]
     new = dataclasses.replace(step, steer=True)
-    assert new.to_json()["version"] == 10 and new.to_json()["steer"] is True
-    assert new.to_json()["steer_small"] is False
+    assert new.to_json()["version"] == 9 and new.to_json()["steer"] is True
     redrawn = new.prepare(doc)
     model = document_model(doc, step)
-    assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed, tone=False,
-                                                    steer_small=False).levels)
+    assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed, tone=False).levels)
     assert not np.array_equal(redrawn, doc.levels)
 
 
-def test_a_texture_of_version_9_replays_without_close_steering():
-    """Files written by SynthesizeScales version 9 (tests/data/scales-v9: the crop of chelsea,
-    plain and tileable, every scale at most 65536 points) come out bit-identical, levels and
-    tone: their steps steer small scales as large ones. A new step (version 10) steers them
-    closely: the same seed draws what the model draws, another texture."""
+def test_textures_of_version_9_replay_as_they_were_written():
+    """Files written by SynthesizeScales version 9, the current one (tests/data/scales-v9: the
+    crop of chelsea, plain and tileable, steered) come out bit-identical, levels and tone: a
+    change to the kernels that moves a texture needs a new version."""
     import hashlib
     import json
     from tests.support import DATA
-    from texeditor.photo import document_model, document_tone
+    from texeditor.photo import document_tone
+    from texeditor.recipe.actions import SynthesizeScales
     expected = json.loads((DATA / "scales-v9" / "expected.json").read_text())
     for name in ("scales-plain", "scales-tileable"):
         doc = render_texture(DATA / "scales-v9" / f"{name}.texture")
         step = doc.actions[-1]
-        assert step.steer and not step.steer_small and expected[name]["version"] == 9
+        assert step.steer and step.rebalance and expected[name]["version"] == 9
+        assert step.to_json()["version"] == SynthesizeScales.VERSION == 9
         assert step.tileable == (name == "scales-tileable")
         assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected[name]["levels_sha256"]
         assert (hashlib.sha256(document_tone(doc).tobytes()).hexdigest()
                 == expected[name]["tone_sha256"])
-        new = dataclasses.replace(step, steer_small=True)
-        assert new.to_json()["version"] == 10 and new.to_json()["steer_small"] is True
-        redrawn = new.prepare(doc)
-        model = document_model(doc, step)
-        assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed, tone=False,
-                                                        tileable=step.tileable).levels)
-        assert not np.array_equal(redrawn, doc.levels)
 
 
 @pytest.mark.parametrize("version, obj, steer", [
@@ -300,21 +292,6 @@ def test_a_multiscale_step_keeps_whether_it_steers(version, obj, steer):
             read_scales_step(version, obj)
     else:
         assert read_scales_step(version, obj).steer is steer
-
-
-@pytest.mark.parametrize("version, obj, steer_small", [
-    (9, {}, False), (8, {}, False), (2, {}, False), (9, {"steer_small": True}, None),
-    (10, {}, True), (10, {"steer_small": False}, False), (10, {"steer_small": 1}, None)])
-def test_a_multiscale_step_keeps_whether_it_steers_small_scales_closely(version, obj,
-                                                                        steer_small):
-    """Close steering of small scales came with SynthesizeScales version 10: an older step
-    steers them as large ones (or not at all) and cannot name it; version 10 names it, default
-    on."""
-    if steer_small is None:
-        with pytest.raises(FormatError):
-            read_scales_step(version, obj)
-    else:
-        assert read_scales_step(version, obj).steer_small is steer_small
 
 
 @pytest.mark.parametrize("version, obj, rebalance", [

@@ -232,7 +232,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       tileable: bool = False, closure: int = SCALES_CLOSURE,
                       coarse_redraws: int = COARSE_REDRAWS,
                       particles: int = PARTICLES, rebalance: bool = True,
-                      steer: bool = True, steer_small: bool = True) -> SynthesisResult:
+                      steer: bool = True) -> SynthesisResult:
     """Draw the coarsest scale, then each finer one given the one under it; the finest levels
     (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
     ``tileable``: every scale is drawn on the torus (``closure``: which seam closure, 1 to
@@ -251,9 +251,8 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     moves, made after rows_final was told of all rows but the last band, and the last call,
     all rows final, is not made then; False, as recipes before it). ``steer``: every plain
     draw of a scale is steered towards its level shares as its rows are drawn
-    (markov.steering; False, as recipes before it), so drafts and moves are seldom needed;
-    ``steer_small``: a small scale's draw closely (steering.SMALL_FIELD; False, as recipes
-    before it). The same model and seed give the same matrix."""
+    (markov.steering; False, as recipes before it), so drafts and moves are seldom needed.
+    The same model and seed give the same matrix."""
     seed = check_seed(seed)
     shapes = scale_shapes(check_size(shape), model.scales)
     _check_scale_sizes(model, shapes)
@@ -274,15 +273,14 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
         trial = None
         if tileable and closure >= 2:
             law, trial = _torus_law(model.dpjs[0], shapes[0], seed, closure, coarse_redraws,
-                                    model.frequencies(0) if steer else None, steer_small)
+                                    model.frequencies(0) if steer else None)
             model = MultiScaleDPJ((law,) + model.dpjs[1:])
         for k in range(model.scales):
             if built[k] is not None:
                 built[k].result()
             r = _draw_scale_closest(model, k, shapes, levels, seed, done, progress, cancel,
                                     told, tileable, closure, coarse_redraws, particles,
-                                    trial if k == 0 < model.scales - 1 else None, steer,
-                                    steer_small)
+                                    trial if k == 0 < model.scales - 1 else None, steer)
             parents, levels = levels, r.levels
             repairs, redraws = repairs + r.repairs, redraws + r.redraws
     finally:
@@ -335,11 +333,11 @@ def _check_scale_sizes(model: MultiScaleDPJ, shapes) -> None:
 
 def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel, rows_final,
                         tileable, closure, coarse_redraws, particles,
-                        first=None, steer=False, steer_small=False) -> SynthesisResult:
+                        first=None, steer=False) -> SynthesisResult:
     """Scale k drawn as close to its level shares as synthesize_scales says; ``done``: the
     share of the work done before each scale (progress); ``first``: the first try, when it is
     already drawn (the trial draw that chose the coarsest law on the torus); ``steer``: its
-    plain draws steered towards the shares (``steer_small``: closely when it is small)."""
+    plain draws steered towards the shares."""
     report = None if progress is None else (
         lambda f: progress(done[k] + f * (done[k + 1] - done[k])))
     final = rows_final if k == model.scales - 1 else None
@@ -350,7 +348,7 @@ def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel,
             return first
         return _draw_scale(model, k, shapes[k], parents, _try_seed(seed, k, t), report,
                            cancel, final, bool(tileable), closure, coarse_redraws, shares,
-                           expected if steer and shares is None else None, steer_small)
+                           expected if steer and shares is None else None)
     if particles == 0 or k == model.scales - 1:
         return _closest_draw(draw, _tries(k, model.scales), expected, report, cancel)
     drafts = shapes[k][0] * shapes[k][1] <= MAX_DRAFTED_POINTS
@@ -423,7 +421,7 @@ def _settle(job) -> None:
 
 
 def _torus_law(dpj: DPJ, shape, seed: int, closure: int, redraws: int = OLD_REDRAWS,
-               steer=None, steer_small=False) -> tuple[DPJ, SynthesisResult | None]:
+               steer=None) -> tuple[DPJ, SynthesisResult | None]:
     """The coarsest scale's law for a tileable draw: its own, or the law of its largest
     sub-window (one row and column fewer at a time) whose draw on the torus closes; and that
     draw (None for the last resort, which is not tried). The draw is the coarsest scale's first
@@ -438,7 +436,7 @@ def _torus_law(dpj: DPJ, shape, seed: int, closure: int, redraws: int = OLD_REDR
     closure 3 stops a draw past TORUS_BUDGET redraws a point: it does not close; closure 5
     also past TORUS_REPAIRS back-offs a point; each draw tries ``redraws`` times at a dead
     end, as the coarsest scale's draws will, and steered towards ``steer``, the level shares, as
-    they will be (closely with ``steer_small``), when given)."""
+    they will be, when given)."""
     laws = derived(dpj, "torus laws", _sub_windows)
     points = shape[0] * shape[1]
     budget = int(TORUS_BUDGET * points) if closure >= 3 else None
@@ -448,8 +446,7 @@ def _torus_law(dpj: DPJ, shape, seed: int, closure: int, redraws: int = OLD_REDR
         law = laws[t]
         drawn = synthesize(law, shape, seed=scale_seed(seed, 0), tileable=True,
                            closure=_seam(closure), cancel=cancel, redraw_budget=budget,
-                           repair_budget=repairs, max_redraws=redraws, steer=steer,
-                           steer_small=steer_small)
+                           repair_budget=repairs, max_redraws=redraws, steer=steer)
         if past_budget((budget, repairs), drawn.redraws, drawn.repairs):
             return None
         seen = estimate_dpj(drawn.levels, law.window, law.levels, wrap=True)
@@ -498,18 +495,17 @@ def _tries(k: int, scales: int) -> int:
 
 
 def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final, tileable,
-                closure, coarse_redraws, shares=None, steer=None, steer_small=False):
+                closure, coarse_redraws, shares=None, steer=None):
     dpj = model.dpjs[k]
     if k == 0:
         return synthesize(dpj, shape, seed=seed, progress=progress, cancel=cancel,
                           rows_final=rows_final, tileable=tileable, closure=_seam(closure),
-                          max_redraws=coarse_redraws, shares=shares, steer=steer,
-                          steer_small=steer_small)
+                          max_redraws=coarse_redraws, shares=shares, steer=steer)
     up = upsample_torus(parents, shape) if tileable else upsample(parents, shape)
     return synthesize_given(dpj, up, parent_levels(model.dpjs, k), seed=seed,
                             progress=progress, cancel=cancel, rows_final=rows_final,
                             tileable=tileable, closure=_seam(closure), shares=shares,
-                            steer=steer, steer_small=steer_small)
+                            steer=steer)
 
 
 def _frequency_error(levels: np.ndarray, expected: np.ndarray) -> float:

@@ -17,13 +17,12 @@ The aim of a level given its parent is the photo's (the DPJ's share of the level
 parent) times a factor per level, the same for every parent, chosen so the aims over this
 field's parents add up to the DPJ's level shares: the parents' own drift is made up too.
 
-A small field (at most SMALL_FIELD points: the coarse scales, and every scale of a small
-texture) is steered closely (``close``): one band would hold it all, yet it is where a
-photo of large regions drifts (a logo, a retina's black surround: 0.06–0.11 off at 512²,
-inherited by every finer scale, whose levels follow their parents). It is drawn in
-SMALL_BANDS bands; each band's aim is what the rows left must hold for the whole field to
-end on the aims (within a factor SPAN of them), and λ moves SMALL_GAIN times as fast. A
-large field keeps the slow steering: aimed that way, coffee at 1024² came out banded.
+A field of BAND_POINTS points or fewer is one band, never tilted: it relies on the drafts. Small
+fields steered closely (16 bands each aimed at what the rows left must hold, λ 3× as fast) did
+keep photos of large regions at their shares (a logo, a retina: 0.06–0.11 off → 0.01–0.02 at
+512²), but drew scene photos in horizontal bands (the spread of level shares over blocks of rows
+against blocks of columns, 23 photos: 0.90 → 1.19; a rocket 0.41 → 1.29), and a constant tilt
+fitted on a trial draw flips such fields from one level to another: neither was kept.
 """
 
 from __future__ import annotations
@@ -42,39 +41,22 @@ HALF_WEIGHT = 300    # a parent level over this many points of a band moves λ h
 FLOOR = 0.005        # shares compared in logs from this floor (a level absent under a parent
                      # is not pushed without end)
 FIT_ROUNDS = 200     # rounds fitting the factor per level (the aims' sum)
-SMALL_FIELD = 2**16  # a field of at most this many points is steered closely (``close``):
-SMALL_BANDS = 16     # ... in this many bands, of at least SMALL_ROWS rows,
-SMALL_ROWS = 2
-SMALL_GAIN = 3.0     # ... λ moving this many times as fast (GAIN and STEP),
-SPAN = 2.0           # ... towards what the rows left must hold, within this factor of the aims
 
 
-def band_rows(width: int, height: int, close: bool = False) -> int:
-    """The rows of a band of a steered field of this shape (``close``: steered closely)."""
-    rows = max(BAND_ROWS, -(-BAND_POINTS // width))
-    if close:
-        rows = min(rows, max(SMALL_ROWS, height // SMALL_BANDS))
-    return rows
-
-
-def steers_closely(shape, close: bool) -> bool:
-    """Whether a field of this shape is steered closely when its draw asks for it."""
-    return bool(close) and shape[0] * shape[1] <= SMALL_FIELD
+def band_rows(width: int) -> int:
+    """The rows of a band of a steered field this wide."""
+    return max(BAND_ROWS, -(-BAND_POINTS // width))
 
 
 class Steering:
     """The tilt of one field's law, moved band by band towards the aims (see the module)."""
 
     def __init__(self, entry_parent: np.ndarray, entry_level: np.ndarray, aims: np.ndarray,
-                 seen: np.ndarray, shape=(1, 1), close: bool = False):
+                 seen: np.ndarray):
         self.entry = entry_parent * aims.shape[1] + entry_level   # each entry's place in tilt
         self.aims = aims                  # (parent levels, G): each level's aim over a parent
         self.seen = seen                  # (parent levels,): the DPJ has points over it
         self.tilt = np.zeros_like(aims)
-        self.close = steers_closely(shape, close)
-        self.rows = band_rows(shape[1], shape[0], self.close)    # a band's rows
-        self.points = shape[0] * shape[1]
-        self.drawn = np.zeros_like(aims)  # close: the points drawn so far, per parent and level
 
     def tilted(self, fent: np.ndarray) -> np.ndarray:
         """The kernels' entry weights (q, m) with every entry's last point tilted."""
@@ -85,48 +67,29 @@ class Steering:
         counts = np.bincount(composite.ravel(), minlength=self.aims.size)[: self.aims.size]
         counts = counts.reshape(self.aims.shape).astype(float)
         points = counts.sum(axis=1, keepdims=True)
-        aims, speed = self.aims, 1.0
-        if self.close:
-            self.drawn += counts
-            aims, speed = self._left_to_draw(), SMALL_GAIN
-        share = (counts + PRIOR * aims) / (points + PRIOR)
+        share = (counts + PRIOR * self.aims) / (points + PRIOR)
         weight = points / (points + HALF_WEIGHT) * self.seen[:, None]
-        step = speed * GAIN * weight * (np.log(aims + FLOOR) - np.log(share + FLOOR))
-        self.tilt = np.clip(self.tilt + np.clip(step, -speed * STEP, speed * STEP),
-                            -REACH, REACH)
-
-    def _left_to_draw(self) -> np.ndarray:
-        """The aims of the rows left: the shares that would end the field on the aims (each
-        parent level's points so far scaled up to the field), within a factor SPAN."""
-        drawn = self.drawn.sum(axis=1, keepdims=True)
-        done = drawn.sum() / self.points
-        if done >= 1.0:
-            return self.aims
-        whole = drawn / done
-        need = (self.aims * whole - self.drawn) / np.maximum(whole - drawn, 1.0)
-        need = np.clip(need, self.aims / SPAN, np.minimum(1.0, self.aims * SPAN))
-        return need / np.maximum(need.sum(axis=1, keepdims=True), 1e-12)
+        step = GAIN * weight * (np.log(self.aims + FLOOR) - np.log(share + FLOOR))
+        self.tilt = np.clip(self.tilt + np.clip(step, -STEP, STEP), -REACH, REACH)
 
 
-def steering(tables, shares, parents: np.ndarray | None, shape, close: bool = False
-             ) -> Steering:
-    """A Steering for a field of ``shape`` drawn from kernel ``tables`` (markov.synthesis)
-    towards the level ``shares``; ``parents``: the field's parent levels (None: a field
-    without parents); ``close``: a small field is steered closely."""
+def steering(tables, shares, parents: np.ndarray | None) -> Steering:
+    """A Steering for a field drawn from kernel ``tables`` (markov.synthesis) towards the level
+    ``shares``; ``parents``: the field's parent levels (None: a field without parents)."""
     gp, gx = tables.gp, tables.gx
     code, start, end = tables.ctx
     entry_parent = np.repeat(code % gp, end - start)     # a context ends with the bottom row's
     entry_level = tables.ient[2] % gx                     # parents, the last point's last
     shares = np.asarray(shares, float)
     if gp == 1:
-        return Steering(entry_parent, entry_level, shares[None, :], np.ones(1), shape, close)
+        return Steering(entry_parent, entry_level, shares[None, :], np.ones(1))
     joint = np.bincount(tables.first_configs[:, -1, -1], weights=tables.first_q,
                         minlength=gp * gx)[: gp * gx].reshape(gp, gx)
     seen = joint.sum(axis=1) > 0
     law = np.where(seen[:, None], joint, 1.0)
     law = law / law.sum(axis=1, keepdims=True)
     field = np.bincount(parents.ravel(), minlength=gp)[:gp] / parents.size
-    return Steering(entry_parent, entry_level, _fitted(law, field, shares), seen, shape, close)
+    return Steering(entry_parent, entry_level, _fitted(law, field, shares), seen)
 
 
 def _fitted(law: np.ndarray, field: np.ndarray, shares: np.ndarray) -> np.ndarray:

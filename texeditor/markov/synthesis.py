@@ -65,8 +65,7 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
                rows_final: Callable[[np.ndarray, int], None] | None = None,
                tileable: bool = False, closure: int = CLOSURE,
                redraw_budget: int | None = None, repair_budget: int | None = None,
-               shares: particles.Shares | None = None, steer=None,
-               steer_small: bool = False) -> SynthesisResult:
+               shares: particles.Shares | None = None, steer=None) -> SynthesisResult:
     """Draw an (H, W) level matrix from ``dpj``; same DPJ and seed → same matrix.
 
     ``progress(fraction)`` is called between bands of rows; ``cancel()`` returning True stops the
@@ -93,15 +92,13 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
     a budget).
 
     ``steer``: level shares the rows are steered towards as they are drawn (markov.steering:
-    the law tilted band by band; not with ``shares``); ``steer_small``: a small field is
-    steered closely (markov.steering.SMALL_FIELD).
+    the law tilted band by band; not with ``shares``).
     """
     h, w = _check_request(dpj, shape)
     out = np.zeros((h, w), dtype=np.uint8)
     across = _tables(_transposed(dpj)) if tileable else None
     return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws, rows_final, across,
-                 _check_closure(closure), (redraw_budget, repair_budget), shares, steer,
-                 steer_small=steer_small)
+                 _check_closure(closure), (redraw_budget, repair_budget), shares, steer)
 
 
 def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed: int = 0,
@@ -110,8 +107,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
                      max_redraws: int = 16,
                      rows_final: Callable[[np.ndarray, int], None] | None = None,
                      tileable: bool = False, closure: int = CLOSURE,
-                     shares: particles.Shares | None = None, steer=None,
-                     steer_small: bool = False) -> SynthesisResult:
+                     shares: particles.Shares | None = None, steer=None) -> SynthesisResult:
     """Draw a level matrix given a parent level at every point (a finer scale given the coarser
     one under it, markov.multiscale): ``dpj``'s levels are composite, parent · G + level, with
     G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
@@ -120,7 +116,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     (``closure`` 3 and 4: as 2 with CLOSE_TRIES_3 tries a seam, what multi-scale synthesis
     uses; 4 over stretches from CLOSE_SPAN_4 windows); ``shares``: the own levels' shares
     it is drawn given; ``steer``: the own levels' shares it is steered towards, given these
-    parents (``steer_small``: see synthesize)."""
+    parents (see synthesize)."""
     gp = int(parent_levels)
     if gp < 2 or dpj.levels % gp:
         raise InputError(f"a DPJ of {dpj.levels} composite levels cannot have {gp} parent levels")
@@ -136,7 +132,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     across = _tables(_transposed(dpj), gp) if tileable else None
     result = _draw(out, _tables(dpj, gp), seed, progress, cancel, max_redraws,
                    rows_final and _own_levels(out, gx, rows_final, tileable), across, closure,
-                   (None, None), shares, steer, parents, steer_small)
+                   (None, None), shares, steer, parents)
     np.remainder(result.levels, gx, out=result.levels)
     return result
 
@@ -156,10 +152,9 @@ def _own_levels(out, gx, rows_final, tileable):
 
 def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
           across=None, closure=CLOSURE, budget=(None, None), shares=None, steer=None,
-          parents=None, steer_small=False) -> SynthesisResult:
+          parents=None) -> SynthesisResult:
     """Fill ``out`` band by band (progress, cancel and the rows now final between bands;
-    ``steer``: the level shares the bands are steered towards, given ``parents``, closely
-    when the field is small and ``steer_small``).
+    ``steer``: the level shares the bands are steered towards, given ``parents``).
 
     Tileable (``across``: the tables of the DPJ transposed): drawn on the torus — in a copy of
     ``out`` whose first v-1 rows and u-1 columns are repeated after its last, so every window
@@ -179,8 +174,8 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
         if not tileable:
             out[:] = work
     else:
-        steered = None if steer is None else steering.steering(
-            t, _check_shares(steer, t.gx), parents, (h, w), steer_small)
+        steered = None if steer is None else steering.steering(t, _check_shares(steer, t.gx),
+                                                               parents)
         work, repairs, redraws = _draw_bands(out, work, t, state, progress, cancel, max_redraws,
                                              rows_final, tile_h, tile_w, closure, budget,
                                              steered)
@@ -211,14 +206,14 @@ def _draw_bands(out, work, t, state, progress, cancel, max_redraws, rows_final, 
                 closure, budget, steered=None):
     """The rows of ``work`` drawn band by band; stops once past ``budget`` (redraws,
     repairs; None: no limit). ``steered``: a markov.steering.Steering; the rows are then
-    drawn in shorter bands (its ``rows``), each after the first from the law it tilts,
+    drawn in shorter bands (steering.band_rows), each after the first from the law it tilts,
     and each moving it."""
     h, w = out.shape
     tileable = tile_h > 0
     bands = 1 if rows_final is None else FINAL_BANDS
     band = max(t.v, min(ROWS_PER_CALL_PIXELS // w, -(-h // bands)))   # rows_final's
-    step = band if steered is None else max(t.v, steered.rows)    # the same bands with
-    #                                                               rows_final or not
+    step = band if steered is None else max(t.v, steering.band_rows(w))    # the same bands
+    #                                                                    with rows_final or not
     repairs = redraws = 0
     law, told = t, band
     for r0 in range(0, h, step):

@@ -462,9 +462,8 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 9 did not steer a small scale closely (no ``steer_small``); version 9 had
-    closures 1 to 5 (default 5). Versions 1 to 8 drew every scale without steering its level
-    shares (no ``steer``); version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the finest scale's level
+    """Versions 1 to 8 drew every scale without steering its level shares (no ``steer``);
+    version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the finest scale's level
     shares as drawn (no ``rebalance``);
     version 7 had closures 1 to 5 (default 5), version 6 1 to 4 (default 4). Versions 1 to 5
     drew a coarse scale again to fit its level shares (no ``particles``); version 5 had
@@ -472,11 +471,6 @@ def _scales_of_version(cls, version: int, params: dict) -> dict:
     times at a dead end of the coarsest scale and drew their tone without balance; version 1
     had no ``closure`` (closed the first way), version 2 closures 1 and 2 (default 2),
     version 3 1 to 3 (default 3)."""
-    if "steer_small" in params:
-        raise FormatError(f"action {cls.TYPE!r} version {version} has no steer_small")
-    params = {**params, "steer_small": False}
-    if version == 9:
-        return _closure_as_written(cls, version, params, 5)
     if "steer" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} has no steer")
     params = {**params, "steer": False}
@@ -572,7 +566,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 10
+    VERSION: ClassVar[int] = 9
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -605,10 +599,6 @@ class SynthesizeScales(Action):
                         doc="every scale's level shares are steered towards its DPJ's as its "
                             "rows are drawn (current; recipes before version 9 drew them "
                             "unsteered)")
-    steer_small: bool = param("bool", default=True,
-                              doc="a scale of at most 65536 points is steered closely: in 16 "
-                                  "bands, each aimed at what the rows left must hold (current; "
-                                  "recipes before version 10 steered it as a large one)")
 
     upgrade = classmethod(_scales_of_version)
 
@@ -626,8 +616,7 @@ class SynthesizeScales(Action):
                                  seed=self.seed, progress=progress, cancel=cancel,
                                  tileable=self.tileable, closure=self.closure,
                                  coarse_redraws=self.coarse_redraws, particles=self.particles,
-                                 rebalance=self.rebalance, steer=self.steer,
-                                 steer_small=self.steer_small)
+                                 rebalance=self.rebalance, steer=self.steer)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
