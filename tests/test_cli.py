@@ -232,14 +232,14 @@ def test_resynth_names_what_a_too_small_photo_lacks(tmp_path, capsys):
 
 
 def test_resynth_says_when_it_rebalanced_the_level_shares(tmp_path, capsys):
-    """A crop of chelsea whose finest level shares come out 0.14 off at this seed: the texture
+    """A crop of chelsea whose finest level shares come out 0.09 off at this seed: the texture
     comes out within 0.03 of the model's, and the command says it moved border points."""
     from texeditor.photo import acquire_model
     crop = data.chelsea()[100:292, 200:392]
     path = tmp_path / "cat.png"
     skio.imsave(path, crop, check_contrast=False)
     code, out, _ = run(capsys, "resynth", path, "--scales", "3", "--size", "140x100", "--seed",
-                       "2", "-o", tmp_path / "r.npy")
+                       "7", "-o", tmp_path / "r.npy")
     assert code == 0 and "level shares rebalanced" in out
     levels = np.load(tmp_path / "r.npy")
     shares = np.bincount(levels.ravel(), minlength=4) / levels.size

@@ -117,7 +117,7 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = SynthesizeScales(step.dpjs, 80, 60, seed=7, tileable=True,
                            tone_photo=step.tone_photo, tone_levels=step.tone_levels)
-    assert new.to_json()["version"] == 9 and new.closure == 5 and new.tone_balance
+    assert new.to_json()["version"] == 10 and new.closure == 5 and new.tone_balance
     assert new.particles == PARTICLES and step.particles == 0
     assert new.rebalance and not step.rebalance
     assert step_wrap(new) == tone.TILED_LANES | tone.BALANCED
@@ -141,13 +141,14 @@ def test_textures_of_version_3_replay_with_16_coarse_redraws_as_they_did(name):
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, coarse_redraws=COARSE_REDRAWS, particles=PARTICLES)
-    assert new.to_json()["version"] == 9 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
+    assert new.to_json()["version"] == 10 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     model = document_model(doc, step)
     assert np.array_equal(redrawn, model.synthesize((120, 160), seed=7, tileable=step.tileable,
                                                     closure=step.closure, tone=False,
-                                                    rebalance=False, steer=False).levels)
+                                                    rebalance=False, steer=False,
+                                                    more_drafts=False).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -167,13 +168,14 @@ def test_textures_of_version_5_replay_drawing_a_coarse_scale_again_whole(name):
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, particles=PARTICLES)
-    assert new.to_json()["version"] == 9 and new.to_json()["particles"] == PARTICLES
+    assert new.to_json()["version"] == 10 and new.to_json()["particles"] == PARTICLES
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     model = document_model(doc, step)
     assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed,
                                                     tileable=step.tileable, tone=False,
-                                                    rebalance=False, steer=False).levels)
+                                                    rebalance=False, steer=False,
+                                                    more_drafts=False).levels)
 
 
 def test_a_tileable_texture_of_version_6_replays_with_closure_4():
@@ -192,12 +194,12 @@ def test_a_tileable_texture_of_version_6_replays_with_closure_4():
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, closure=5)
-    assert new.to_json()["version"] == 9 and new.to_json()["closure"] == 5
+    assert new.to_json()["version"] == 10 and new.to_json()["closure"] == 5
     model = document_model(doc, step)
     assert np.array_equal(new.prepare(doc), model.synthesize((100, 140), seed=step.seed,
                                                              tileable=True, tone=False,
                                                              rebalance=False,
-                                                             steer=False).levels)
+                                                             steer=False, more_drafts=False).levels)
 
 
 def test_a_texture_of_version_7_replays_without_rebalancing():
@@ -220,13 +222,13 @@ def test_a_texture_of_version_7_replays_without_rebalancing():
     shares = np.bincount(doc.levels.ravel(), minlength=4) / doc.levels.size
     assert np.abs(shares - model.frequencies()).max() > 0.1
     new = dataclasses.replace(step, rebalance=True)
-    assert new.to_json()["version"] == 9 and new.to_json()["rebalance"] is True
+    assert new.to_json()["version"] == 10 and new.to_json()["rebalance"] is True
     redrawn = new.prepare(doc)
     moved = redrawn != doc.levels
     assert 0 < moved.mean() < 0.25
     shares = np.bincount(redrawn.ravel(), minlength=4) / redrawn.size
     assert np.abs(shares - model.frequencies()).max() <= TRIGGER
-    drawn = model.synthesize((100, 140), seed=step.seed, steer=False)
+    drawn = model.synthesize((100, 140), seed=step.seed, steer=False, more_drafts=False)
     assert np.array_equal(drawn.levels, redrawn) and drawn.moved >= moved.sum()   # moves
     assert np.array_equal(drawn.image, model.render(redrawn, seed=step.seed))
 
@@ -252,32 +254,50 @@ def test_a_texture_of_version_8_replays_unsteered():
     doc = render_texture(DATA / "scales-v8" / "scales-plain.texture")
     step = doc.actions[-1]
     new = dataclasses.replace(step, steer=True)
-    assert new.to_json()["version"] == 9 and new.to_json()["steer"] is True
+    assert new.to_json()["version"] == 10 and new.to_json()["steer"] is True
     redrawn = new.prepare(doc)
     model = document_model(doc, step)
-    assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed, tone=False).levels)
+    assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed, tone=False,
+                                                    more_drafts=False).levels)
     assert not np.array_equal(redrawn, doc.levels)
 
 
 def test_textures_of_version_9_replay_as_they_were_written():
-    """Files written by SynthesizeScales version 9, the current one (tests/data/scales-v9: the
-    crop of chelsea, plain and tileable, steered) come out bit-identical, levels and tone: a
-    change to the kernels that moves a texture needs a new version."""
+    """Files written by SynthesizeScales version 9 (tests/data/scales-v9: the crop of chelsea,
+    plain and tileable, steered) come out bit-identical, levels and tone: their steps draft
+    every scale as 6 particles."""
     import hashlib
     import json
     from tests.support import DATA
-    from texeditor.photo import document_tone
+    from texeditor.photo import document_model, document_tone
     from texeditor.recipe.actions import SynthesizeScales
     expected = json.loads((DATA / "scales-v9" / "expected.json").read_text())
     for name in ("scales-plain", "scales-tileable"):
         doc = render_texture(DATA / "scales-v9" / f"{name}.texture")
         step = doc.actions[-1]
         assert step.steer and step.rebalance and expected[name]["version"] == 9
-        assert step.to_json()["version"] == SynthesizeScales.VERSION == 9
+        assert not step.more_drafts and step.to_json()["version"] == SynthesizeScales.VERSION
         assert step.tileable == (name == "scales-tileable")
         assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected[name]["levels_sha256"]
         assert (hashlib.sha256(document_tone(doc).tobytes()).hexdigest()
                 == expected[name]["tone_sha256"])
+        new = dataclasses.replace(step, more_drafts=True)
+        assert new.to_json()["version"] == 10 and new.to_json()["more_drafts"] is True
+        assert np.array_equal(new.prepare(doc), document_model(doc, step).synthesize(
+            (100, 140), seed=step.seed, tileable=step.tileable, tone=False).levels)
+
+
+@pytest.mark.parametrize("version, obj, more", [
+    (9, {}, False), (8, {}, False), (2, {}, False), (9, {"more_drafts": True}, None),
+    (10, {}, True), (10, {"more_drafts": False}, False), (10, {"more_drafts": 1}, None)])
+def test_a_multiscale_step_keeps_whether_small_scales_get_more_drafts(version, obj, more):
+    """More drafts of small scales came with SynthesizeScales version 10: an older step drafts
+    every scale as ``particles`` and cannot name it; version 10 names it, default on."""
+    if more is None:
+        with pytest.raises(FormatError):
+            read_scales_step(version, obj)
+    else:
+        assert read_scales_step(version, obj).more_drafts is more
 
 
 @pytest.mark.parametrize("version, obj, steer", [

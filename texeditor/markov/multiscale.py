@@ -27,7 +27,7 @@ from .balance import rebalance
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import check_levels, has_colour, quantize, to_grey
-from .particles import PARTICLES, Shares, check_particles
+from .particles import PARTICLES, Shares, check_particles, drafts_for
 from .synthesis import (CLOSURE, SynthesisResult, build_tables, check_seed, check_size,
                         derived, past_budget, synthesize, synthesize_given)
 
@@ -232,7 +232,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       tileable: bool = False, closure: int = SCALES_CLOSURE,
                       coarse_redraws: int = COARSE_REDRAWS,
                       particles: int = PARTICLES, rebalance: bool = True,
-                      steer: bool = True) -> SynthesisResult:
+                      steer: bool = True, more_drafts: bool = True) -> SynthesisResult:
     """Draw the coarsest scale, then each finer one given the one under it; the finest levels
     (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
     ``tileable``: every scale is drawn on the torus (``closure``: which seam closure, 1 to
@@ -252,7 +252,8 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     all rows final, is not made then; False, as recipes before it). ``steer``: every plain
     draw of a scale is steered towards its level shares as its rows are drawn
     (markov.steering; False, as recipes before it), so drafts and moves are seldom needed.
-    The same model and seed give the same matrix."""
+    ``more_drafts``: a small scale is drafted as more particles (particles.drafts_for; False,
+    as recipes before it). The same model and seed give the same matrix."""
     seed = check_seed(seed)
     shapes = scale_shapes(check_size(shape), model.scales)
     _check_scale_sizes(model, shapes)
@@ -280,7 +281,8 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                 built[k].result()
             r = _draw_scale_closest(model, k, shapes, levels, seed, done, progress, cancel,
                                     told, tileable, closure, coarse_redraws, particles,
-                                    trial if k == 0 < model.scales - 1 else None, steer)
+                                    trial if k == 0 < model.scales - 1 else None, steer,
+                                    more_drafts)
             parents, levels = levels, r.levels
             repairs, redraws = repairs + r.repairs, redraws + r.redraws
     finally:
@@ -333,11 +335,12 @@ def _check_scale_sizes(model: MultiScaleDPJ, shapes) -> None:
 
 def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel, rows_final,
                         tileable, closure, coarse_redraws, particles,
-                        first=None, steer=False) -> SynthesisResult:
+                        first=None, steer=False, more_drafts=False) -> SynthesisResult:
     """Scale k drawn as close to its level shares as synthesize_scales says; ``done``: the
     share of the work done before each scale (progress); ``first``: the first try, when it is
     already drawn (the trial draw that chose the coarsest law on the torus); ``steer``: its
-    plain draws steered towards the shares."""
+    plain draws steered towards the shares; ``more_drafts``: drafted as more particles when
+    it is small."""
     report = None if progress is None else (
         lambda f: progress(done[k] + f * (done[k + 1] - done[k])))
     final = rows_final if k == model.scales - 1 else None
@@ -357,7 +360,8 @@ def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel,
     if _frequency_error(plain.levels, expected) <= DRAFT_TRIGGER or not drafts:
         return plain
     drafted = draw(PLAIN_TRIES, report and (lambda f: report((1 + f) / 2)), cancel,
-                   Shares(expected, particles))
+                   Shares(expected, drafts_for(shapes[k][0] * shapes[k][1], particles,
+                                               more_drafts)))
     return min(plain, drafted, key=lambda r: _frequency_error(r.levels, expected))
 
 

@@ -22,7 +22,8 @@ fields steered closely (16 bands each aimed at what the rows left must hold, λ 
 keep photos of large regions at their shares (a logo, a retina: 0.06–0.11 off → 0.01–0.02 at
 512²), but drew scene photos in horizontal bands (the spread of level shares over blocks of rows
 against blocks of columns, 23 photos: 0.90 → 1.19; a rocket 0.41 → 1.29), and a constant tilt
-fitted on a trial draw flips such fields from one level to another: neither was kept.
+fitted on a trial draw flips such fields from one level to another: neither was kept. More
+drafts of small scales do it without bands (markov.particles.drafts_for).
 """
 
 from __future__ import annotations

@@ -86,7 +86,7 @@ class PhotoModel:
     def synthesize(self, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
                    closure: int = SCALES_CLOSURE, coarse_redraws: int = COARSE_REDRAWS,
                    tone_balance: bool = True, particles: int = PARTICLES,
-                   rebalance: bool = True, steer: bool = True,
+                   rebalance: bool = True, steer: bool = True, more_drafts: bool = True,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
@@ -94,12 +94,11 @@ class PhotoModel:
         ``render(levels, wrap=tone_wrap(tileable, closure, tone_balance))`` afterwards, in
         about half the time on two cores). ``tileable``: the levels and the picture repeat
         without a seam (``closure``, ``coarse_redraws``, ``particles``, ``rebalance``,
-        ``steer``: see
-        markov.multiscale.synthesize_scales; ``tone_balance``: each level's greys keep the
+        ``steer``, ``more_drafts``: see markov.multiscale.synthesize_scales; ``tone_balance``: each level's greys keep the
         photo's histogram, tone.BALANCED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
                     closure=closure, coarse_redraws=coarse_redraws, particles=particles,
-                    rebalance=rebalance, steer=steer)
+                    rebalance=rebalance, steer=steer, more_drafts=more_drafts)
         if not tone or self.tone is None:
             result = synthesize_scales(self.scales, shape, **draw)
             image = self.render(result.levels, seed=seed, tone=False)

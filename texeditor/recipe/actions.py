@@ -16,7 +16,7 @@ import numpy as np
 from ..markov.dpj import MAX_LEVELS, grey_ramp
 from ..markov.scan import ROWS, SCANS, check_scan
 from ..markov.multiscale import COARSE_REDRAWS, OLD_REDRAWS, SCALES_CLOSURE, scales_phrase
-from ..markov.particles import MAX_PARTICLES, PARTICLES
+from ..markov.particles import DRAFT_POINTS, MAX_PARTICLES, MORE_PARTICLES, PARTICLES
 from ..markov.synthesis import CLOSURE
 from ..errors import FormatError, InputError, check_unicode
 
@@ -462,8 +462,9 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 8 drew every scale without steering its level shares (no ``steer``);
-    version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the finest scale's level
+    """Versions 1 to 9 drafted every scale as ``particles`` drafts (no ``more_drafts``);
+    version 9 had closures 1 to 5 (default 5). Versions 1 to 8 drew every scale without
+    steering its level shares (no ``steer``); version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the finest scale's level
     shares as drawn (no ``rebalance``);
     version 7 had closures 1 to 5 (default 5), version 6 1 to 4 (default 4). Versions 1 to 5
     drew a coarse scale again to fit its level shares (no ``particles``); version 5 had
@@ -471,6 +472,11 @@ def _scales_of_version(cls, version: int, params: dict) -> dict:
     times at a dead end of the coarsest scale and drew their tone without balance; version 1
     had no ``closure`` (closed the first way), version 2 closures 1 and 2 (default 2),
     version 3 1 to 3 (default 3)."""
+    if "more_drafts" in params:
+        raise FormatError(f"action {cls.TYPE!r} version {version} has no more_drafts")
+    params = {**params, "more_drafts": False}
+    if version == 9:
+        return _closure_as_written(cls, version, params, 5)
     if "steer" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} has no steer")
     params = {**params, "steer": False}
@@ -566,7 +572,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 9
+    VERSION: ClassVar[int] = 10
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -599,6 +605,11 @@ class SynthesizeScales(Action):
                         doc="every scale's level shares are steered towards its DPJ's as its "
                             "rows are drawn (current; recipes before version 9 drew them "
                             "unsteered)")
+    more_drafts: bool = param("bool", default=True,
+                              doc="a small scale is drafted as more particles: as many as fit "
+                                  f"in {DRAFT_POINTS} points, up to {MORE_PARTICLES} (current; "
+                                  "recipes before version 10 drafted every scale as "
+                                  "`particles`)")
 
     upgrade = classmethod(_scales_of_version)
 
@@ -616,7 +627,8 @@ class SynthesizeScales(Action):
                                  seed=self.seed, progress=progress, cancel=cancel,
                                  tileable=self.tileable, closure=self.closure,
                                  coarse_redraws=self.coarse_redraws, particles=self.particles,
-                                 rebalance=self.rebalance, steer=self.steer)
+                                 rebalance=self.rebalance, steer=self.steer,
+                                 more_drafts=self.more_drafts)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
