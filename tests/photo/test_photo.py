@@ -287,45 +287,29 @@ def test_textures_of_version_9_replay_as_they_were_written():
             (100, 140), seed=step.seed, tileable=step.tileable, tone=False).levels)
 
 
-@pytest.mark.parametrize("version, obj, more", [
-    (9, {}, False), (8, {}, False), (2, {}, False), (9, {"more_drafts": True}, None),
-    (10, {}, True), (10, {"more_drafts": False}, False), (10, {"more_drafts": 1}, None)])
-def test_a_multiscale_step_keeps_whether_small_scales_get_more_drafts(version, obj, more):
-    """More drafts of small scales came with SynthesizeScales version 10: an older step drafts
-    every scale as ``particles`` and cannot name it; version 10 names it, default on."""
-    if more is None:
+FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10))   # the multiscale step's switches,
+#                                                               with the version each came with
+
+
+def flag_cases():
+    for name, since in FLAGS:
+        yield name, since - 1, {}, False             # an older step draws without it ...
+        yield name, 2, {}, False
+        yield name, since - 1, {name: True}, None    # ... and cannot name it
+        yield name, since, {}, True                  # its own version: on by default,
+        yield name, since, {name: False}, False      # off when it says so,
+        yield name, since, {name: 1}, None           # and a switch is a bool
+
+
+@pytest.mark.parametrize("name, version, obj, value", list(flag_cases()))
+def test_a_multiscale_step_keeps_its_switches_as_its_version_has_them(name, version, obj, value):
+    """Rebalancing (version 8), steering (9) and more drafts of small scales (10): an older step
+    draws without them and cannot name them; the version that brought one names it, default on."""
+    if value is None:
         with pytest.raises(FormatError):
             read_scales_step(version, obj)
     else:
-        assert read_scales_step(version, obj).more_drafts is more
-
-
-@pytest.mark.parametrize("version, obj, steer", [
-    (8, {}, False), (7, {}, False), (2, {}, False), (8, {"steer": True}, None),
-    (5, {"steer": False}, None), (9, {}, True), (9, {"steer": False}, False),
-    (9, {"steer": 0}, None)])
-def test_a_multiscale_step_keeps_whether_it_steers(version, obj, steer):
-    """Steering came with SynthesizeScales version 9: an older step draws unsteered and cannot
-    name it; version 9 names it, default on."""
-    if steer is None:
-        with pytest.raises(FormatError):
-            read_scales_step(version, obj)
-    else:
-        assert read_scales_step(version, obj).steer is steer
-
-
-@pytest.mark.parametrize("version, obj, rebalance", [
-    (7, {}, False), (6, {}, False), (2, {}, False), (7, {"rebalance": True}, None),
-    (5, {"rebalance": False}, None), (8, {}, True), (8, {"rebalance": False}, False),
-    (8, {"rebalance": 1}, None)])
-def test_a_multiscale_step_keeps_whether_it_rebalances(version, obj, rebalance):
-    """Rebalancing came with SynthesizeScales version 8: an older step keeps its shares as drawn
-    and cannot name it; version 8 names it, default on."""
-    if rebalance is None:
-        with pytest.raises(FormatError):
-            read_scales_step(version, obj)
-    else:
-        assert read_scales_step(version, obj).rebalance is rebalance
+        assert getattr(read_scales_step(version, obj), name) is value
 
 
 @pytest.mark.parametrize("version, obj, particles", [

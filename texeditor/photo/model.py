@@ -94,8 +94,8 @@ class PhotoModel:
         ``render(levels, wrap=tone_wrap(tileable, closure, tone_balance))`` afterwards, in
         about half the time on two cores). ``tileable``: the levels and the picture repeat
         without a seam (``closure``, ``coarse_redraws``, ``particles``, ``rebalance``,
-        ``steer``, ``more_drafts``: see markov.multiscale.synthesize_scales; ``tone_balance``: each level's greys keep the
-        photo's histogram, tone.BALANCED)."""
+        ``steer``, ``more_drafts``: see markov.multiscale.synthesize_scales; ``tone_balance``:
+        each level's greys keep the photo's histogram, tone.BALANCED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
                     closure=closure, coarse_redraws=coarse_redraws, particles=particles,
                     rebalance=rebalance, steer=steer, more_drafts=more_drafts)

@@ -462,16 +462,15 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 9 drafted every scale as ``particles`` drafts (no ``more_drafts``);
-    version 9 had closures 1 to 5 (default 5). Versions 1 to 8 drew every scale without
-    steering its level shares (no ``steer``); version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the finest scale's level
-    shares as drawn (no ``rebalance``);
-    version 7 had closures 1 to 5 (default 5), version 6 1 to 4 (default 4). Versions 1 to 5
-    drew a coarse scale again to fit its level shares (no ``particles``); version 5 had
-    closures 1 to 4, version 4 1 to 3 (default 3). Versions 1 to 3 also tried OLD_REDRAWS
-    times at a dead end of the coarsest scale and drew their tone without balance; version 1
-    had no ``closure`` (closed the first way), version 2 closures 1 and 2 (default 2),
-    version 3 1 to 3 (default 3)."""
+    """Versions 1 to 9 drafted every scale as ``particles`` drafts (no ``more_drafts``); version 9
+    had closures 1 to 5 (default 5). Versions 1 to 8 drew every scale without steering its level
+    shares (no ``steer``); version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the
+    finest scale's level shares as drawn (no ``rebalance``); version 7 had closures 1 to 5
+    (default 5), version 6 1 to 4 (default 4). Versions 1 to 5 drew a coarse scale again to fit
+    its level shares (no ``particles``); version 5 had closures 1 to 4, version 4 1 to 3
+    (default 3). Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest
+    scale and drew their tone without balance; version 1 had no ``closure`` (closed the first
+    way), version 2 closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
     if "more_drafts" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} has no more_drafts")
     params = {**params, "more_drafts": False}
