@@ -15,8 +15,8 @@ torus:
   seam), and the next seed's band moved to the middle against this seed's interior (a band of
   the same shape: the spread the seam band is to be read against);
 - time of a tileable draw over a plain one (best of the seeds, warm), at the size and by size
-  (128² to 1024²), for the 3×3 DPJ and for a photo model (256² to 1024², its seam closure 5
-  beside closure 4, which version-6 recipes keep);
+  (128² to 1024²), for the 3×3 DPJ and for a photo model (256² to 1024²), each with its
+  current seam closure beside the one before (which older recipes keep);
 - a photo model (multi-scale + tone): mean grey jump across each seam over the mean jump between
   neighbours inside (1: no seam to see), plain and tileable.
 """
@@ -32,6 +32,8 @@ from skimage import data
 
 import texeditor
 from texeditor.markov.dpj import encode
+from texeditor.markov.multiscale import SCALES_CLOSURE
+from texeditor.markov.synthesis import CLOSURE
 
 BAND = 4
 
@@ -134,16 +136,21 @@ def sweep(dpj, model, seeds, sizes=(128, 256, 512, 1024)):
     for n in sizes:
         one = best_time(lambda s: texeditor.synthesize(dpj, (n, n), seed=s), seeds)
         two = best_time(lambda s: texeditor.synthesize(dpj, (n, n), seed=s, tileable=True), seeds)
-        line.append(f"{n}² {two / one:.2f}")
-    print("  3x3 time tileable/plain by size: " + ", ".join(line))
+        old = best_time(lambda s: texeditor.synthesize(dpj, (n, n), seed=s, tileable=True,
+                                                       closure=CLOSURE - 1), seeds)
+        line.append(f"{n}² {two / one:.2f} (closure {CLOSURE - 1}: {old / one:.2f})")
+    print(f"  3x3 time tileable/plain by size, closure {CLOSURE}: " + ", ".join(line))
     line = []
     for n in sizes[1:]:
         k = max(2, seeds // 2)
         one = best_time(lambda s: model.synthesize((n, n), seed=s), k)
         two = best_time(lambda s: model.synthesize((n, n), seed=s, tileable=True), k)
-        old = best_time(lambda s: model.synthesize((n, n), seed=s, tileable=True, closure=4), k)
-        line.append(f"{n}² {two / one:.2f} ({two:.2f} / {one:.2f} s; closure 4: {old / one:.2f})")
-    print("  photo model (scales + tone) time tileable/plain: " + ", ".join(line))
+        old = best_time(lambda s: model.synthesize((n, n), seed=s, tileable=True,
+                                                   closure=SCALES_CLOSURE - 1), k)
+        line.append(f"{n}² {two / one:.2f} ({two:.2f} / {one:.2f} s; closure "
+                    f"{SCALES_CLOSURE - 1}: {old / one:.2f})")
+    print(f"  photo model (scales + tone) time tileable/plain, closure {SCALES_CLOSURE}: "
+          + ", ".join(line))
 
 
 def main():

@@ -6,6 +6,7 @@ import numpy as np
 from PySide6 import QtCore, QtWidgets
 
 from texeditor.markov.levels import load_image
+from texeditor.markov.multiscale import SCALES_CLOSURE
 from texeditor.markov.particles import PARTICLES
 from texeditor.photo import acquire_model, tone
 
@@ -62,12 +63,13 @@ def test_a_photo_model_draws_and_shows_a_tiling_texture(qtbot, window, photo_pat
     qtbot.mouseClick(dock.tileable_box, LEFT)
     synthesise(qtbot, window, 96, 64, 2)
     step = window.history.actions[-1]
-    assert step.TYPE == "synthesize_scales" and step.tileable and step.closure == 5
+    assert step.TYPE == "synthesize_scales" and step.tileable
+    assert step.closure == SCALES_CLOSURE
     assert step.particles == PARTICLES
     assert np.array_equal(window.document.levels, window.photo_model.synthesize(
         (64, 96), seed=2, tileable=True, tone=False).levels)     # the model's own draw
     picture = window.canvas.picture
-    expected = window.photo_model.render(window.document.levels, seed=2,   # closure 5's
+    expected = window.photo_model.render(window.document.levels, seed=2,   # the current
                                          wrap=tone.TILED_LANES | tone.BALANCED)  # tiling tone
     assert np.array_equal(picture[..., 0] if expected.ndim == 2 else picture,
                           expected if expected.ndim == 2 else expected)

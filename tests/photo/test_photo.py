@@ -16,6 +16,8 @@ from texeditor import DPJ
 from texeditor.errors import FormatError, InputError
 from texeditor.markov.particles import MAX_PARTICLES, PARTICLES
 from texeditor.photo import acquire_model, load_model, model_from_bytes, tone
+from texeditor.markov.multiscale import SCALES_CLOSURE
+from texeditor.recipe.actions import SynthesizeScales
 from texeditor.recipe.texturefile import render_texture, save_texture, synthesize_scales_texture
 from tests.support.photo import speckle
 
@@ -108,7 +110,6 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     import json
     from tests.support import DATA
     from texeditor.photo import document_tone, step_wrap
-    from texeditor.recipe.actions import SynthesizeScales
     expected = json.loads((DATA / "scales-v2" / "expected.json").read_text())
     doc = render_texture(DATA / "scales-v2" / "tileable-tone.texture")
     step = doc.actions[-1]
@@ -117,7 +118,8 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = SynthesizeScales(step.dpjs, 80, 60, seed=7, tileable=True,
                            tone_photo=step.tone_photo, tone_levels=step.tone_levels)
-    assert new.to_json()["version"] == 10 and new.closure == 5 and new.tone_balance
+    assert new.to_json()["version"] == SynthesizeScales.VERSION and new.tone_balance
+    assert new.closure == SCALES_CLOSURE
     assert new.particles == PARTICLES and step.particles == 0
     assert new.rebalance and not step.rebalance
     assert step_wrap(new) == tone.TILED_LANES | tone.BALANCED
@@ -141,7 +143,7 @@ def test_textures_of_version_3_replay_with_16_coarse_redraws_as_they_did(name):
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, coarse_redraws=COARSE_REDRAWS, particles=PARTICLES)
-    assert new.to_json()["version"] == 10 and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
+    assert new.to_json()["version"] == SynthesizeScales.VERSION and new.to_json()["coarse_redraws"] == COARSE_REDRAWS
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     model = document_model(doc, step)
@@ -168,14 +170,14 @@ def test_textures_of_version_5_replay_drawing_a_coarse_scale_again_whole(name):
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, particles=PARTICLES)
-    assert new.to_json()["version"] == 10 and new.to_json()["particles"] == PARTICLES
+    assert new.to_json()["version"] == SynthesizeScales.VERSION and new.to_json()["particles"] == PARTICLES
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
     model = document_model(doc, step)
     assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed,
                                                     tileable=step.tileable, tone=False,
-                                                    rebalance=False, steer=False,
-                                                    more_drafts=False).levels)
+                                                    closure=step.closure, rebalance=False,
+                                                    steer=False, more_drafts=False).levels)
 
 
 def test_a_tileable_texture_of_version_6_replays_with_closure_4():
@@ -194,10 +196,10 @@ def test_a_tileable_texture_of_version_6_replays_with_closure_4():
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, closure=5)
-    assert new.to_json()["version"] == 10 and new.to_json()["closure"] == 5
+    assert new.to_json()["version"] == SynthesizeScales.VERSION and new.to_json()["closure"] == 5
     model = document_model(doc, step)
     assert np.array_equal(new.prepare(doc), model.synthesize((100, 140), seed=step.seed,
-                                                             tileable=True, tone=False,
+                                                             tileable=True, closure=5, tone=False,
                                                              rebalance=False,
                                                              steer=False, more_drafts=False).levels)
 
@@ -222,7 +224,7 @@ def test_a_texture_of_version_7_replays_without_rebalancing():
     shares = np.bincount(doc.levels.ravel(), minlength=4) / doc.levels.size
     assert np.abs(shares - model.frequencies()).max() > 0.1
     new = dataclasses.replace(step, rebalance=True)
-    assert new.to_json()["version"] == 10 and new.to_json()["rebalance"] is True
+    assert new.to_json()["version"] == SynthesizeScales.VERSION and new.to_json()["rebalance"] is True
     redrawn = new.prepare(doc)
     moved = redrawn != doc.levels
     assert 0 < moved.mean() < 0.25
@@ -254,7 +256,7 @@ def test_a_texture_of_version_8_replays_unsteered():
     doc = render_texture(DATA / "scales-v8" / "scales-plain.texture")
     step = doc.actions[-1]
     new = dataclasses.replace(step, steer=True)
-    assert new.to_json()["version"] == 10 and new.to_json()["steer"] is True
+    assert new.to_json()["version"] == SynthesizeScales.VERSION and new.to_json()["steer"] is True
     redrawn = new.prepare(doc)
     model = document_model(doc, step)
     assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed, tone=False,
@@ -270,7 +272,6 @@ def test_textures_of_version_9_replay_as_they_were_written():
     import json
     from tests.support import DATA
     from texeditor.photo import document_model, document_tone
-    from texeditor.recipe.actions import SynthesizeScales
     expected = json.loads((DATA / "scales-v9" / "expected.json").read_text())
     for name in ("scales-plain", "scales-tileable"):
         doc = render_texture(DATA / "scales-v9" / f"{name}.texture")
@@ -282,9 +283,10 @@ def test_textures_of_version_9_replay_as_they_were_written():
         assert (hashlib.sha256(document_tone(doc).tobytes()).hexdigest()
                 == expected[name]["tone_sha256"])
         new = dataclasses.replace(step, more_drafts=True)
-        assert new.to_json()["version"] == 10 and new.to_json()["more_drafts"] is True
+        assert new.to_json()["version"] == SynthesizeScales.VERSION and new.to_json()["more_drafts"] is True
         assert np.array_equal(new.prepare(doc), document_model(doc, step).synthesize(
-            (100, 140), seed=step.seed, tileable=step.tileable, tone=False).levels)
+            (100, 140), seed=step.seed, tileable=step.tileable, closure=step.closure,
+            tone=False).levels)
 
 
 FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10))   # the multiscale step's switches,
@@ -361,15 +363,21 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 6, {"closure": 3}, 3), ("synthesize_scales", 7, {}, 5),
     ("synthesize_scales", 7, {"closure": 4}, 4), ("synthesize_scales", 7, {"closure": 6}, None),
     ("synthesize_scales", 8, {}, 5), ("synthesize_scales", 8, {"closure": 6}, None),
+    ("synthesize_scales", 10, {}, 5), ("synthesize_scales", 10, {"closure": 4}, 4),
+    ("synthesize_scales", 10, {"closure": 6}, None), ("synthesize_scales", 11, {}, 6),
+    ("synthesize_scales", 11, {"closure": 5}, 5), ("synthesize_scales", 11, {"closure": 7}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
-    ("synthesize", 3, {"closure": 5}, None)])
+    ("synthesize", 3, {"closure": 5}, None), ("synthesize", 4, {}, 5),
+    ("synthesize", 4, {"closure": 4}, 4), ("synthesize", 4, {"closure": 6}, None)])
 def test_steps_keep_the_closure_of_their_version(kind, version, obj, closure):
     """Closure 4 (seams closed over shorter stretches) came with Synthesize version 3 and
     SynthesizeScales version 5, closure 5 (the coarsest law chosen quicker) with
-    SynthesizeScales version 7: an older step keeps the closure it names, or its version's
-    default, and cannot name a later one."""
+    SynthesizeScales version 7, closure 5 of one DPJ (its last column read as the others) with
+    Synthesize version 4 and closure 6 of the scales with SynthesizeScales version 11: an
+    older step keeps the closure it names, or its version's default, and cannot name a later
+    one."""
     from texeditor.recipe.codec import action_from_json
     step = {"type": kind, "version": version, "width": 30, "height": 20, "seed": 1,
             "tileable": True, **obj,

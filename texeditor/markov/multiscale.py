@@ -28,7 +28,7 @@ from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import check_levels, has_colour, quantize, to_grey
 from .particles import PARTICLES, Shares, check_particles, drafts_for
-from .synthesis import (CLOSURE, SynthesisResult, build_tables, check_seed, check_size,
+from .synthesis import (SynthesisResult, build_tables, check_seed, check_size,
                         derived, past_budget, synthesize, synthesize_given)
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
@@ -60,13 +60,15 @@ TORUS_REPAIRS = 0.02        # closure 5: ... or backing off at more than this sh
                             # (a back-off leaves about one window off the DPJ: the draws that
                             # closed in our trials backed off at ≤ 0.012 of their points; most
                             # 5×5 draws that do not close, at 0.02–0.16, are stopped part way)
-SCALES_CLOSURE = 5          # the seam closure of a tileable multi-scale synthesis: 3 closes every
+SCALES_CLOSURE = 6          # the seam closure of a tileable multi-scale synthesis: 3 closes every
                             # scale with fewer tries than 2 (synthesis.CLOSE_TRIES_3), stops the
                             # coarsest law's failing trial draws early (TORUS_BUDGET) and has its
                             # tone drawn beside the levels (photo.tone.TILED_LANES); 4 is 3 over
                             # shorter stretches (synthesis.CLOSE_SPAN_4); 5 is 4 with the trial
-                            # draws stopped earlier still (TORUS_REPAIRS); 4 to 1 are kept for
+                            # draws stopped earlier still (TORUS_REPAIRS); 6 is 5 with each
+                            # scale's seams closed by synthesis closure 5; 5 to 1 are kept for
                             # older recipes
+SEAMS = (1, 2, 3, 4, 4, 5)  # the seam closure (synthesis.CLOSURE) of each closure of the scales
 
 
 @dataclass(frozen=True)
@@ -489,7 +491,7 @@ def check_scales_closure(closure) -> int:
 
 def _seam(closure: int) -> int:
     """The seam closure (synthesis.CLOSURE) a closure of the scales draws each scale with."""
-    return min(closure, CLOSURE)
+    return SEAMS[closure - 1]
 
 
 def _tries(k: int, scales: int) -> int:

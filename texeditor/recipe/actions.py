@@ -421,16 +421,18 @@ def _tileable():
 
 def _closure():
     return param("int", 1, CLOSURE, default=CLOSURE,
-                 doc="how a tileable texture's seams are closed: 4 (current: every window an "
+                 doc="how a tileable texture's seams are closed: 5 (current: every window an "
                      "earlier redraw changed and the corner kept in the DPJ, over stretches "
-                     "from one window), 2 (the same over stretches from 4 windows; 3 is 2 for "
+                     "from one window), 4 (as 5, the last column also redrawn far up from a "
+                     "row's failed closure), 2 (4 over stretches from 4 windows; 3 is 2 for "
                      "one DPJ), 1 (the first way); older ways are kept so older recipes replay "
                      "the same")
 
 
 def _scales_closure():
     return param("int", 1, SCALES_CLOSURE, default=SCALES_CLOSURE,
-                 doc="how a tileable texture's seams are closed: 5 (current: as 4, the "
+                 doc="how a tileable texture's seams are closed: 6 (current: as 5, each "
+                     "scale's last column read as the others), 5 (as 4, the "
                      "coarsest window chosen quicker still), 4 (as 3 over stretches from one "
                      "window), 3 (the scales as 2, a quicker choice of the coarsest window, "
                      "the tone drawn beside the levels on two lanes), 2 and 1 (earlier ways, "
@@ -455,14 +457,17 @@ def _closure_as_written(cls, version: int, params: dict, default: int) -> dict:
 
 def _synthesis_of_version(cls, version: int, params: dict) -> dict:
     """Version 1 had no ``closure`` (closed the first way); version 2 closures 1 and 2
-    (default 2), closed over stretches from CLOSE_SPAN windows."""
+    (default 2), closed over stretches from CLOSE_SPAN windows; version 3 closures 1 to 4
+    (default 4)."""
+    if version == 3:
+        return _closure_as_written(cls, version, params, 4)
     if version == 2:
         return _closure_as_written(cls, version, params, 2)
     return _closure_of_version_1(cls, version, params)
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 9 drafted every scale as ``particles`` drafts (no ``more_drafts``); version 9
+    """Version 10 had closures 1 to 5 (default 5). Versions 1 to 9 drafted every scale as ``particles`` drafts (no ``more_drafts``); version 9
     had closures 1 to 5 (default 5). Versions 1 to 8 drew every scale without steering its level
     shares (no ``steer``); version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the
     finest scale's level shares as drawn (no ``rebalance``); version 7 had closures 1 to 5
@@ -471,6 +476,8 @@ def _scales_of_version(cls, version: int, params: dict) -> dict:
     (default 3). Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest
     scale and drew their tone without balance; version 1 had no ``closure`` (closed the first
     way), version 2 closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
+    if version == 10:
+        return _closure_as_written(cls, version, params, 5)
     if "more_drafts" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} has no more_drafts")
     params = {**params, "more_drafts": False}
@@ -510,7 +517,7 @@ class Synthesize(Action):
     """A new canvas drawn from a DPJ by the 2-D Markov process (thesis ch. 4); palette = DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize"
-    VERSION: ClassVar[int] = 3
+    VERSION: ClassVar[int] = 4
     EFFECT: ClassVar[str] = "reset"
     dpj: str = param("ref", doc="reference of a DPJ of the document")
     width: int = _side("points across")
@@ -571,7 +578,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 10
+    VERSION: ClassVar[int] = 11
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
