@@ -334,6 +334,25 @@ def test_closing_the_bottom_seam_redraws_only_near_it(name):
         assert off_the_dpj(np.ascontiguousarray(across[:w, :h].T), dpj) < 0.0005
 
 
+def replayed_fixture(folder: str, name: str):
+    """A tileable texture of tests/data/``folder`` opened with today's code, its levels (and
+    tone) checked against the hashes written with it: the document, its step, the record."""
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_tone
+    from texeditor.recipe.texturefile import render_texture
+    expected = json.loads((DATA / folder / "expected.json").read_text())[name]
+    doc = render_texture(DATA / folder / f"{name}.texture")
+    step = doc.actions[-1]
+    assert step.closure == expected["closure"] and step.tileable
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    if "tone_sha256" in expected:
+        assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == \
+            expected["tone_sha256"]
+    return doc, step, expected
+
+
 @pytest.mark.parametrize("name", ["scales-tileable", "synthesize-tileable"])
 def test_tileable_textures_of_the_previous_closures_replay_as_they_did(name):
     """Files written before closure 4 (tests/data/closure-3: SynthesizeScales version 4 with
@@ -341,19 +360,7 @@ def test_tileable_textures_of_the_previous_closures_replay_as_they_did(name):
     new step of the same texture records closure 4, whose seams redraw shorter stretches: the
     same seed draws another torus, whose windows are still the DPJ's."""
     import dataclasses
-    import hashlib
-    import json
-    from tests.support import DATA
-    from texeditor.photo import document_tone
-    from texeditor.recipe.texturefile import render_texture
-    expected = json.loads((DATA / "closure-3" / "expected.json").read_text())[name]
-    doc = render_texture(DATA / "closure-3" / f"{name}.texture")
-    step = doc.actions[-1]
-    assert step.closure == expected["closure"] and step.tileable
-    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
-    if "tone_sha256" in expected:
-        assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == \
-            expected["tone_sha256"]
+    doc, step, expected = replayed_fixture("closure-3", name)
     new = dataclasses.replace(step, closure=4)
     assert type(step).VERSION > expected["version"]
     assert new.to_json()["closure"] == 4
@@ -370,19 +377,7 @@ def test_tileable_textures_of_closure_4_replay_as_they_did(name):
     bit-identical, levels and tone; the current step of each names the current closure and
     draws another torus (these seeds' last columns were redrawn far up)."""
     import dataclasses
-    import hashlib
-    import json
-    from tests.support import DATA
-    from texeditor.photo import document_tone
-    from texeditor.recipe.texturefile import render_texture
-    expected = json.loads((DATA / "closure-4" / "expected.json").read_text())[name]
-    doc = render_texture(DATA / "closure-4" / f"{name}.texture")
-    step = doc.actions[-1]
-    assert step.closure == expected["closure"] and step.tileable
-    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
-    if "tone_sha256" in expected:
-        assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == \
-            expected["tone_sha256"]
+    doc, step, expected = replayed_fixture("closure-4", name)
     current = SCALES_CLOSURE if name == "scales-tileable" else CLOSURE
     new = dataclasses.replace(step, closure=current)
     assert new.to_json()["version"] == type(step).VERSION > expected["version"]
