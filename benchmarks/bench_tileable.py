@@ -14,9 +14,10 @@ torus:
   next seed (random windows, so less spread than any contiguous band shows even without a
   seam), and the next seed's band moved to the middle against this seed's interior (a band of
   the same shape: the spread the seam band is to be read against);
-- time of a tileable draw over a plain one (best of the seeds, warm), at the size and by size
-  (128² to 1024²), for the 3×3 DPJ and for a photo model (256² to 1024²), each with its
-  current seam closure beside the one before (which older recipes keep);
+- time of a tileable draw over a plain one (warm; the draws take turns, seed after seed, so a
+  busy spell of a shared machine falls on both: the median's ratio, and best over best), at the
+  size and by size (128² to 1024²), for the 3×3 DPJ and for a photo model (256² to 1024²), each
+  with its current seam closure beside the one before (which older recipes keep);
 - a photo model (multi-scale + tone): mean grey jump across each seam over the mean jump between
   neighbours inside (1: no seam to see), plain and tileable.
 """
@@ -69,13 +70,23 @@ def band_mask(shape):
     return mask
 
 
-def best_time(f, seeds):
-    times = []
-    for s in range(seeds):
-        t = time.perf_counter()
-        f(s)
-        times.append(time.perf_counter() - t)
-    return min(times)
+def interleaved_times(fs, seeds, repeats=1):
+    """Each function's times, f(seed) for every seed and repeat, the functions taking turns draw
+    after draw (so a busy spell of a shared machine falls on all of them alike)."""
+    times = [[] for _ in fs]
+    for _ in range(repeats):
+        for s in range(seeds):
+            for f, spent in zip(fs, times):
+                t = time.perf_counter()
+                f(s)
+                spent.append(time.perf_counter() - t)
+    return [np.array(t) for t in times]
+
+
+def ratios(times):
+    """(median, best) of each later function's times over the first's."""
+    base = times[0]
+    return [(np.median(t) / np.median(base), t.min() / base.min()) for t in times[1:]]
 
 
 def seam_jump(picture, axis):
@@ -95,14 +106,16 @@ def bench(name, size, seeds):
         plain = [texeditor.synthesize(dpj, shape, seed=s).levels for s in range(seeds)]
         tiled = [texeditor.synthesize(dpj, shape, seed=s, tileable=True).levels
                  for s in range(seeds)]
-        t_plain = best_time(lambda s: texeditor.synthesize(dpj, shape, seed=s), seeds)
-        t_tiled = best_time(lambda s: texeditor.synthesize(dpj, shape, seed=s, tileable=True),
-                            seeds)
+        plain_t, tiled_t = interleaved_times(
+            [lambda s: texeditor.synthesize(dpj, shape, seed=s),
+             lambda s: texeditor.synthesize(dpj, shape, seed=s, tileable=True)], seeds, 3)
+        (median, best), = ratios([plain_t, tiled_t])
         print(f"  {window[0]}x{window[1]}: torus windows outside the DPJ: plain "
               f"{100 * np.mean([off_share(x, dpj) for x in plain]):.3f} %, tileable "
               f"{100 * np.mean([off_share(x, dpj) for x in tiled]):.4f} % (worst "
               f"{100 * max(off_share(x, dpj) for x in tiled):.4f} %); time tileable/plain "
-              f"{t_tiled / t_plain:.2f} ({t_tiled * 1000:.0f} / {t_plain * 1000:.0f} ms)")
+              f"{median:.2f} (median {np.median(tiled_t) * 1000:.0f} / "
+              f"{np.median(plain_t) * 1000:.0f} ms; best {best:.2f})")
         if window == (3, 3):
             mask = band_mask(shape)
             middle = np.roll(mask, (size // 2, size // 2), axis=(0, 1))
@@ -130,27 +143,34 @@ def bench(name, size, seeds):
 
 
 def sweep(dpj, model, seeds, sizes=(128, 256, 512, 1024)):
-    """Time tileable/plain by size (best of the seeds, warm): the seams cost a stretch per row
-    and column, so the ratio falls as the side grows."""
+    """Time tileable/plain by size, the draws taking turns (median of the ratios' seeds, and
+    best over best), warm: the seams cost a stretch per row and column, so the ratio falls as
+    the side grows. Beside it, the closure before the current one (older recipes)."""
     line = []
     for n in sizes:
-        one = best_time(lambda s: texeditor.synthesize(dpj, (n, n), seed=s), seeds)
-        two = best_time(lambda s: texeditor.synthesize(dpj, (n, n), seed=s, tileable=True), seeds)
-        old = best_time(lambda s: texeditor.synthesize(dpj, (n, n), seed=s, tileable=True,
-                                                       closure=CLOSURE - 1), seeds)
-        line.append(f"{n}² {two / one:.2f} (closure {CLOSURE - 1}: {old / one:.2f})")
-    print(f"  3x3 time tileable/plain by size, closure {CLOSURE}: " + ", ".join(line))
+        times = interleaved_times(
+            [lambda s: texeditor.synthesize(dpj, (n, n), seed=s),
+             lambda s: texeditor.synthesize(dpj, (n, n), seed=s, tileable=True),
+             lambda s: texeditor.synthesize(dpj, (n, n), seed=s, tileable=True,
+                                            closure=CLOSURE - 1)], seeds, 3 if n <= 256 else 1)
+        (now, now_best), (old, old_best) = ratios(times)
+        line.append(f"{n}² {now:.2f}/{now_best:.2f} (closure {CLOSURE - 1}: "
+                    f"{old:.2f}/{old_best:.2f})")
+    print(f"  3x3 time tileable/plain by size, closure {CLOSURE} (median/best): "
+          + ", ".join(line))
     line = []
     for n in sizes[1:]:
-        k = max(2, seeds // 2)
-        one = best_time(lambda s: model.synthesize((n, n), seed=s), k)
-        two = best_time(lambda s: model.synthesize((n, n), seed=s, tileable=True), k)
-        old = best_time(lambda s: model.synthesize((n, n), seed=s, tileable=True,
-                                                   closure=SCALES_CLOSURE - 1), k)
-        line.append(f"{n}² {two / one:.2f} ({two:.2f} / {one:.2f} s; closure "
-                    f"{SCALES_CLOSURE - 1}: {old / one:.2f})")
-    print(f"  photo model (scales + tone) time tileable/plain, closure {SCALES_CLOSURE}: "
-          + ", ".join(line))
+        times = interleaved_times(
+            [lambda s: model.synthesize((n, n), seed=s),
+             lambda s: model.synthesize((n, n), seed=s, tileable=True),
+             lambda s: model.synthesize((n, n), seed=s, tileable=True,
+                                        closure=SCALES_CLOSURE - 1)], max(2, seeds // 2))
+        (now, now_best), (old, old_best) = ratios(times)
+        line.append(f"{n}² {now:.2f}/{now_best:.2f} ({np.median(times[1]):.2f} / "
+                    f"{np.median(times[0]):.2f} s; closure {SCALES_CLOSURE - 1}: "
+                    f"{old:.2f}/{old_best:.2f})")
+    print(f"  photo model (scales + tone) time tileable/plain, closure {SCALES_CLOSURE} "
+          "(median/best): " + ", ".join(line))
 
 
 def main():
