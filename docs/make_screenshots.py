@@ -897,8 +897,8 @@ MORE_SHOTS.append(shot_tileable)
 
 
 def shot_tileable_photo(app, window, out: Path) -> None:
-    """A tileable texture from gravel's photo model (closure 4: its tone drawn on two lanes,
-    the seam columns last), in the 3×3 tiled preview at 400 % around a corner."""
+    """A tileable texture from gravel's photo model (the current closure: its tone drawn on two
+    lanes, the seam columns last), in the 3×3 tiled preview at 400 % around a corner."""
     from texeditor.markov.levels import load_image
     from texeditor.photo import acquire_model
     from texeditor.recipe.history import History
