@@ -372,23 +372,41 @@ def test_tileable_textures_of_the_previous_closures_replay_as_they_did(name):
 
 @pytest.mark.parametrize("name", ["scales-tileable", "synthesize-tileable"])
 def test_tileable_textures_of_closure_4_replay_as_they_did(name):
-    """Files written before closure 5 (tests/data/closure-4: Synthesize version 3 with closure 4,
-    SynthesizeScales version 10 with closure 5, whose scales are closed by closure 4) come out
-    bit-identical, levels and tone; the current step of each names the current closure and
-    draws another torus (these seeds' last columns were redrawn far up)."""
+    """Files written before seam closure 5 (tests/data/closure-4: Synthesize version 3 with
+    closure 4; SynthesizeScales version 10 with closure 5, whose scales are closed by seam
+    closure 4 and still are) come out bit-identical, levels and tone. A new synthesis step
+    names closure 5 and draws another torus (this seed's last column was redrawn far up)."""
     import dataclasses
     doc, step, expected = replayed_fixture("closure-4", name)
-    current = SCALES_CLOSURE if name == "scales-tileable" else CLOSURE
-    new = dataclasses.replace(step, closure=current)
+    if name == "scales-tileable":
+        assert step.closure == SCALES_CLOSURE and SEAMS[step.closure - 1] == 4
+        assert step.to_json()["version"] == expected["version"] == type(step).VERSION
+        return
+    new = dataclasses.replace(step, closure=CLOSURE)
     assert new.to_json()["version"] == type(step).VERSION > expected["version"]
     redrawn = new.prepare(doc)
     assert not np.array_equal(redrawn, doc.levels)
-    if name == "synthesize-tileable":
-        assert off_the_dpj(redrawn, doc.dpj) <= off_the_dpj(doc.levels, doc.dpj)
+    assert off_the_dpj(redrawn, doc.dpj) <= off_the_dpj(doc.levels, doc.dpj)
 
 
-def test_the_scales_current_closure_closes_each_scale_by_the_current_seam_closure():
-    assert SEAMS[SCALES_CLOSURE - 1] == CLOSURE and len(SEAMS) == SCALES_CLOSURE
+def test_a_photo_model_keeps_seam_closure_4_for_its_scales(monkeypatch):
+    """Seam closure 5 leaves a row's failed side closure as it is; a photo model's scales fail
+    more (2 tries a seam) and their tone jumped more across the side seam with it, so the
+    current closure of the scales closes every scale, the trial draws of its coarsest law too,
+    by seam closure 4."""
+    assert len(SEAMS) == SCALES_CLOSURE and SEAMS[SCALES_CLOSURE - 1] == 4 < CLOSURE
+    asked = []
+
+    def spy(draw):
+        def wrapped(*args, **kwargs):
+            asked.append(kwargs.get("closure"))
+            return draw(*args, **kwargs)
+        return wrapped
+    monkeypatch.setattr(multiscale, "synthesize", spy(multiscale.synthesize))
+    monkeypatch.setattr(multiscale, "synthesize_given", spy(multiscale.synthesize_given))
+    model = acquire_model(ski.data.gravel()[:128, :128], scales=3)
+    synthesize_scales(model.scales, (48, 56), seed=3, tileable=True)
+    assert len(asked) >= 3 and set(asked) == {4}
 
 
 def test_closure_5_reads_the_last_column_as_the_others():

@@ -431,8 +431,7 @@ def _closure():
 
 def _scales_closure():
     return param("int", 1, SCALES_CLOSURE, default=SCALES_CLOSURE,
-                 doc="how a tileable texture's seams are closed: 6 (current: as 5, each "
-                     "scale's last column read as the others), 5 (as 4, the "
+                 doc="how a tileable texture's seams are closed: 5 (current: as 4, the "
                      "coarsest window chosen quicker still), 4 (as 3 over stretches from one "
                      "window), 3 (the scales as 2, a quicker choice of the coarsest window, "
                      "the tone drawn beside the levels on two lanes), 2 and 1 (earlier ways, "
@@ -467,7 +466,7 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Version 10 had closures 1 to 5 (default 5). Versions 1 to 9 drafted every scale as ``particles`` drafts (no ``more_drafts``); version 9
+    """Versions 1 to 9 drafted every scale as ``particles`` drafts (no ``more_drafts``); version 9
     had closures 1 to 5 (default 5). Versions 1 to 8 drew every scale without steering its level
     shares (no ``steer``); version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the
     finest scale's level shares as drawn (no ``rebalance``); version 7 had closures 1 to 5
@@ -476,8 +475,6 @@ def _scales_of_version(cls, version: int, params: dict) -> dict:
     (default 3). Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest
     scale and drew their tone without balance; version 1 had no ``closure`` (closed the first
     way), version 2 closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
-    if version == 10:
-        return _closure_as_written(cls, version, params, 5)
     if "more_drafts" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} has no more_drafts")
     params = {**params, "more_drafts": False}
@@ -578,7 +575,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 11
+    VERSION: ClassVar[int] = 10
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
