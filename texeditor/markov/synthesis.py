@@ -197,8 +197,8 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
 
 
 def _torus(out: np.ndarray, rows: int, columns: int) -> np.ndarray:
-    """``out`` with its first ``rows`` rows and ``columns`` columns repeated after its last (as
-    np.pad's wrap, which takes ~20 µs more: a twentieth of a 128² torus's seams)."""
+    """``out`` with its first ``rows`` rows and ``columns`` columns repeated after its last:
+    np.pad's wrap, ~20 µs sooner (a few per cent of a small torus's seams)."""
     h, w = out.shape
     if rows > h or columns > w:
         return np.pad(out, ((0, rows), (0, columns)), mode="wrap")
