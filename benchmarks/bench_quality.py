@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from skimage import data, io
+from skimage import io
 from skimage.util import img_as_ubyte
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -45,9 +45,7 @@ FLOW = "flow texture along the photo's grain (004)"
 
 def load_photo(name: str) -> tuple[str, np.ndarray]:
     """A scikit-image data photo by name, else a picture file (its stem names it)."""
-    if not Path(name).exists() and callable(getattr(data, name, None)):
-        return name, getattr(data, name)()
-    return Path(name).stem, texeditor.load_image(name)
+    return (Path(name).stem if Path(name).exists() else name), quality.photo(name)
 
 
 def single_scale(photo, shape, seed):

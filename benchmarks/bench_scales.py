@@ -20,22 +20,21 @@ Two ways:
 from __future__ import annotations
 
 import argparse
+import sys
+from functools import partial
+from pathlib import Path
 
 import numpy as np
 from scipy import fft as sfft
-from skimage import data
 
-import texeditor
-from texeditor.markov import multiscale as ms
-from texeditor.markov.synthesis import synthesize_given
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import quality  # noqa: E402  (the module next to this script)
 
-
-def load(name):
-    return getattr(data, name)() if callable(getattr(data, name, None)) else \
-        texeditor.load_image(name)
+from texeditor.markov import multiscale as ms  # noqa: E402
+from texeditor.markov.synthesis import synthesize_given  # noqa: E402
 
 
-def low_power_in(levels: np.ndarray, radius_max: int) -> np.ndarray:
+def low_power(levels: np.ndarray, radius_max: int) -> np.ndarray:
     """log10 mean power at frequencies of radius 1 to ``radius_max``: mostly vertical, mostly
     horizontal, all."""
     x = levels.astype(float)
@@ -68,29 +67,30 @@ def drawn_scales(model, shape, seed):
     return drawn
 
 
+def given_own_parents(model, reductions, k, seed):
+    """Scale k drawn once from its DPJ given the photo's own reduction under it."""
+    parents = ms.upsample(reductions[k - 1], reductions[k].shape)
+    return synthesize_given(model.dpjs[k], parents, model.levels_at(k - 1), seed=seed).levels
+
+
 def bench(name, seeds):
-    photo_image = load(name)
+    photo_image = quality.photo(name)
     size = photo_image.shape[:2]
     model, reductions = ms.estimate_scales(photo_image)
-    band = max(1, min(size) // 64)
-
-    def low_power(levels):
-        return low_power_in(levels, band)
-    photo = [low_power(r) for r in reductions]
-    scales = range(model.scales)
-    synth = np.mean([[low_power(x) - photo[k] for k, x in
-                      enumerate(drawn_scales(model, size, s))] for s in range(seeds)], 0)
-    given = [np.zeros(3)] + [np.mean([low_power(synthesize_given(
-        model.dpjs[k], ms.upsample(reductions[k - 1], reductions[k].shape),
-        model.levels_at(k - 1), seed=s).levels) - photo[k] for s in range(seeds)], 0)
-        for k in scales[1:]]
-    print(f"\n{name}: {size[1]}x{size[0]}, {seeds} seeds; log10 low-frequency power over the photo's "
-          "(rows / columns / all)")
-    for k in scales:
-        print(f"  scale {k} ({reductions[k].shape[0]}² in the photo): as synthesized "
-              + " / ".join(f"{v:+.2f}" for v in synth[k])
-              + ("" if k == 0 else "; given the photo's own parents "
-                 + " / ".join(f"{v:+.2f}" for v in given[k])))
+    power = partial(low_power, radius_max=max(1, min(size) // 64))
+    photo = [power(r) for r in reductions]
+    synth = np.mean([[power(x) - photo[k] for k, x in enumerate(drawn_scales(model, size, s))]
+                     for s in range(seeds)], 0)
+    print(f"\n{name}: {size[1]}x{size[0]}, {seeds} seeds; log10 low-frequency power over the "
+          "photo's (rows / columns / all)")
+    for k in range(model.scales):
+        line = (f"  scale {k} ({reductions[k].shape[0]}² in the photo): as synthesized "
+                + " / ".join(f"{v:+.2f}" for v in synth[k]))
+        if k > 0:
+            given = np.mean([power(given_own_parents(model, reductions, k, s)) - photo[k]
+                             for s in range(seeds)], 0)
+            line += "; given the photo's own parents " + " / ".join(f"{v:+.2f}" for v in given)
+        print(line)
 
 
 def main():

@@ -25,23 +25,22 @@ torus:
 from __future__ import annotations
 
 import argparse
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
-from skimage import data
 
-import texeditor
-from texeditor.markov.dpj import encode
-from texeditor.markov.multiscale import SCALES_CLOSURE
-from texeditor.markov.synthesis import CLOSURE
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import quality  # noqa: E402  (the module next to this script)
+
+import texeditor  # noqa: E402
+from texeditor.markov.dpj import encode  # noqa: E402
+from texeditor.markov.multiscale import SCALES_CLOSURE  # noqa: E402
+from texeditor.markov.synthesis import CLOSURE  # noqa: E402
 
 BAND = 4
-
-
-def load(name):
-    return getattr(data, name)() if callable(getattr(data, name, None)) else \
-        texeditor.load_image(name)
 
 
 def torus_codes(levels, window, g):
@@ -96,7 +95,7 @@ def seam_jump(picture, axis):
 
 
 def bench(name, size, seeds):
-    photo = load(name)
+    photo = quality.photo(name)
     q = texeditor.quantize(photo, 4, "lloyd")
     shape = (size, size)
     print(f"\n{name}: {size}x{size}, {seeds} seeds")

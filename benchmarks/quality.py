@@ -27,7 +27,10 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
+from pathlib import Path
+
 from scipy import fft as sfft
+from skimage import data
 from skimage.color import rgb2gray, rgba2rgb
 from skimage.feature import graycomatrix
 from skimage.util import img_as_float, img_as_ubyte
@@ -38,6 +41,13 @@ GLCM_DISTANCES = (1, 2, 4)
 GLCM_ANGLES = (0.0, np.pi / 4, np.pi / 2, 3 * np.pi / 4)
 TV_LEVELS = 4
 BLOCK = 8
+
+
+def photo(name: str) -> np.ndarray:
+    """A scikit-image data photo by name, else a picture file (a file of that name wins)."""
+    if not Path(name).exists() and callable(getattr(data, name, None)):
+        return getattr(data, name)()
+    return texeditor.load_image(name)
 
 
 def grey_u8(image) -> np.ndarray:
