@@ -36,9 +36,10 @@ def test_resynthesize_gives_the_picture_and_the_levels():
 
 
 def test_tone_draws_each_point_from_photo_points_of_its_level(model):
-    """Every output grey is a grey the photo has at that level (the 3×3 context backs off to
-    the level itself at worst), so flat levels become the photo's own shading."""
-    r = model.synthesize((80, 80), seed=1)
+    """Every grey drawn is a grey the photo has at that level (the 3×3 context backs off to
+    the level itself at worst), so flat levels become the photo's own shading (then finished:
+    tests/photo/test_finish.py)."""
+    r = model.synthesize((80, 80), seed=1, tone_finish=False)
     photo_levels, photo_grey = model.tone.levels, model.tone.grey
     for level in range(model.levels):
         allowed = set(np.unique(photo_grey[photo_levels == level]).tolist())
@@ -69,11 +70,21 @@ def test_tone_off_is_the_palette_view(model):
 
 
 def test_colour_photos_give_colour_textures():
+    """Drawn with the photo's own colours; finished, each point's colour moves by its grey's
+    change, the same on every channel (a colour picture's pixel noise is in its lightness)."""
     photo = speckle(colour=True)
+    model = acquire_model(photo, scales=2)
+    drawn = model.synthesize((50, 50), seed=0, tone_finish=False)
     r = texeditor.resynthesize(photo, (50, 50), seed=0, scales=2)
-    assert r.image.shape == (50, 50, 3)
+    assert r.image.shape == drawn.image.shape == (50, 50, 3)
+    assert np.array_equal(r.levels, drawn.levels)
     colours = {tuple(c) for c in photo.reshape(-1, 3)}
-    assert all(tuple(c) in colours for c in r.image.reshape(-1, 3)[::37])
+    assert all(tuple(c) in colours for c in drawn.image.reshape(-1, 3)[::37])
+    change = r.image.astype(int) - drawn.image
+    unclipped = ((drawn.image > 20) & (drawn.image < 235)).all(axis=2)
+    assert np.abs(change).max() > 0
+    assert np.array_equal(change[unclipped][:, 0], change[unclipped][:, 1])
+    assert np.array_equal(change[unclipped][:, 0], change[unclipped][:, 2])
 
 
 def test_a_saved_model_draws_the_same_texture(model, tmp_path):
@@ -122,7 +133,7 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     assert new.closure == SCALES_CLOSURE
     assert new.particles == PARTICLES and step.particles == 0
     assert new.rebalance and not step.rebalance
-    assert step_wrap(new) == tone.TILED_LANES | tone.BALANCED
+    assert step_wrap(new) == tone.TILED_LANES | tone.BALANCED | tone.FINISHED
 
 
 @pytest.mark.parametrize("name", ["plain", "tileable"])
@@ -364,7 +375,8 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 7, {"closure": 4}, 4), ("synthesize_scales", 7, {"closure": 6}, None),
     ("synthesize_scales", 8, {}, 5), ("synthesize_scales", 8, {"closure": 6}, None),
     ("synthesize_scales", 10, {}, 5), ("synthesize_scales", 10, {"closure": 4}, 4),
-    ("synthesize_scales", 10, {"closure": 6}, None), ("synthesize_scales", 11, {}, None),
+    ("synthesize_scales", 10, {"closure": 6}, None), ("synthesize_scales", 11, {}, 5),
+        ("synthesize_scales", 11, {"closure": 6}, None), ("synthesize_scales", 12, {}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
@@ -500,9 +512,10 @@ def test_a_tiling_tone_drawn_beside_the_synthesis_is_the_tone_of_the_closed_toru
     model = acquire_model(speckle((256, 256), seed=2, colour=colour), scales=3)
     for size in (shape, (900, 100)):             # the second told of rows before it closes
         result = model.synthesize(size, seed=5, tileable=True)
-        assert np.array_equal(result.image, model.render(result.levels, seed=5,
-                                                         wrap=tone.TILED_LANES | tone.BALANCED))
-        unbalanced = model.synthesize(size, seed=5, tileable=True, tone_balance=False)
+        finished = tone.TILED_LANES | tone.BALANCED | tone.FINISHED
+        assert np.array_equal(result.image, model.render(result.levels, seed=5, wrap=finished))
+        unbalanced = model.synthesize(size, seed=5, tileable=True, tone_balance=False,
+                                      tone_finish=False)
         assert np.array_equal(unbalanced.image, model.render(result.levels, seed=5,
                                                              wrap=tone.TILED_LANES))
         assert not np.array_equal(unbalanced.image, result.image)
@@ -512,7 +525,8 @@ def test_a_tiling_tone_drawn_beside_the_synthesis_is_the_tone_of_the_closed_toru
                               rows_final=lambda lv, n: told.append(n)).levels
     assert len(told) > 1 and told[-1] == 900
     assert np.array_equal(final, result.levels)
-    older = model.synthesize(shape, seed=5, tileable=True, closure=2, tone_balance=False)
+    older = model.synthesize(shape, seed=5, tileable=True, closure=2, tone_balance=False,
+                             tone_finish=False)
     assert np.array_equal(older.image, model.render(older.levels, seed=5, wrap=tone.TILED))
 
 
@@ -539,8 +553,9 @@ def test_a_tiling_tone_on_two_lanes_shows_no_seam(model):
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(h=st.integers(1, 30), w=st.integers(1, 290), seed=st.integers(0, 2 ** 32),
-       told_rows=st.integers(0, 30), balanced=st.booleans())
-def test_a_tiling_tone_on_two_lanes_is_exact_at_any_size(model, h, w, seed, told_rows, balanced):
+       told_rows=st.integers(0, 30), balanced=st.booleans(), finished=st.booleans())
+def test_a_tiling_tone_on_two_lanes_is_exact_at_any_size(model, h, w, seed, told_rows, balanced,
+                                                         finished):
     """Any canvas (narrower than the seam columns, one row, one point): drawn after an edit
     from the last rendering, or band by band from levels that change at the end, the picture
     is the one drawn at once."""
@@ -549,11 +564,12 @@ def test_a_tiling_tone_on_two_lanes_is_exact_at_any_size(model, h, w, seed, told
     edited = levels.copy()
     edited[rng.integers(h), rng.integers(w)] ^= 1
     args = (4, model.tone.levels, model.tone.grey)
-    way = tone.TILED_LANES | (tone.BALANCED if balanced else 0)
+    way = tone.TILED_LANES | (tone.BALANCED if balanced else 0) | (tone.FINISHED if finished else 0)
     fresh = tone.rendering(edited, *args, seed=seed, wrap=way)
     before = tone.rendering(levels, *args, seed=seed, wrap=way)
     again = tone.rendering(edited, *args, seed=seed, wrap=way, before=before)
     assert np.array_equal(again.grey, fresh.grey) and np.array_equal(again.source, fresh.source)
+    assert np.array_equal(again.picture, fresh.picture)
     renderer = tone.Renderer((h, w), *args, seed=seed, wrap=way)
     renderer.advance(levels, min(h - 1, told_rows))
     renderer.advance(edited, h)
@@ -705,7 +721,9 @@ def test_an_error_in_a_tone_lane_reaches_the_caller(monkeypatch):
 
 
 @pytest.mark.parametrize("wrap", [False, True, tone.TILED_LANES, tone.BALANCED,
-                                  tone.TILED_LANES | tone.BALANCED])
+                                  tone.TILED_LANES | tone.BALANCED,
+                                  tone.BALANCED | tone.FINISHED,
+                                  tone.TILED_LANES | tone.BALANCED | tone.FINISHED])
 @pytest.mark.parametrize("colour", [False, True])
 def test_a_rendering_after_an_edit_keeps_the_rows_above_and_matches_a_fresh_one(wrap, colour,
                                                                                  monkeypatch):

@@ -29,8 +29,8 @@ from ..markov.multiscale import (COARSE_LEVELS, COARSE_REDRAWS, COARSE_WINDOW, L
                                  MultiScaleDPJ, check_scales_closure, estimate_scales,
                                  synthesize_scales)
 from ..recipe.exemplars import MAX_SIDE
-from .tone import (BALANCED, PLAIN, TILED, TILED_LANES, Rendered, Renderer, ToneIndex, rendering,
-                   tone_index)
+from .tone import (BALANCED, FINISHED, PLAIN, TILED, TILED_LANES, Rendered, Renderer, ToneIndex,
+                   as_shown, rendering, tone_index)
 
 MODEL_FORMAT_VERSION = 2
 MAX_TONE_PIXELS = 4096 * 4096
@@ -85,17 +85,19 @@ class PhotoModel:
 
     def synthesize(self, shape, *, seed: int = 0, tone: bool = True, tileable: bool = False,
                    closure: int = SCALES_CLOSURE, coarse_redraws: int = COARSE_REDRAWS,
-                   tone_balance: bool = True, particles: int = PARTICLES,
+                   tone_balance: bool = True, tone_finish: bool = True,
+                   particles: int = PARTICLES,
                    rebalance: bool = True, steer: bool = True, more_drafts: bool = True,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
         drawn on a second thread as the finest rows come out (the same picture as
-        ``render(levels, wrap=tone_wrap(tileable, closure, tone_balance))`` afterwards, in
+        ``render(levels, wrap=tone_wrap(tileable, closure, tone_balance, tone_finish))``, in
         about half the time on two cores). ``tileable``: the levels and the picture repeat
         without a seam (``closure``, ``coarse_redraws``, ``particles``, ``rebalance``,
         ``steer``, ``more_drafts``: see markov.multiscale.synthesize_scales; ``tone_balance``:
-        each level's greys keep the photo's histogram, tone.BALANCED)."""
+        each level's greys keep the photo's histogram, tone.BALANCED; ``tone_finish``: its
+        pixel-scale power is the photo's, tone.FINISHED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
                     closure=closure, coarse_redraws=coarse_redraws, particles=particles,
                     rebalance=rebalance, steer=steer, more_drafts=more_drafts)
@@ -103,14 +105,14 @@ class PhotoModel:
             result = synthesize_scales(self.scales, shape, **draw)
             image = self.render(result.levels, seed=seed, tone=False)
         else:
-            result, image = self._synthesize_with_tone(shape, draw, tone_balance)
+            wrap = tone_wrap(tileable, closure, tone_balance, tone_finish)
+            result, image = self._synthesize_with_tone(shape, draw, wrap)
         return Resynthesis(image, result.levels, self.frequencies(), result.repairs, int(seed),
                            result.moved)
 
-    def _synthesize_with_tone(self, shape, draw, balance):
+    def _synthesize_with_tone(self, shape, draw, wrap):
         renderer, latest = [], [None]
         seed = draw["seed"]
-        wrap = tone_wrap(draw["tileable"], draw["closure"], balance)
         stale = threading.Event()           # the levels were rebalanced: stop this tone
         with ThreadPoolExecutor(1, thread_name_prefix="tone") as worker:
             index = worker.submit(self._index)     # built while the coarse scales are drawn
@@ -143,11 +145,11 @@ class PhotoModel:
                 _settle(job, stale.is_set())
         if result.moved:
             return result, self.render(result.levels, seed=seed, wrap=wrap)
-        grey, colour = renderer[0].result()
+        grey, colour = as_shown(*renderer[0].result(), wrap, renderer[0].index, self.tone.grey)
         return result, (grey if colour is None else colour)
 
     def render(self, levels, *, seed: int = 0, tone: bool = True,
-               wrap: int = PLAIN | BALANCED) -> np.ndarray:
+               wrap: int = PLAIN | BALANCED | FINISHED) -> np.ndarray:
         """The picture of a level matrix: tone when the model has it, else the palette;
         ``wrap``: how it is drawn, as tone_wrap says (by default as a new plain synthesis
         shows it; tiling levels give a tiling picture)."""
@@ -228,21 +230,24 @@ def document_tone(doc) -> np.ndarray | None:
     return model.render(doc.levels, seed=int(step.seed), wrap=step_wrap(step))
 
 
-def tone_wrap(tileable: bool, closure: int = SCALES_CLOSURE, balance: bool = True) -> int:
+def tone_wrap(tileable: bool, closure: int = SCALES_CLOSURE, balance: bool = True,
+              finish: bool = True) -> int:
     """How a synthesis's tone is drawn: tiling not at all, or as its seam closure says (3: on
     two lanes beside the levels, tone.TILED_LANES; 1 and 2: tone.TILED); ``balance``: each
-    level's greys keep the photo's histogram (tone.BALANCED, since SynthesizeScales 4)."""
+    level's greys keep the photo's histogram (tone.BALANCED, since SynthesizeScales 4);
+    ``finish``: its pixel-scale power is the photo's (tone.FINISHED, since version 11)."""
     way = PLAIN if not tileable else (
         TILED_LANES if check_scales_closure(closure) >= 3 else TILED)
-    return way | BALANCED if balance else way
+    return way | (BALANCED if balance else 0) | (FINISHED if finish else 0)
 
 
 def step_wrap(step) -> int:
-    """tone_wrap of a synthesis step (PLAIN for a step that does not tile; no balance for a
-    multi-scale step recorded before it; a step that records no tone, or none, is shown with
-    an attached model's tone the current way)."""
+    """tone_wrap of a synthesis step (PLAIN for a step that does not tile; no balance, no
+    finish for a multi-scale step recorded before them; a step that records no tone, or none,
+    is shown with an attached model's tone the current way)."""
     return tone_wrap(bool(getattr(step, "tileable", False)), getattr(step, "closure", 1),
-                     bool(getattr(step, "tone_balance", True)))
+                     bool(getattr(step, "tone_balance", True)),
+                     bool(getattr(step, "tone_finish", True)))
 
 
 def document_model(doc, step=None) -> PhotoModel | None:

@@ -30,6 +30,7 @@ from numba import njit
 
 from ..errors import Cancelled, InputError
 from ..markov.synthesis import uniform
+from .finish import finished, radial_power
 
 RANDOM_CANDIDATES = 8      # drawn from the photo points sharing the context
 FRESH_START = 1 / 64       # chance that a point considers only fresh candidates (no long copies)
@@ -40,6 +41,8 @@ GAMMA = 0x9E3779B97F4A7C15  # SplitMix64's step (markov.synthesis.uniform)
 PLAIN, TILED, TILED_LANES = 0, 1, 2   # ``wrap``: how (and whether) a picture tiles
 BALANCED = 4               # or'ed into ``wrap``: each level's greys keep the photo's histogram of
                            # that level's greys (_penalties); pictures before it were drawn without
+FINISHED = 8               # or'ed into ``wrap``: the picture's pixel-scale power is brought to the
+                           # photo's (photo.finish; since SynthesizeScales 11)
 GREY_BINS = 32             # ... counted in bins of 8 greys
 BALANCE = 2.0              # ... a bin drawn x times its photo share too often (counted over the
                            # strips drawn two strips above) weighs its match exp(BALANCE · x)
@@ -70,6 +73,8 @@ class ToneIndex(NamedTuple):
     #                                    photo's greys were given
     direct: np.ndarray = np.empty(0, np.int32)   # 3×3 code → its place in keys[0] (-1: none),
     #                                              when the codes are below DIRECT_SPACE
+    power: np.ndarray | None = None    # the photo's greys' radial power (finish.radial_power),
+    #                                    if they were given
 
 
 def context_codes(levels: np.ndarray, num_levels: int, wrap: bool = False) -> tuple:
@@ -122,7 +127,8 @@ def tone_index(levels: np.ndarray, num_levels: int, grey=None) -> ToneIndex:
     if num_levels ** 9 <= DIRECT_SPACE:
         direct = np.full(num_levels ** 9, -1, np.int32)
         direct[keys[0]] = np.arange(len(keys[0]), dtype=np.int32)
-    return ToneIndex(codes, tuple(keys), tuple(starts), tuple(points), shares, direct)
+    power = None if grey is None else radial_power(grey)
+    return ToneIndex(codes, tuple(keys), tuple(starts), tuple(points), shares, direct, power)
 
 
 def _grouped(code: np.ndarray, space: int):
@@ -158,27 +164,30 @@ def render(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=None,
     and ``photo_pixels`` its colours (h, w, 3) uint8, or None for a grey photo. ``wrap``: the
     levels tile, and so does the picture (contexts and matches read across the seams; TILED or
     TILED_LANES say which way, True is TILED); with BALANCED or'ed in, each level's greys keep
-    the photo's histogram of them (the way pictures are drawn since SynthesizeScales 4).
+    the photo's histogram of them (the way pictures are drawn since SynthesizeScales 4); with
+    FINISHED, the picture's pixel-scale power is the photo's (since SynthesizeScales 11).
     """
     drawn = rendering(levels, num_levels, photo_levels, photo_grey, photo_pixels, seed=seed,
                       index=index, wrap=wrap)
-    return drawn.grey, drawn.pixels
+    return drawn.finished or (drawn.grey, drawn.pixels)
 
 
 class Rendered(NamedTuple):
     """A tone picture and what it was drawn from."""
 
-    grey: np.ndarray
+    grey: np.ndarray         # as drawn (a next rendering starts from these)
     pixels: np.ndarray | None
     source: np.ndarray       # the photo point (row-major index) each point shows
     levels: np.ndarray       # the levels drawn
     seed: int
-    wrap: int                # PLAIN, TILED or TILED_LANES, maybe | BALANCED
+    wrap: int                # PLAIN, TILED or TILED_LANES, maybe | BALANCED | FINISHED
+    finished: tuple | None = None    # FINISHED: (grey, pixels) as shown
 
     @property
     def picture(self) -> np.ndarray:
-        """The colours when the photo has them, else the greys."""
-        return self.grey if self.pixels is None else self.pixels
+        """What is shown: the colours when the photo has them, else the greys (finished)."""
+        grey, pixels = self.finished or (self.grey, self.pixels)
+        return grey if pixels is None else pixels
 
 
 def rendering(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=None, *,
@@ -198,7 +207,19 @@ def rendering(levels, num_levels: int, photo_levels, photo_grey, photo_pixels=No
         renderer.resume(before, start)
     renderer.advance(levels, len(levels))
     grey, pixels = renderer.result()
-    return Rendered(grey, pixels, renderer.sources(), levels.copy(), int(seed), int(wrap))
+    shown = as_shown(grey, pixels, wrap, renderer.index, photo_grey)
+    return Rendered(grey, pixels, renderer.sources(), levels.copy(), int(seed), int(wrap),
+                    None if shown[0] is grey else shown)
+
+
+def as_shown(grey, pixels, wrap, index: ToneIndex | None, photo_grey) -> tuple:
+    """(grey, pixels) as shown: finished (photo.finish) when ``wrap`` has FINISHED."""
+    if not int(wrap) & FINISHED:
+        return grey, pixels
+    power = index.power if index is not None and index.power is not None else None
+    if power is None:
+        power = radial_power(np.asarray(photo_grey, np.uint8))
+    return finished(grey, pixels, power, bool(int(wrap) & ~(BALANCED | FINISHED)))
 
 
 def first_row_to_draw(before: Rendered | None, levels: np.ndarray, seed: int, wrap) -> int:
@@ -210,7 +231,7 @@ def first_row_to_draw(before: Rendered | None, levels: np.ndarray, seed: int, wr
     if (before is None or before.levels.shape != levels.shape or before.seed != int(seed)
             or before.wrap != int(wrap)):
         return 0
-    way = int(wrap) & ~BALANCED
+    way = int(wrap) & ~(BALANCED | FINISHED)
     if way != TILED_LANES:
         return _first_to_redraw((before.levels != levels).any(axis=1), bool(way))
     read = _read_before_seam(levels.shape[1])
@@ -261,7 +282,7 @@ class Renderer:
         if len(shape) != 2 or 0 in shape:
             raise InputError(f"tone needs a non-empty matrix of levels 0..{num_levels - 1}")
         way = int(wrap)
-        if way & ~BALANCED not in (PLAIN, TILED, TILED_LANES) or way < 0:
+        if way & ~(BALANCED | FINISHED) not in (PLAIN, TILED, TILED_LANES) or way < 0:
             raise InputError(f"a tone tiles in no way {wrap!r}")
         self.num_levels = num_levels
         self.cancel = cancel
@@ -272,7 +293,7 @@ class Renderer:
         self.source = np.empty(shape, np.int64)
         self.grey = np.empty(shape, np.uint8)
         self.done = 0
-        self.wrap = way & ~BALANCED
+        self.wrap = way & ~(BALANCED | FINISHED)
         self.balanced = bool(way & BALANCED)
         rows = shape[0] if self.balanced else 0
         self.shares = np.zeros((num_levels, GREY_BINS))

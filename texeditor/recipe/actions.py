@@ -466,7 +466,8 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 9 drafted every scale as ``particles`` drafts (no ``more_drafts``); version 9
+    """Versions 1 to 10 showed their tone unfinished (no ``tone_finish``); version 10 had
+    closures 1 to 5 (default 5). Versions 1 to 9 drafted every scale as ``particles`` drafts (no ``more_drafts``); version 9
     had closures 1 to 5 (default 5). Versions 1 to 8 drew every scale without steering its level
     shares (no ``steer``); version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the
     finest scale's level shares as drawn (no ``rebalance``); version 7 had closures 1 to 5
@@ -475,6 +476,11 @@ def _scales_of_version(cls, version: int, params: dict) -> dict:
     (default 3). Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest
     scale and drew their tone without balance; version 1 had no ``closure`` (closed the first
     way), version 2 closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
+    if "tone_finish" in params:
+        raise FormatError(f"action {cls.TYPE!r} version {version} has no tone_finish")
+    params = {**params, "tone_finish": False}
+    if version == 10:
+        return _closure_as_written(cls, version, params, 5)
     if "more_drafts" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} has no more_drafts")
     params = {**params, "more_drafts": False}
@@ -575,7 +581,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 10
+    VERSION: ClassVar[int] = 11
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -596,6 +602,9 @@ class SynthesizeScales(Action):
     tone_balance: bool = param("bool", default=True,
                                doc="the tone keeps each level's histogram of the photo's greys "
                                    "(current; recipes before version 4 drew it without)")
+    tone_finish: bool = param("bool", default=True,
+                              doc="the tone's pixel-scale sharpness is brought to the photo's "
+                                  "(current; recipes before version 11 showed it as drawn)")
     particles: int = param("int", 0, MAX_PARTICLES, default=PARTICLES,
                            doc="a scale whose level shares come out off is drawn again as this "
                                f"many drafts side by side ({PARTICLES}: current; 0: drawn "
