@@ -13,6 +13,8 @@ seamless; another with mirrored margins. The levels, which are the document, are
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 from numba import njit
 from scipy import fft as sfft
@@ -31,27 +33,34 @@ WORKERS = 2            # threads of an FFT (the same numbers on one thread or mo
 def radial_power(grey: np.ndarray, periodic: bool = False) -> np.ndarray:
     """(RINGS,) mean power of ``grey`` (mean removed, Hann window; its central SAMPLE² at
     most, which says as much and bounds the time) in rings of radius k·RING .. (k + 1)·RING
-    cycles per point; NaN where a ring holds no frequency (a small picture). ``periodic``: a whole tiling picture, which has no edges to hide (no
-    window, so the power, and the finish, do not change when the picture is rolled)."""
-    h, w = np.shape(grey)
+    cycles per point; NaN where a ring holds no frequency (a small picture). ``periodic``: a
+    whole tiling picture, which has no edges to hide (no window, so the power, and the
+    finish, do not change when the picture is rolled)."""
+    grey = np.asarray(grey)
+    h, w = grey.shape
     top, left = max(0, (h - SAMPLE) // 2), max(0, (w - SAMPLE) // 2)
-    x = np.asarray(grey, np.float64)[top:top + SAMPLE, left:left + SAMPLE]
-    x = x - x.mean()
-    h, w = x.shape
-    window = np.ones((h, w)) if periodic and (h, w) == np.shape(grey) else \
-        np.outer(np.hanning(h), np.hanning(w))
-    power = np.abs(sfft.rfft2(x * window, workers=WORKERS)) ** 2 / max((window ** 2).sum(), 1e-12)
-    ring = _rings(h, w)
-    sums = np.bincount(ring.ravel(), power.ravel(), minlength=RINGS)
-    counts = np.bincount(ring.ravel(), minlength=RINGS)
+    x = grey[top:top + SAMPLE, left:left + SAMPLE].astype(np.float64)
+    x -= x.mean()
+    energy = float(x.size)
+    if not (periodic and x.shape == grey.shape):
+        window = np.outer(np.hanning(x.shape[0]), np.hanning(x.shape[1]))
+        x *= window
+        energy = max(float((window ** 2).sum()), 1e-12)
+    power = np.abs(sfft.rfft2(x, workers=WORKERS)) ** 2 / energy
+    ring = _rings(*x.shape).ravel()
+    counts = np.bincount(ring, minlength=RINGS)
     with np.errstate(invalid="ignore", divide="ignore"):
-        return sums / counts
+        return np.bincount(ring, power.ravel(), minlength=RINGS) / counts
 
 
+@lru_cache(maxsize=4)
 def _rings(h: int, w: int) -> np.ndarray:
-    """The ring of each frequency of an (h, w) rfft2."""
+    """The ring of each frequency of an (h, w) rfft2 (kept: a canvas is finished again and
+    again at one size)."""
     radius = np.hypot(*np.meshgrid(sfft.fftfreq(h), sfft.rfftfreq(w), indexing="ij"))
-    return np.minimum((radius / RING).astype(np.int64), RINGS - 1)
+    rings = np.minimum((radius / RING).astype(np.uint8), RINGS - 1)
+    rings.flags.writeable = False
+    return rings
 
 
 def gain(picture_power: np.ndarray, photo_power: np.ndarray) -> np.ndarray:
@@ -83,9 +92,9 @@ def finished(grey: np.ndarray, pixels: np.ndarray | None, photo_power: np.ndarra
     ring_gain = gain(radial_power(grey, periodic=wrap), photo_power)
     margin = 0 if wrap else MARGIN
     plane = np.pad(grey.astype(np.float64), margin, mode="symmetric")
-    response = ring_gain[_rings(*plane.shape)]
-    plane = sfft.irfft2(sfft.rfft2(plane, workers=WORKERS) * response, s=plane.shape,
-                        workers=WORKERS)
+    spectrum = sfft.rfft2(plane, workers=WORKERS)
+    spectrum *= ring_gain[_rings(*plane.shape)]
+    plane = sfft.irfft2(spectrum, s=plane.shape, workers=WORKERS, overwrite_x=True)
     filtered = plane[margin:margin + h, margin:margin + w]
     out = _changed(grey[..., None], grey, filtered)[..., 0]
     return out, None if pixels is None else _changed(pixels, grey, filtered)
