@@ -98,3 +98,27 @@ def test_old_steps_show_their_tone_unfinished_and_new_ones_finished():
     old = action_from_json({**written, "version": 10})
     assert not old.tone_finish and not step_wrap(old) & tone.FINISHED
     assert old.to_json()["version"] == SynthesizeScales.VERSION
+
+
+@pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
+def test_textures_of_version_11_replay_as_they_were_written(name):
+    """Files written by SynthesizeScales version 11 (tests/data/scales-v11: gravel plain, chelsea
+    tileable in colour) come out bit-identical, levels and finished tone; the same step without
+    its finish shows another picture of the same levels."""
+    import dataclasses
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_model, document_tone, step_wrap
+    from texeditor.recipe.texturefile import render_texture
+    expected = json.loads((DATA / "scales-v11" / "expected.json").read_text())[name]
+    doc = render_texture(DATA / "scales-v11" / f"{name}.texture")
+    step = doc.actions[-1]
+    assert expected["version"] == step.VERSION == 11 and step.tone_finish
+    assert step.tileable == expected["tileable"] and step.closure == expected["closure"]
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    shown = document_tone(doc)
+    assert hashlib.sha256(shown.tobytes()).hexdigest() == expected["tone_sha256"]
+    unfinished = document_model(doc, step).render(
+        doc.levels, seed=step.seed, wrap=step_wrap(dataclasses.replace(step, tone_finish=False)))
+    assert unfinished.shape == shown.shape and not np.array_equal(unfinished, shown)

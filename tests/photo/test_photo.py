@@ -300,8 +300,8 @@ def test_textures_of_version_9_replay_as_they_were_written():
             tone=False).levels)
 
 
-FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10))   # the multiscale step's switches,
-#                                                               with the version each came with
+FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10),    # the multiscale step's switches,
+         ("tone_finish", 11))                                    # with the version each came with
 
 
 def flag_cases():
@@ -316,8 +316,9 @@ def flag_cases():
 
 @pytest.mark.parametrize("name, version, obj, value", list(flag_cases()))
 def test_a_multiscale_step_keeps_its_switches_as_its_version_has_them(name, version, obj, value):
-    """Rebalancing (version 8), steering (9) and more drafts of small scales (10): an older step
-    draws without them and cannot name them; the version that brought one names it, default on."""
+    """Rebalancing (version 8), steering (9), more drafts of small scales (10) and the tone's
+    finish (11): an older step draws without them and cannot name them; the version that brought
+    one names it, default on."""
     if value is None:
         with pytest.raises(FormatError):
             read_scales_step(version, obj)
