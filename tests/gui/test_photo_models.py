@@ -405,8 +405,25 @@ def test_a_step_drawn_with_16_coarse_redraws_again_is_the_older_texture(qtbot, w
     assert window.runner.wait(60_000) and not window.errors
     assert window.history.actions[-1].tone_balance is False
     assert np.array_equal(window.document.levels, new)
-    unbalanced = rgb(model.render(new, seed=7, wrap=tone.PLAIN))
+    unbalanced = rgb(model.render(new, seed=7, wrap=tone.PLAIN | tone.FINISHED))
     assert np.array_equal(window.canvas.picture, unbalanced)
     assert not np.array_equal(unbalanced, tone_of(window, 7))
+
+    # then untick Tone finish: the picture as drawn, every grey one of the photo's own
+    qtbot.mouseClick(dock.view.viewport(), LEFT, pos=dock.row_rect(last).center())
+    kind, box = dock.form.editors["tone_finish"]
+    assert kind == "bool" and box.isChecked()
+    box.setFocus()
+    qtbot.keyClick(box, Key.Key_Space)
+    qtbot.mouseClick(dock.apply_button, LEFT)
+    assert window.runner.wait(60_000) and not window.errors
+    step = window.history.actions[-1]
+    assert step.tone_finish is False and step.tone_balance is False
+    drawn = rgb(model.render(new, seed=7, wrap=tone.PLAIN))
+    assert np.array_equal(window.document.levels, new)
+    assert np.array_equal(window.canvas.picture, drawn) and not np.array_equal(drawn, unbalanced)
+    assert set(np.unique(drawn)) <= set(np.unique(model.tone.grey))
+    qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert np.array_equal(window.canvas.picture, unbalanced)
     undo_to_start(qtbot, window)
     assert np.array_equal(window.document.levels, start)
