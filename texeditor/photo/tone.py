@@ -216,7 +216,7 @@ def as_shown(grey, pixels, wrap, index: ToneIndex | None, photo_grey) -> tuple:
     """(grey, pixels) as shown: finished (photo.finish) when ``wrap`` has FINISHED."""
     if not int(wrap) & FINISHED:
         return grey, pixels
-    power = index.power if index is not None and index.power is not None else None
+    power = getattr(index, "power", None)          # kept with an index built from the greys
     if power is None:
         power = radial_power(np.asarray(photo_grey, np.uint8))
     return finished(grey, pixels, power, bool(int(wrap) & ~(BALANCED | FINISHED)))
