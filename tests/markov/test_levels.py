@@ -148,6 +148,16 @@ def test_constant_or_empty_image_raises_image_error(image):
         lv.quantize(image, 4)
 
 
+@pytest.mark.parametrize("image", [np.full((8, 8, 3), (200, 10, 10), np.uint8),
+                                   np.dstack([np.arange(108, dtype=np.uint8).reshape(6, 6, 3),
+                                              np.zeros((6, 6), np.uint8)])])
+def test_a_one_colour_photo_is_refused_as_flat_by_the_colour_quantiser(image):
+    """Not "choose G ≤ 1 colour classes", which no G obeys: the photo has nothing to
+    quantise (a transparent one is laid on white, so it is one colour too)."""
+    with pytest.raises(ImageError, match="one flat colour"):
+        lv.quantize(image, 4, "lab")
+
+
 @pytest.mark.parametrize("g", [1, 17, 0, -3, 2.5, "8", True])
 def test_levels_out_of_range_raise_input_error(g):
     with pytest.raises(InputError):

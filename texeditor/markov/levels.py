@@ -402,6 +402,9 @@ def _lab_quantize(image: np.ndarray, levels: int) -> Quantization:
     """
     codes = _colour_codes(image)
     colours, inverse, counts = _unique_colours(codes.ravel())
+    if colours.size == 1:
+        raise ImageError("the image is one flat colour, nothing to quantise; choose a photo "
+                         "with some contrast")
     if colours.size < levels:
         raise ImageError(f"the photo has only {colours.size} colours: choose G ≤ {colours.size} "
                          "colour classes")
