@@ -1,8 +1,9 @@
 """Regenerate the built-in bank entries, resources/bank/*.texture (run from the repository root).
 
 A new bank installs these on first run, so a newcomer sees what the product does: textures acquired
-from the bundled photos, DPJs drawn from a seed (§5.2.2), and edited textures whose logs use the
-region and global operators. Each file's stem is the entry's name ("gravel-acquired" → "Gravel
+from the bundled photos (the 1984 single DPJ, then below each the photo model shown with the
+photo's tone), DPJs drawn from a seed (§5.2.2), and edited textures whose logs use the region and
+global operators. Each file's stem is the entry's name ("gravel-acquired" → "Gravel
 acquired", a leading "NN-" is the entry's place among the built-ins); its tags and description
 come from the manifest. Logs are saved optimised, as the bank keeps them. Each entry's texture is
 also stored as a picture, bank/pictures/<SHA-256>.npz (``--pictures`` writes only these), so a
@@ -25,7 +26,10 @@ from texeditor.recipe.history import History  # noqa: E402
 from texeditor.recipe.logopt import optimize  # noqa: E402
 from texeditor.regions.actions import Copy, Fill, Identity, Isometry, Similarity  # noqa: E402
 from texeditor.bank.store import write_picture  # noqa: E402
-from texeditor.recipe.texturefile import render_texture, save_texture  # noqa: E402
+from texeditor.recipe.texturefile import (render_texture, save_texture,  # noqa: E402
+                                          synthesize_scales_texture)
+from texeditor.markov.levels import load_image  # noqa: E402
+from texeditor.photo import acquire_model  # noqa: E402
 
 SIZE = 256
 WARM = [(52, 36, 24), (128, 86, 52), (186, 140, 92), (232, 206, 160)]
@@ -53,6 +57,14 @@ def synthesised(dpj: DPJ, seed: int, size: int = SIZE) -> History:
     return history
 
 
+def with_tone(photo: str, seed: int, size: int = SIZE) -> History:
+    """A multi-scale synthesis from a bundled photo's model, shown with the photo's tone (what
+    `texeditor resynth PHOTO -o OUT.texture` writes)."""
+    model = acquire_model(load_image(HERE / "images" / f"{photo}.png"))
+    return synthesize_scales_texture(model.scales.dpjs, size, size, seed=seed,
+                                     tone=model.tone_pictures())
+
+
 def bundled(name: str) -> DPJ:
     return DPJ.load(HERE / "dpj" / f"{name}.dpj")
 
@@ -69,6 +81,14 @@ def entries() -> dict:
     out["brick"] = (synthesised(brick, 3), ["brick", "photo", "oriented"],
                     "Acquired from scikit-image's brick photo: 2×3 window, G = 4; the courses "
                     "run up and down, as in the photo.")
+    tone = ("a photo model (multi-scale DPJs: the coarse scales carry the layout) drawn "
+            "256×256 and shown with the photo's own greys")
+    out["gravel-with-tone"] = (with_tone("gravel", 1), ["gravel", "photo", "granular", "tone"],
+                               f"The bundled gravel photo as {tone}, seed 1.")
+    out["grass-with-tone"] = (with_tone("grass", 2), ["grass", "photo", "fine", "tone"],
+                              f"The bundled grass photo as {tone}, seed 2.")
+    out["brick-with-tone"] = (with_tone("brick", 3), ["brick", "photo", "oriented", "tone"],
+                              f"The bundled brick photo as {tone}, seed 3.")
     out["granular-airy-seed-5"] = (
         synthesised(seeded_dpj(5, empty=0.35), 5), ["granular", "seed", "airy"],
         "A 2×2 DPJ drawn from seed 5, G = 3, the empty configuration at 0.35: scattered grains.")
@@ -137,7 +157,7 @@ def main() -> None:
     for k, (stem, (history, tags, description)) in enumerate(entries().items(), 1):
         doc = history.document
         shorter = optimize(history.applied, doc.dpjs)
-        check = History.from_log(shorter, doc.dpjs)
+        check = History.from_log(shorter, doc.dpjs, exemplars=doc.exemplars)
         assert check.document.result_hash() == doc.result_hash(), stem
         if doc.dpj is not None:      # the current DPJ travels with the file
             check.document.add_dpj(doc.dpj, doc.dpj_ref)
