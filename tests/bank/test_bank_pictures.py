@@ -236,3 +236,27 @@ def test_which_steps_need_the_kernels():
     assert not warmup.needs_kernels(SetLevels(0, 0, 2, 2, 1), doc)
     assert not warmup.needs_kernels(SetPalette(((0, 0, 0), (9, 9, 9))), Document())
     assert warmup.needs_kernels(RenderGrains(), doc)
+
+
+TONED = [p for p in BUILTINS if p.stem.endswith("-with-tone")]
+
+
+def test_three_builtins_show_a_photo_model_in_its_photos_tone(builtin_bank):
+    """A newcomer finds the multi-scale synthesis with the photo's tone among the built-ins
+    (what `texeditor resynth` makes), not only the 1984 flat greys: the entry's thumbnail is
+    the tone picture of its levels, which has many more greys than its four levels."""
+    from texeditor.bank.store import document_thumbnail, thumbnail_png
+    from texeditor.photo import document_tone
+    assert [p.stem[3:] for p in TONED] == ["gravel-with-tone", "grass-with-tone",
+                                           "brick-with-tone"]
+    assert len(BUILTINS) == 12 and [p.name[:2] for p in TONED] == ["04", "05", "06"]
+    for path in TONED:
+        doc = render_texture(path)                       # replayed, hash checked
+        assert [a.TYPE for a in doc.actions] == ["synthesize_scales"]
+        tone = document_tone(doc)
+        assert tone is not None and tone.shape == doc.levels.shape
+        assert len(np.unique(tone)) > 8 * doc.num_levels
+        flat = thumbnail_png(doc.levels, doc.palette)
+        assert document_thumbnail(doc) != flat
+        entry = next(e for e in builtin_bank.entries() if e.sha256 == doc.result_hash())
+        assert entry.builtin and entry.name == path.stem[3:].replace("-", " ").capitalize()
