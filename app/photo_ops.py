@@ -202,15 +202,22 @@ class PhotoOps:
         return picture
 
     def tone_refs(self, refs) -> tuple[str | None, str | None]:
-        """The attached model's tone added to the document as two exemplars (photo, levels),
-        for a synthesis from all its scales ``refs``: the step then names them and the tone
-        travels with the texture. (None, None) when there is no such tone."""
+        """The tone a synthesis from all the scales ``refs`` names, so it travels with the
+        texture: the attached model's, added to the document as two exemplars (photo, levels),
+        else the one the log's latest step from these scales named (a reopened `.texture` or
+        bank entry has no model attached, and a new seed keeps its tone). (None, None) when
+        there is no such tone."""
         model = self.photo_model
-        if model is None or model.tone is None \
-                or tuple(refs) != tuple(d.ref for d in model.scales.dpjs):
-            return None, None
-        photo, levels = model.tone_pictures()
-        return self.history.add_exemplar(photo), self.history.add_exemplar(levels)
+        if model is not None and model.tone is not None \
+                and tuple(refs) == tuple(d.ref for d in model.scales.dpjs):
+            photo, levels = model.tone_pictures()
+            return self.history.add_exemplar(photo), self.history.add_exemplar(levels)
+        exemplars = self.history.document.exemplars
+        for step in reversed(self.history.applied):
+            if step.TYPE == "synthesize_scales" and tuple(step.dpjs) == tuple(refs) \
+                    and step.tone_photo in exemplars and step.tone_levels in exemplars:
+                return step.tone_photo, step.tone_levels
+        return None, None
 
     def _tone_toggled(self, _on: bool = False) -> None:
         if self.history is not None:

@@ -298,6 +298,40 @@ def test_a_toned_texture_reopened_in_a_fresh_session_shows_its_tone(qtbot, windo
     assert np.array_equal(window.canvas.picture, toned)
 
 
+def test_a_new_seed_from_a_reopened_toned_texture_keeps_its_tone(qtbot, window):
+    """The built-in *Brick with tone* opened as a file (no photo model attached): a new seed
+    from the Synthesis dock, twice, then a tileable one, each names the tone its first step
+    named and shows it (it came out in the palette's four greys before); a fill after it
+    follows the tone; undo to the start shows the opened texture again, redo the last."""
+    from texeditor.bank.store import BUILTIN_DIR
+    from texeditor.photo import document_tone
+    window.open_file(BUILTIN_DIR / "06-brick-with-tone.texture")
+    assert window.runner.wait(60_000) and not window.errors
+    assert window.photo_model is None
+    first = window.history.actions[0]
+    opened = window.canvas.picture.copy()
+    assert first.tone_photo is not None and np.array_equal(opened, rgb(document_tone(
+        window.document)))
+    for seed, tile in ((41, False), (42, False), (43, True)):
+        if tile != window.synthesis_dock.tileable():
+            qtbot.mouseClick(window.synthesis_dock.tileable_box, LEFT)
+        synthesise(qtbot, window, 96, 80, seed)
+        step = window.history.actions[-1]
+        assert (step.TYPE, step.seed, step.tileable) == ("synthesize_scales", seed, tile)
+        assert (step.tone_photo, step.tone_levels) == (first.tone_photo, first.tone_levels)
+        assert window.act_tone.isEnabled() and window.canvas.picture is not None
+        assert np.array_equal(window.canvas.picture, rgb(document_tone(window.document)))
+        assert len(np.unique(window.canvas.picture)) > 4 * window.document.num_levels
+    last = window.canvas.picture.copy()
+    fill_a_cell(qtbot, window)
+    assert np.array_equal(window.canvas.picture, rgb(document_tone(window.document)))
+    undo_to_start(qtbot, window)
+    assert np.array_equal(window.canvas.picture, opened)
+    redo_to_end(qtbot, window)
+    qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert np.array_equal(window.canvas.picture, last)
+
+
 def test_a_large_tone_is_drawn_in_the_background_and_each_edit_shows_at_once(
         qtbot, window, photo_path, monkeypatch, tmp_path):
     """A picture of a million points or more has its tone drawn on a thread: after an edit
