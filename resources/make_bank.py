@@ -8,6 +8,10 @@ acquired", a leading "NN-" is the entry's place among the built-ins); its tags a
 come from the manifest. Logs are saved optimised, as the bank keeps them. Each entry's texture is
 also stored as a picture, bank/pictures/<SHA-256>.npz (``--pictures`` writes only these), so a
 first start shows and indexes the built-ins without waiting for the synthesis kernels.
+
+Run whole, it writes every entry with today's action versions; the committed 01–03 and 07–12 are
+older files (Synthesize version 1), kept byte for byte as the bank's older-format entries — after
+adding an entry, restore them from git and keep only the new files and their pictures.
 """
 
 from __future__ import annotations
