@@ -81,9 +81,16 @@ def context_codes(levels: np.ndarray, num_levels: int, wrap: bool = False) -> tu
     """The three context codes of every point, row-major: beyond the border the border point
     repeats, or (``wrap``) the opposite side continues."""
     lv = np.ascontiguousarray(levels, dtype=np.uint8)
-    codes = np.empty((3, lv.size), np.int64)
+    codes = np.empty((3, lv.size), _code_type(num_levels))
     _context_codes(lv, np.int64(num_levels), codes, bool(wrap))
     return tuple(codes)
+
+
+def _code_type(num_levels: int):
+    """int32 for the context codes when the 3×3 code fits it (up to 10 levels): the tone reads
+    them, and the photo points grouped by them, at random, so half the bytes is a tenth or
+    more off its time."""
+    return np.int32 if num_levels ** 9 < 2**31 else np.int64
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -118,9 +125,9 @@ def tone_index(levels: np.ndarray, num_levels: int, grey=None) -> ToneIndex:
     keys, starts, points = [], [], []
     for code, space in zip(codes, (num_levels ** 9, num_levels ** 5, num_levels)):
         unique, first, order = _grouped(code, space)
-        keys.append(unique)
+        keys.append(unique.astype(code.dtype, copy=False))
         starts.append(np.append(first, len(order)).astype(np.int64))
-        points.append(np.asarray(order, np.int64))    # int64 already: not copied
+        points.append(order.astype(np.int32 if code.size < 2**31 else np.int64))
     shares = None if grey is None else _grey_shares(levels, np.asarray(grey, np.uint8),
                                                     num_levels)
     direct = np.empty(0, np.int32)
