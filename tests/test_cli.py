@@ -231,6 +231,29 @@ def test_resynth_names_what_a_too_small_photo_lacks(tmp_path, capsys):
     assert not (tmp_path / "x.png").exists()
 
 
+def test_resynth_auto_scales_fit_a_small_texture(tmp_path, capsys):
+    """"auto" gives a small texture the scales it can hold (a 256² photo has 3, whose coarsest
+    5×5 window needs at least 17×17): a 32×16 tile comes out on 2 scales, 8×4 on one; the
+    same size with the photo's own 3 scales asked for is refused, naming a size and fewer
+    scales; a texture too small for one scale names the smallest."""
+    path = tmp_path / "gravel.png"
+    skio.imsave(path, data.gravel()[:256, :256], check_contrast=False)
+    sizes = {"64x64": "3 scales,", "32x16": "2 scales,", "8x4": "1 scale,"}
+    for size, scales in sizes.items():
+        out_path = tmp_path / f"{size}.npy"
+        code, out, _ = run(capsys, "resynth", path, "--size", size, "-o", out_path)
+        assert code == 0 and scales in out
+        w, h = map(int, size.split("x"))
+        assert np.load(out_path).shape == (h, w)
+    code, _, err = run(capsys, "resynth", path, "--size", "32x16", "--scales", "3", "-o",
+                       tmp_path / "x.png")
+    assert code == 2 and "too small for 3 scales" in err
+    assert "choose at least 17x17, or fewer scales" in err
+    code, _, err = run(capsys, "resynth", path, "--size", "2x1", "-o", tmp_path / "x.png")
+    assert code == 2 and "a 2x1 texture is too small for 1 scale " in err
+    assert "choose at least 3x2\n" in err and not (tmp_path / "x.png").exists()
+
+
 def test_resynth_says_when_it_rebalanced_the_level_shares(tmp_path, capsys):
     """A crop of chelsea whose finest level shares come out 0.09 off at this seed: the texture
     comes out within 0.03 of the model's, and the command says it moved border points."""

@@ -90,8 +90,9 @@ def cmd_synth(args) -> int:
     return 0
 
 
-def _acquire_model(image, args):
-    from .photo import acquire_model
+def _acquire_model(image, args, shape=None):
+    """The photo model the flags ask for; ``shape``: the texture to draw (auto scales fit it)."""
+    from .photo import acquire_model, auto_scales
 
     options = {"levels": args.levels, "quantizer": args.quantizer or "lab",
                "tone": not args.no_tone}
@@ -102,6 +103,8 @@ def _acquire_model(image, args):
     if args.coarse_levels is not None:
         options["coarse_levels"] = args.coarse_levels
     scales = None if args.scales in (None, "auto") else _count(args.scales, "--scales")
+    if scales is None and shape is not None:
+        scales = auto_scales(image, shape, **options)
     return acquire_model(image, scales=scales, **options)
 
 
@@ -148,7 +151,7 @@ def cmd_resynth(args) -> int:
     width, height = _pair(args.size, "the size")
     out = output_path(args.output, (".png", ".npy", ".texture"))
     start = time.perf_counter()
-    model = _acquire_model(load_image(args.photo), args)
+    model = _acquire_model(load_image(args.photo), args, (height, width))
     code = _synth_model(model, width, height, args.seed, out, tone=not args.no_tone,
                         tileable=args.tileable)
     print(f"({time.perf_counter() - start:.2f} s)")
@@ -307,7 +310,7 @@ def build_parser() -> argparse.ArgumentParser:
     rs.add_argument("--size", default="512x512", help="WIDTHxHEIGHT (default 512x512)")
     rs.add_argument("--seed", type=int, default=0)
     rs.add_argument("--scales", default="auto", help="N or auto (about 64 points a side at the "
-                    "coarsest)")
+                    "photo's coarsest; fewer when the texture is too small to hold them)")
     rs.add_argument("--window", help="UxV of the finer scales (default 3x2)")
     rs.add_argument("--levels", type=int, default=4, help="G of the finer scales (default 4)")
     rs.add_argument("--quantizer", choices=("band", "lloyd", "lab"), default="lab",

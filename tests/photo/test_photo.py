@@ -35,6 +35,21 @@ def test_resynthesize_gives_the_picture_and_the_levels():
     assert np.array_equal(r.image, again.image) and np.array_equal(r.levels, again.levels)
 
 
+def test_resynthesize_auto_scales_fit_a_small_texture():
+    """Without ``scales``, a texture too small for the photo's scales is drawn on fewer (its
+    levels the same as with those scales asked for); with them, it is refused."""
+    photo = ski.data.gravel()[:256, :256]
+    assert texeditor.photo.auto_scales(photo, (512, 512)) == 3
+    assert [texeditor.photo.auto_scales(photo, s) for s in ((17, 17), (16, 32), (4, 8), (1, 1))] \
+        == [3, 2, 1, 1]
+    r = texeditor.resynthesize(photo, (16, 32), seed=2)
+    assert r.image.shape == (16, 32)
+    assert np.array_equal(r.levels, texeditor.resynthesize(photo, (16, 32), seed=2,
+                                                           scales=2).levels)
+    with pytest.raises(texeditor.InputError, match="or fewer scales"):
+        texeditor.resynthesize(photo, (16, 32), scales=3)
+
+
 def test_tone_draws_each_point_from_photo_points_of_its_level(model):
     """Every grey drawn is a grey the photo has at that level (the 3×3 context backs off to
     the level itself at worst), so flat levels become the photo's own shading (then finished:

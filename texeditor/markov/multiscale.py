@@ -135,6 +135,17 @@ def default_scales(shape) -> int:
     return int(max(1, min(MAX_SCALES, 1 + math.floor(math.log2(max(side, 1) / COARSEST_SIDE)))))
 
 
+def scales_that_fit(shape, scales: int, window=WINDOW, coarse_window=COARSE_WINDOW) -> int:
+    """The most scales, up to ``scales``, that a texture of ``shape`` (H, W) holds, each scale
+    at least its window (one scale takes ``window``): what "auto" gives a small texture,
+    which the photo's own number of scales would refuse."""
+    for n in range(int(scales), 1, -1):
+        windows = [tuple(coarse_window)] + [tuple(window)] * (n - 1)
+        if all(h >= v and w >= u for (h, w), (u, v) in zip(scale_shapes(shape, n), windows)):
+            return n
+    return 1
+
+
 def pyramid(photo: np.ndarray, scales: int, as_float=np.asarray) -> list[np.ndarray]:
     """The photo cropped to a multiple of 2^(scales-1), then halved by area mean; coarsest first.
     ``as_float`` converts the photo's pixels for the first halving, PYRAMID_ROWS rows at a time
@@ -334,8 +345,10 @@ def _check_scale_sizes(model: MultiScaleDPJ, shapes) -> None:
     low_h = max((d.window[1] - 1) * 2 ** (n - 1 - k) + 1 for k, d in enumerate(model.dpjs))
     low_w = max((d.window[0] - 1) * 2 ** (n - 1 - k) + 1 for k, d in enumerate(model.dpjs))
     (h, w) = shapes[-1]
-    raise InputError(f"a {w}x{h} texture is too small for {n} scales (each scale is half the "
-                     f"next and holds at least its window): choose at least {low_w}x{low_h}")
+    fewer = ", or fewer scales" if n > 1 else ""
+    raise InputError(f"a {w}x{h} texture is too small for {scales_phrase(n)} (each scale is half "
+                     f"the next and holds at least its window): choose at least "
+                     f"{low_w}x{low_h}{fewer}")
 
 
 def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel, rows_final,
