@@ -6,7 +6,8 @@ Run: python benchmarks/bench_quality.py [--photos brick grass gravel] [--size 51
 Photos are scikit-image data names or picture files; random-phase noise, Heeger–Bergen and the
 flow texture are timed (at both sizes) and scored too (rows, not in the montage). Metrics (benchmarks/quality.py) compare each
 output with the photo in grey; lower is closer. Time: the whole photo → picture call, warmed on
-64² first and with every kernel loaded (numba), best of --seeds; the metrics are those of the first seed's output.
+64² first and with every kernel loaded (numba), best of --seeds; the metrics are those of the first seed's output
+(with --seeds N > 1, a line under the multi-scale row gives their mean and worst over the N seeds).
 Montage per photo, <montage-dir>/quality-<photo>.png, panels left to right without captions:
 photo | texeditor 1984 single scale | texeditor multi-scale + tone (when it exists).
 The Heeger–Bergen row (steerable-pyramid histograms, companion 004) is timed and scored like the
@@ -83,8 +84,9 @@ def flow(photo, shape, seed):
     return np.round(np.clip(picture, 0, 1) * 255).astype(np.uint8), None
 
 
-def timed(method, photo, shape, seeds: int):
-    """(best seconds, first seed's picture, its result object): warmed on a small size first."""
+def timed(method, photo, shape, seeds: int, pictures: list | None = None):
+    """(best seconds, first seed's picture, its result object): warmed on a small size first;
+    ``pictures`` gets every seed's picture."""
     method(photo, WARM_SHAPE, 0)
     best, first = np.inf, None
     for seed in range(seeds):
@@ -92,7 +94,20 @@ def timed(method, photo, shape, seeds: int):
         out = method(photo, shape, seed)
         best = min(best, time.perf_counter() - t0)
         first = first or out
+        if pictures is not None:
+            pictures.append(out[0])
     return best, *first
+
+
+def seeds_line(pictures, grey) -> str:
+    """The metrics over every seed's picture, mean and worst: the table's row is seed 0's."""
+    figures = np.array([scores(p, grey) for p in pictures])
+    mean, worst = figures.mean(axis=0), figures.max(axis=0)
+    names = ("GLCM", "spectrum", "3x3 TV", "copied%")
+    scale = (1, 1, 1, 100)
+    parts = [f"{n} {m * k:.3f}/{w * k:.3f}" if k == 1 else f"{n} {m * k:.1f}/{w * k:.1f}"
+             for n, m, w, k in zip(names, mean, worst, scale)]
+    return f"{'':<42} seeds 0..{len(pictures) - 1}, mean/worst: " + ", ".join(parts)
 
 
 def scores(output, reference) -> tuple[float, float, float, float]:
@@ -139,8 +154,11 @@ def bench_photo(name: str, size: int, seeds: int, large: int) -> tuple[str, list
         methods.append((MULTI, multi_scale))
     methods += [(HEEGER_BERGEN, heeger_bergen), (FLOW, flow)]
     for title, method in methods:
-        seconds, image, result = timed(method, photo, shape, seeds)
+        pictures = []
+        seconds, image, result = timed(method, photo, shape, seeds, pictures)
         print(row(title, seconds, scores(image, grey)))
+        if title == MULTI and seeds > 1:
+            print(seeds_line(pictures, grey))
         if title not in ("image quilting (baseline)", RPN, HEEGER_BERGEN, FLOW):
             panels.append(image)
         if title == MULTI and (drift := level_drift(result)) is not None:
