@@ -806,10 +806,11 @@ def test_the_tone_index_groups_points_as_a_stable_sort_would(seed, space):
     assert np.array_equal(got[2], order)
 
 
-@pytest.mark.parametrize("g", [2, 4, 5, 6])
+@pytest.mark.parametrize("g", [2, 4, 5, 6, 11])
 def test_the_tone_finds_a_context_by_table_or_by_search_alike(g, monkeypatch):
     """Below DIRECT_SPACE (G ≤ 5) a 3×3 context finds its photo points in a look-up table, else
-    by a binary search: both give the same pictures (plain, balanced, tiling, colour)."""
+    by a binary search: both give the same pictures (plain, balanced, tiling, colour). From
+    G = 11 the codes no longer fit int32 (tone._code_type): the search runs on int64 codes."""
     photo = ski.data.coffee()[:90, :120]
     levels = texeditor.quantize(photo, g, "lab").levels
     grey = (ski.color.rgb2gray(photo) * 255).astype(np.uint8)
@@ -825,6 +826,27 @@ def test_the_tone_finds_a_context_by_table_or_by_search_alike(g, monkeypatch):
         a = tone.render(*args, seed=3, wrap=way, index=table)
         b = tone.render(*args, seed=3, wrap=way, index=searched)
         assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+    assert table.codes[0].dtype == (np.int32 if g <= 10 else np.int64)
+
+
+def test_int32_context_codes_draw_the_pictures_int64_codes_drew(monkeypatch):
+    """The tone reads its codes as int32 when they fit (a tenth off its time): the pictures
+    are those of the int64 codes before (plain, balanced, tiling, both tilings' lanes)."""
+    photo = ski.data.gravel()[:96, :96]
+    levels = texeditor.quantize(photo, 4, "lloyd").levels
+    out = np.ascontiguousarray(np.rot90(levels)[:80, :150])    # wide enough for two lanes
+    ways = (tone.PLAIN, tone.PLAIN | tone.BALANCED | tone.FINISHED, tone.TILED,
+            tone.TILED_LANES | tone.BALANCED)
+    narrow = tone.tone_index(levels, 4, photo)
+    assert narrow.codes[0].dtype == np.int32 and narrow.points[0].dtype == np.int32
+    now = [tone.render(out, 4, levels, photo, seed=5, wrap=w, index=narrow)[0] for w in ways]
+    monkeypatch.setattr(tone, "_code_type", lambda g: np.int64)
+    wide = tone.tone_index(levels, 4, photo)
+    wide = wide._replace(points=tuple(p.astype(np.int64) for p in wide.points))   # as before
+    assert wide.codes[0].dtype == np.int64
+    for way, picture in zip(ways, now):
+        before = tone.render(out, 4, levels, photo, seed=5, wrap=way, index=wide)[0]
+        assert np.array_equal(picture, before)
 
 
 @settings(max_examples=200, deadline=None)

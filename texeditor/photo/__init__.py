@@ -42,6 +42,6 @@ def auto_scales(photo, shape, *, window=WINDOW, coarse_window=COARSE_WINDOW, **_
         return scales
 
 
-__all__ = ["tone", "PhotoModel", "Resynthesis", "Tone", "acquire_model", "document_model",
-           "document_tone", "load_model", "model_from_bytes", "photo_tone", "resynthesize", "auto_scales",
-           "step_wrap"]
+__all__ = ["tone", "PhotoModel", "Resynthesis", "Tone", "acquire_model", "auto_scales",
+           "document_model", "document_tone", "load_model", "model_from_bytes", "photo_tone",
+           "resynthesize", "step_wrap"]
