@@ -1,6 +1,7 @@
 """The headless command line: acquire, synth, dpj-info; bad input exits 2 on one line."""
 
 import io
+import os
 import json
 import pickle  # only to build a hostile file; the program itself never unpickles
 import subprocess
@@ -229,6 +230,19 @@ def test_resynth_names_what_a_too_small_photo_lacks(tmp_path, capsys):
     code, _, err = run(capsys, "resynth", path, "--scales", "2", "-o", tmp_path / "x.png")
     assert code == 2 and "too small for 2 scales (its coarsest reduction" in err
     assert not (tmp_path / "x.png").exists()
+
+
+def test_a_reader_that_leaves_early_is_no_error(tmp_path):
+    """`texeditor bank list | head -1`: the pipe closes before the listing is written; the
+    command ends quietly (no "error: Broken pipe", no traceback), as Unix tools do."""
+    env = {**os.environ, "TEXEDITOR_BANK": str(tmp_path / "bank.sqlite")}
+    for argv in (["bank", "list"], ["--help"]):
+        proc = subprocess.Popen([sys.executable, "-m", "texeditor.cli", *argv], env=env,
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        proc.stdout.close()                       # gone before the program writes
+        err = proc.stderr.read().decode()
+        assert proc.wait(timeout=120) in (0, 1)
+        assert "rror" not in err and "Traceback" not in err, err
 
 
 def test_resynth_auto_scales_fit_a_small_texture(tmp_path, capsys):

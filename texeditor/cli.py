@@ -378,12 +378,12 @@ def main(argv: list[str] | None = None) -> int:
     except TexeditorError as exc:
         print(f"texeditor: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # `texeditor bank list | head`: the reader left, not an error
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())   # (an OSError: first)
+        return 1
     except OSError as exc:
         print(f"texeditor: error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
         return 2
-    except BrokenPipeError:  # `texeditor dpj-info X | head`: the reader left, not an error
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 1
     except KeyboardInterrupt:
         print("texeditor: interrupted", file=sys.stderr)
         return 130
