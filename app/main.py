@@ -43,7 +43,7 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if not argv or argv[0] == "gui":
         return run(argv[1:])
-    if argv[0].startswith("-") and argv[0] not in ("-h", "--help"):
+    if argv[0].startswith("-") and argv[0] not in ("-h", "--help", "--version"):
         return run(argv)                     # `texeditor --open F`: the window's own options
     from texeditor.cli import main as headless
     return headless(argv)

@@ -245,6 +245,23 @@ def test_a_reader_that_leaves_early_is_no_error(tmp_path):
         assert "rror" not in err and "Traceback" not in err, err
 
 
+def test_version_and_counts_in_words(tmp_path, capsys):
+    """`texeditor --version` names the release (the console script sends it to the headless
+    CLI, not to the window); a one-step texture is "1 action", not "1 actions"."""
+    from app.main import main as console
+    import texeditor
+    for entry in (main, console):
+        with pytest.raises(SystemExit) as stop:
+            entry(["--version"])
+        assert stop.value.code == 0
+        assert capsys.readouterr().out.strip() == f"texeditor {texeditor.__version__}"
+    dpj = tmp_path / "d.dpj"
+    DPJ.from_codes(np.arange(16), np.full(16, 1 / 16), 2, (2, 2)).save(dpj)
+    code, _, _ = run(capsys, "synth", dpj, "--size", "16x16", "-o", tmp_path / "t.texture")
+    code, out, _ = run(capsys, "render", tmp_path / "t.texture", "-o", tmp_path / "t.png")
+    assert code == 0 and ", 1 action replayed, hash verified" in out
+
+
 def test_resynth_auto_scales_fit_a_small_texture(tmp_path, capsys):
     """"auto" gives a small texture the scales it can hold (a 256² photo has 3, whose coarsest
     5×5 window needs at least 17×17): a 32×16 tile comes out on 2 scales, 8×4 on one; the

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from .errors import InputError, TexeditorError
 from .fileio import output_path
+from .version import __version__
 
 SYNTH_OUTPUTS = (".png", ".npy", ".texture")
 
@@ -189,7 +190,9 @@ def cmd_render(args) -> int:
     else:
         write_png(out, doc.levels, doc.palette, scale=args.scale)
     height, width = doc.shape
-    print(f"{out}: {width}x{height}, {len(doc.actions)} actions replayed, hash verified{shown}")
+    steps = len(doc.actions)
+    print(f"{out}: {width}x{height}, {steps} action{'s' if steps != 1 else ''} replayed, hash "
+          f"verified{shown}")
     return 0
 
 
@@ -272,6 +275,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="texeditor", description="Interactive texture synthesis after Olejnik (1984).",
                 epilog="`texeditor` alone, or `texeditor gui [--open F] [--screenshot OUT.png]`, "
                        "opens the application window (the `app` package).")
+    p.add_argument("--version", action="version", version=f"texeditor {__version__}")
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
 
     a = sub.add_parser("acquire", help="estimate a DPJ from a photo")
