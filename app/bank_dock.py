@@ -19,6 +19,7 @@ from texeditor.bank.store import Bank, make_record
 from texeditor.errors import TexeditorError
 
 from .bank_view import IdRole, RangeFilters, SaveToBankDialog, ThumbnailGrid
+from .widgets import counted
 
 SEARCH_DELAY_MS = 150
 WATCH_MS = 2000                   # how often the browser looks for changes made elsewhere
@@ -577,8 +578,9 @@ class BankDock(QtWidgets.QDockWidget):
             self.refresh()
             self.select(entry_id)
             steps = len(record.actions)
-            win.statusBar().showMessage(f"Saved “{record.name}” to the bank ({steps} steps after "
-                                        f"optimising {len(snapshot.actions)}).", 8000)
+            win.statusBar().showMessage(f"Saved “{record.name}” to the bank "
+                                        f"({counted(steps, 'step')} after optimising "
+                                        f"{len(snapshot.actions)}).", 8000)
             if bank.pending():                 # a bank opened for this save: its built-ins
                 self._prepare(None)
 

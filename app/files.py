@@ -17,6 +17,7 @@ from texeditor.recipe.history import History
 from texeditor.recipe.texturefile import load_texture, save_texture
 
 from .new_dialog import NewDialog
+from .widgets import counted
 
 TEXTURE_FILTER = "Textures (*.texture);;All files (*)"
 PNG_FILTER = "PNG images (*.png)"
@@ -133,7 +134,8 @@ class FileOps:
     def _opened(self, path: Path, history: History) -> None:
         self.set_history(history, path)
         remember_recent(path)
-        self.statusBar().showMessage(f"Opened {path} ({len(history.actions)} steps).", 8000)
+        self.statusBar().showMessage(f"Opened {path} ({counted(len(history.actions), 'step')}).",
+                                     8000)
 
     def _fill_recent_menu(self) -> None:
         self.recent_menu.clear()

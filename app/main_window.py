@@ -41,6 +41,7 @@ from .synthesis_dock import SynthesisDock
 from .synthesis_worker import TaskRunner, render_synthesis
 from .tool_dock import ToolOptionsDock
 from .tools import tool_classes
+from .widgets import counted
 
 APP_NAME = "texeditor"
 LEFT = QtCore.Qt.DockWidgetArea.LeftDockWidgetArea
@@ -766,7 +767,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
     def _optimised(self, history, pending) -> None:
         before = history.index
         if self._commit_replay(history, pending, "Cannot optimise the log"):
-            self.statusBar().showMessage(f"Log optimised: {before} steps became "
+            self.statusBar().showMessage(f"Log optimised: {counted(before, 'step')} became "
                                          f"{history.index}, the same texture. Ctrl+Z undoes it.",
                                          12000)
 

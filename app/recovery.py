@@ -16,6 +16,7 @@ from texeditor.errors import TexeditorError
 from texeditor.recipe.history import History
 from texeditor.recipe.journal import orphans, recover
 from texeditor.userdata import set_aside_line
+from .widgets import counted
 
 Yes, No = QtWidgets.QMessageBox.StandardButton.Yes, QtWidgets.QMessageBox.StandardButton.No
 
@@ -63,7 +64,8 @@ def offer_recovery(window, make_window=None, problems: list | None = None) -> in
         path.unlink(missing_ok=True)
         restored += 1
         target.statusBar().showMessage(
-            f"Restored {len(found.actions)} steps of unsaved work: save it to keep it.", 10000)
+            f"Restored {counted(len(found.actions), 'step')} of unsaved work: save it to keep "
+            "it.", 10000)
     if own:
         report_problems(window, problems)
     return restored
@@ -92,5 +94,6 @@ def _ask(window, found) -> QtWidgets.QMessageBox.StandardButton:
     return QtWidgets.QMessageBox.question(
         window, "Restore unsaved work?",
         f"texeditor closed unexpectedly while editing {what} (opened {when}).\n\n"
-        f"Restore it as it was after its last completed step ({len(found.actions)} steps)?",
+        f"Restore it as it was after its last completed step "
+        f"({counted(len(found.actions), 'step')})?",
         Yes | No, Yes)

@@ -64,6 +64,21 @@ def test_open_recent_menu(qtbot, window, tmp_path):
     assert window.path == path and window.history.document.palette.any()
 
 
+def test_opening_counts_the_steps_in_words(qtbot, window, tmp_path):
+    """The status bar says "(1 step)" for a one-step file and "(2 steps)" for two."""
+    window.history.goto(1)
+    one = tmp_path / "one.texture"
+    assert window.save_to(one) and len(window.history.actions) == 1
+    window.submit(SetPalette(np.zeros((window.history.document.num_levels, 3), np.uint8)))
+    two = tmp_path / "two.texture"
+    assert window.save_to(two)
+    for path, words in ((one, "(1 step)."), (two, "(2 steps).")):
+        window.mark_clean()
+        window.open_file(path)
+        assert window.runner.wait(60_000)
+        assert window.statusBar().currentMessage().endswith(words)
+
+
 def test_a_damaged_file_is_a_dialog_and_the_document_stays(qtbot, window, tmp_path):
     bad = tmp_path / "bad.texture"
     bad.write_bytes(b"PK\x03\x04 not really a zip")
