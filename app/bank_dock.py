@@ -524,7 +524,7 @@ class BankDock(QtWidgets.QDockWidget):
         self.select(entry_id)
         n = len(history.actions)
         how = ("shown from its stored picture" if stored
-               else f"{n} step{'s' if n != 1 else ''} replayed")
+               else f"{counted(n, 'step')} replayed")
         self.main.statusBar().showMessage(
             f"Opened “{entry.name}” from the bank: {how}, SHA-256 verified.", 8000)
 
@@ -740,7 +740,7 @@ class _FitArea(QtWidgets.QScrollArea):
 def _summary(entry) -> str:
     """Size, steps and attributes of an entry, in short lines."""
     kind = " · built-in" if entry.builtin else ""
-    steps = f"{entry.actions} step{'s' if entry.actions != 1 else ''}"
+    steps = counted(entry.actions, "step")
     head = f"{entry.width}×{entry.height}, G = {entry.levels}, {steps}{kind}"
     a = entry.attributes
     if a is None:
