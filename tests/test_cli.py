@@ -262,6 +262,28 @@ def test_version_and_counts_in_words(tmp_path, capsys):
     assert code == 0 and ", 1 action replayed, hash verified" in out
 
 
+def test_a_first_run_at_a_terminal_says_it_prepares_the_engine(monkeypatch, capsys):
+    """A fresh install compiles the kernels for up to a minute: a person at a terminal is told
+    once why the command is silent; a cached kernel, a pipe or a log hear nothing."""
+    import types
+    import numba
+    from texeditor import cli
+
+    def compiles(args):
+        return numba.njit(lambda x: x + 1)(1) - numba.njit(lambda x: x * 2)(1)  # new kernels
+
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    assert cli._run(types.SimpleNamespace(func=compiles)) == 0
+    assert capsys.readouterr().err == cli.COMPILING_NOTE + "\n"          # once for both kernels
+    assert cli._run(types.SimpleNamespace(func=lambda args: 0)) == 0
+    assert capsys.readouterr().err == ""                                 # nothing compiled
+    compiles(None)                                                       # outside a command
+    assert capsys.readouterr().err == ""
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
+    assert cli._run(types.SimpleNamespace(func=compiles)) == 0
+    assert capsys.readouterr().err == ""                                 # not a terminal
+
+
 def test_resynth_auto_scales_fit_a_small_texture(tmp_path, capsys):
     """"auto" gives a small texture the scales it can hold (a 256² photo has 3, whose coarsest
     5×5 window needs at least 17×17): a 32×16 tile comes out on 2 scales, 8×4 on one; the

@@ -17,6 +17,8 @@ from .fileio import output_path
 from .version import __version__
 
 SYNTH_OUTPUTS = (".png", ".npy", ".texture")
+COMPILING_NOTE = ("texeditor: preparing the synthesis engine (first run only, up to a minute; "
+                  "later runs start at once)…")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -368,6 +370,18 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _run(args) -> int:
+    """Run a command; a person at a terminal is told why a first run is silent for a minute."""
+    if not sys.stderr.isatty():
+        return args.func(args)
+    from .warmup import on_first_compile
+    forget = on_first_compile(lambda: print(COMPILING_NOTE, file=sys.stderr, flush=True))
+    try:
+        return args.func(args)
+    finally:
+        forget()
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     try:
@@ -378,7 +392,7 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         if getattr(args, "seed", 0) is not None and getattr(args, "seed", 0) < 0:
             raise InputError("the seed must be a non-negative integer")
-        return args.func(args)
+        return _run(args)
     except TexeditorError as exc:
         print(f"texeditor: error: {exc}", file=sys.stderr)
         return 2

@@ -131,6 +131,29 @@ def needs_kernels(action, doc) -> bool:
     return any(ref in doc.dpjs for ref in dpj_refs([action]))
 
 
+def on_first_compile(note: Callable[[], None]) -> Callable[[], None]:
+    """Call ``note()`` once, when this process first compiles a kernel (numba's cache missed: a
+    fresh install, a new numba or Python), so that a command can say why it is silent for a
+    minute. Loading a cached kernel is no compilation and says nothing. Returns a function that
+    removes the listener."""
+    from numba.core import event
+
+    class _First(event.Listener):
+        told = False
+
+        def on_start(self, ev):
+            if not self.told:
+                self.told = True
+                note()
+
+        def on_end(self, ev):
+            pass
+
+    listener = _First()
+    event.register("numba:compile", listener)
+    return lambda: event.unregister("numba:compile", listener)
+
+
 def _reset() -> None:
     """Forget a finished warm-up (tests only: the kernels stay compiled)."""
     global _thread
