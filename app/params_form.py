@@ -14,7 +14,10 @@ from texeditor.recipe.actions import param_specs
 
 INT32 = 2**31 - 1
 LONG_TEXT = 80             # a text parameter longer than this is structured data, shown as its size
-LABELS = {"dpj": "DPJ", "dpjs": "DPJs", "levels": "Levels G", "more_drafts": "More drafts on small scales"}
+LABELS = {"dpj": "DPJ", "dpjs": "DPJs", "levels": "Levels G",
+          "more_drafts": "More drafts on small scales",
+          "coarse_redraws": "Redraws at a coarsest dead end",
+          "given_redraws": "Redraws at a finer dead end"}
 NEW_SEED_MAX = 2**31 - 1   # fresh seeds stay readable; any seed up to 2**63-1 can be typed
 
 

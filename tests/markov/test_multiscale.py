@@ -169,13 +169,15 @@ def test_level_shares_stay_within_three_hundredths_when_structure_is_large(photo
 
 def test_particles_hold_the_level_shares_of_a_scene_where_redrawing_did_not():
     """A scene photo (coffee: a cup, a saucer, a table) has blobs as large as the texture at
-    every scale: whole redraws (particles=0, recipes before SynthesizeScales 6) left a level's
-    share up to 0.15 off; drafts resampled on their shares keep it within 0.04."""
+    every scale: whole redraws (particles=0, recipes before SynthesizeScales 6, which also
+    tried 16 times at a finer dead end) left a level's share up to 0.15 off; drafts resampled
+    on their shares keep it within 0.04."""
     model, _ = multiscale.estimate_scales(ski.data.coffee())
     seeds = range(4)
     drafted = worst_share_error(model, (512, 512), seeds, steer=False)
     assert drafted <= 0.04
-    assert worst_share_error(model, (512, 512), seeds, particles=0, steer=False) > 3 * drafted
+    assert worst_share_error(model, (512, 512), seeds, particles=0, steer=False,
+                             given_redraws=multiscale.OLD_REDRAWS) > 3 * drafted
 
 
 def fake_draws(shares, log):
@@ -237,7 +239,7 @@ def test_progress_of_coarse_tries_only_grows():
 def test_the_coarsest_scale_tries_coarse_redraws_times_at_a_dead_end():
     """Brick's coarsest law (5×5 over a 64² reduction) meets dead ends all over: a dead end is
     tried COARSE_REDRAWS times (redrawing the rows above) before it backs off, 16 in recipes
-    before it; the other scales keep 16."""
+    before it."""
     from texeditor.photo import acquire_model
     coarse = acquire_model(ski.data.brick()).scales.dpjs[0]
     alone = multiscale.MultiScaleDPJ((coarse,))         # drawn once: the coarsest scale's draw
@@ -251,6 +253,25 @@ def test_the_coarsest_scale_tries_coarse_redraws_times_at_a_dead_end():
     for bad in (17, -1, True, "4"):
         with pytest.raises(InputError):
             multiscale.synthesize_scales(alone, (64, 64), coarse_redraws=bad)
+
+
+def test_the_finer_scales_try_given_redraws_times_at_a_dead_end():
+    """A dead end of a scale drawn given its parents is tried GIVEN_REDRAWS times (8), 16 in
+    recipes before it: with no tries at either kind of scale nothing is redrawn, and each
+    number of tries draws its own texture."""
+    from texeditor.photo import acquire_model
+    model = acquire_model(ski.data.brick()).scales
+    assert multiscale.GIVEN_REDRAWS == 8
+    draws = {n: multiscale.synthesize_scales(model, (128, 128), seed=1, coarse_redraws=0,
+                                             given_redraws=n) for n in (0, 8, 16)}
+    default = multiscale.synthesize_scales(model, (128, 128), seed=1, coarse_redraws=0)
+    assert draws[0].redraws == 0 < draws[8].redraws == default.redraws
+    assert np.array_equal(default.levels, draws[8].levels)
+    assert not np.array_equal(draws[8].levels, draws[16].levels)
+    assert not np.array_equal(draws[8].levels, draws[0].levels)
+    for bad in (17, -1, True, "8"):
+        with pytest.raises(InputError):
+            multiscale.synthesize_scales(model, (64, 64), given_redraws=bad)
 
 
 @pytest.mark.parametrize("tileable", [False, True])

@@ -16,7 +16,7 @@ from texeditor import DPJ
 from texeditor.errors import FormatError, InputError
 from texeditor.markov.particles import MAX_PARTICLES, PARTICLES
 from texeditor.photo import acquire_model, load_model, model_from_bytes, tone
-from texeditor.markov.multiscale import SCALES_CLOSURE
+from texeditor.markov.multiscale import GIVEN_REDRAWS, SCALES_CLOSURE
 from texeditor.recipe.actions import SynthesizeScales
 from texeditor.recipe.texturefile import render_texture, save_texture, synthesize_scales_texture
 from tests.support.photo import speckle
@@ -176,7 +176,7 @@ def test_textures_of_version_3_replay_with_16_coarse_redraws_as_they_did(name):
     assert np.array_equal(redrawn, model.synthesize((120, 160), seed=7, tileable=step.tileable,
                                                     closure=step.closure, tone=False,
                                                     rebalance=False, steer=False,
-                                                    more_drafts=False).levels)
+                                                    more_drafts=False, given_redraws=16).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -203,7 +203,8 @@ def test_textures_of_version_5_replay_drawing_a_coarse_scale_again_whole(name):
     assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed,
                                                     tileable=step.tileable, tone=False,
                                                     closure=step.closure, rebalance=False,
-                                                    steer=False, more_drafts=False).levels)
+                                                    steer=False, more_drafts=False,
+                                                    given_redraws=16).levels)
 
 
 def test_a_tileable_texture_of_version_6_replays_with_closure_4():
@@ -226,8 +227,9 @@ def test_a_tileable_texture_of_version_6_replays_with_closure_4():
     model = document_model(doc, step)
     assert np.array_equal(new.prepare(doc), model.synthesize((100, 140), seed=step.seed,
                                                              tileable=True, closure=5, tone=False,
-                                                             rebalance=False,
-                                                             steer=False, more_drafts=False).levels)
+                                                             rebalance=False, steer=False,
+                                                             more_drafts=False,
+                                                             given_redraws=16).levels)
 
 
 def test_a_texture_of_version_7_replays_without_rebalancing():
@@ -256,7 +258,8 @@ def test_a_texture_of_version_7_replays_without_rebalancing():
     assert 0 < moved.mean() < 0.25
     shares = np.bincount(redrawn.ravel(), minlength=4) / redrawn.size
     assert np.abs(shares - model.frequencies()).max() <= TRIGGER
-    drawn = model.synthesize((100, 140), seed=step.seed, steer=False, more_drafts=False)
+    drawn = model.synthesize((100, 140), seed=step.seed, steer=False, more_drafts=False,
+                             given_redraws=16)
     assert np.array_equal(drawn.levels, redrawn) and drawn.moved >= moved.sum()   # moves
     assert np.array_equal(drawn.image, model.render(redrawn, seed=step.seed))
 
@@ -286,7 +289,7 @@ def test_a_texture_of_version_8_replays_unsteered():
     redrawn = new.prepare(doc)
     model = document_model(doc, step)
     assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed, tone=False,
-                                                    more_drafts=False).levels)
+                                                    more_drafts=False, given_redraws=16).levels)
     assert not np.array_equal(redrawn, doc.levels)
 
 
@@ -312,7 +315,7 @@ def test_textures_of_version_9_replay_as_they_were_written():
         assert new.to_json()["version"] == SynthesizeScales.VERSION and new.to_json()["more_drafts"] is True
         assert np.array_equal(new.prepare(doc), document_model(doc, step).synthesize(
             (100, 140), seed=step.seed, tileable=step.tileable, closure=step.closure,
-            tone=False).levels)
+            tone=False, given_redraws=16).levels)
 
 
 FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10),    # the multiscale step's switches,
@@ -392,7 +395,9 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 8, {}, 5), ("synthesize_scales", 8, {"closure": 6}, None),
     ("synthesize_scales", 10, {}, 5), ("synthesize_scales", 10, {"closure": 4}, 4),
     ("synthesize_scales", 10, {"closure": 6}, None), ("synthesize_scales", 11, {}, 5),
-        ("synthesize_scales", 11, {"closure": 6}, None), ("synthesize_scales", 12, {}, None),
+    ("synthesize_scales", 11, {"closure": 6}, None), ("synthesize_scales", 12, {}, 5),
+    ("synthesize_scales", 12, {"closure": 4}, 4), ("synthesize_scales", 12, {"closure": 6}, None),
+    ("synthesize_scales", 13, {}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
@@ -432,6 +437,22 @@ def test_a_multiscale_step_keeps_its_coarse_redraws(version, obj, redraws):
         step = read_scales_step(version, obj)
         assert step.coarse_redraws == redraws
         assert step.tone_balance == obj.get("tone_balance", version == 4)
+
+
+@pytest.mark.parametrize("version, obj, redraws", [
+    (11, {}, 16), (3, {}, 16), (11, {"given_redraws": 8}, None), (12, {}, GIVEN_REDRAWS),
+    (12, {"given_redraws": 16}, 16), (12, {"given_redraws": 0}, 0),
+    (12, {"given_redraws": 17}, None), (12, {"given_redraws": True}, None)])
+def test_a_multiscale_step_keeps_its_finer_redraws(version, obj, redraws):
+    """Steps before version 12 tried 16 times at a dead end of a scale drawn given its parents
+    (and cannot name it); version 12 names 0 to 16, default GIVEN_REDRAWS (8)."""
+    if redraws is None:
+        with pytest.raises(FormatError):
+            read_scales_step(version, obj)
+    else:
+        step = read_scales_step(version, obj)
+        assert step.given_redraws == redraws and step.coarse_redraws == (16 if version < 4
+                                                                          else 4)
 
 
 def _rezip(data: bytes, change) -> bytes:

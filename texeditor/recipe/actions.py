@@ -15,7 +15,8 @@ import numpy as np
 
 from ..markov.dpj import MAX_LEVELS, grey_ramp
 from ..markov.scan import ROWS, SCANS, check_scan
-from ..markov.multiscale import COARSE_REDRAWS, OLD_REDRAWS, SCALES_CLOSURE, scales_phrase
+from ..markov.multiscale import (COARSE_REDRAWS, GIVEN_REDRAWS, OLD_REDRAWS, SCALES_CLOSURE,
+                                 scales_phrase)
 from ..markov.particles import DRAFT_POINTS, MAX_PARTICLES, MORE_PARTICLES, PARTICLES
 from ..markov.synthesis import CLOSURE
 from ..errors import FormatError, InputError, check_unicode
@@ -466,8 +467,10 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 10 showed their tone unfinished (no ``tone_finish``); version 10 had
-    closures 1 to 5 (default 5). Versions 1 to 9 drafted every scale as ``particles`` drafts
+    """Versions 1 to 11 tried OLD_REDRAWS times at a dead end of a scale drawn given its parents
+    (no ``given_redraws``); version 11 had closures 1 to 5 (default 5). Versions 1 to 10
+    showed their tone unfinished (no ``tone_finish``); version 10 had closures 1 to 5
+    (default 5). Versions 1 to 9 drafted every scale as ``particles`` drafts
     (no ``more_drafts``); version 9 had closures 1 to 5 (default 5). Versions 1 to 8 drew every scale without steering its level
     shares (no ``steer``); version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the
     finest scale's level shares as drawn (no ``rebalance``); version 7 had closures 1 to 5
@@ -476,6 +479,11 @@ def _scales_of_version(cls, version: int, params: dict) -> dict:
     (default 3). Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest
     scale and drew their tone without balance; version 1 had no ``closure`` (closed the first
     way), version 2 closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
+    if "given_redraws" in params:
+        raise FormatError(f"action {cls.TYPE!r} version {version} has no given_redraws")
+    params = {**params, "given_redraws": OLD_REDRAWS}
+    if version == 11:
+        return _closure_as_written(cls, version, params, 5)
     if "tone_finish" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} has no tone_finish")
     params = {**params, "tone_finish": False}
@@ -581,7 +589,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 11
+    VERSION: ClassVar[int] = 12
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -622,6 +630,11 @@ class SynthesizeScales(Action):
                                   f"in {DRAFT_POINTS} points, up to {MORE_PARTICLES} (current; "
                                   "recipes before version 10 drafted every scale as "
                                   "`particles`)")
+    given_redraws: int = param("int", 0, OLD_REDRAWS, default=GIVEN_REDRAWS,
+                               doc="a dead end of a scale drawn given its parents: tries "
+                                   "redrawing the rows above before it backs off "
+                                   f"({GIVEN_REDRAWS}: current; {OLD_REDRAWS} in recipes before "
+                                   "version 12)")
 
     upgrade = classmethod(_scales_of_version)
 
@@ -640,7 +653,8 @@ class SynthesizeScales(Action):
                                  tileable=self.tileable, closure=self.closure,
                                  coarse_redraws=self.coarse_redraws, particles=self.particles,
                                  rebalance=self.rebalance, steer=self.steer,
-                                 more_drafts=self.more_drafts)
+                                 more_drafts=self.more_drafts,
+                                 given_redraws=self.given_redraws)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
