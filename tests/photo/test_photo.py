@@ -318,6 +318,29 @@ def test_textures_of_version_9_replay_as_they_were_written():
             tone=False, given_redraws=16).levels)
 
 
+@pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
+def test_textures_of_version_12_replay_as_they_were_written(name):
+    """Files written by SynthesizeScales version 12 (tests/data/scales-v12: gravel plain, chelsea
+    tileable in colour) come out bit-identical, levels and tone: 8 tries at a finer dead end;
+    the same step with 16, as steps before it tried, draws another texture."""
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_model, document_tone
+    expected = json.loads((DATA / "scales-v12" / "expected.json").read_text())[name]
+    doc = render_texture(DATA / "scales-v12" / f"{name}.texture")
+    step = doc.actions[-1]
+    assert expected["version"] == 12 and step.given_redraws == expected["given_redraws"] == 8
+    assert step.tileable == expected["tileable"] and step.closure == expected["closure"]
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
+    sixteen = dataclasses.replace(step, given_redraws=16).prepare(doc)
+    assert not np.array_equal(sixteen, doc.levels)
+    assert np.array_equal(sixteen, document_model(doc, step).synthesize(
+        (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
+        given_redraws=16).levels)
+
+
 FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10),    # the multiscale step's switches,
          ("tone_finish", 11))                                    # with the version each came with
 
