@@ -405,7 +405,8 @@ def test_a_step_drawn_with_16_coarse_redraws_again_is_the_older_texture(qtbot, w
     """Synthesise twice from brick's model (its coarsest law meets dead ends), then set the last
     step's Coarse redraws to 16 in the History form and Apply & replay: the canvas shows what a
     version 3 step drew (16 tries at a coarsest dead end), with its tone; undo goes back to the
-    version 4 texture, then to the start."""
+    version 4 texture; the same with 16 tries at a finer dead end (before version 12); then
+    the tone's switches, and undo to the start."""
     import skimage as ski
     model = acquire_model(ski.data.brick()[:160, :160], scales=2)
     window.attach_model(model)
@@ -425,6 +426,15 @@ def test_a_step_drawn_with_16_coarse_redraws_again_is_the_older_texture(qtbot, w
     qtbot.keyClick(window, Key.Key_Z, CTRL)
     assert np.array_equal(window.document.levels, new)
     assert np.array_equal(window.canvas.picture, tone_of(window, 7))
+
+    # the finer scale's redraws at a dead end to 16, as steps before version 12 tried; undo
+    assert window.history.actions[-1].given_redraws == 8
+    edit_and_apply(qtbot, window, last, "given_redraws", "16")
+    assert not window.errors and window.history.actions[-1].given_redraws == 16
+    sixteen = model.synthesize((120, 160), seed=7, tone=False, given_redraws=16).levels
+    assert np.array_equal(window.document.levels, sixteen) and not np.array_equal(sixteen, new)
+    qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert np.array_equal(window.document.levels, new)
 
     # untick Tone balance in the form, Apply & replay: the same levels, the tone drawn the way
     # of steps before version 4
