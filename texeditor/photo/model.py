@@ -96,9 +96,9 @@ class PhotoModel:
         ``render(levels, wrap=tone_wrap(tileable, closure, tone_balance, tone_finish))``, in
         about half the time on two cores). ``tileable``: the levels and the picture repeat
         without a seam (``closure``, ``coarse_redraws``, ``particles``, ``rebalance``,
-        ``steer``, ``more_drafts``, ``given_redraws``: see markov.multiscale.synthesize_scales; ``tone_balance``:
-        each level's greys keep the photo's histogram, tone.BALANCED; ``tone_finish``: its
-        pixel-scale power is the photo's, tone.FINISHED)."""
+        ``steer``, ``more_drafts``, ``given_redraws``: see markov.multiscale.synthesize_scales;
+        ``tone_balance``: each level's greys keep the photo's histogram, tone.BALANCED;
+        ``tone_finish``: its pixel-scale power is the photo's, tone.FINISHED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
                     closure=closure, coarse_redraws=coarse_redraws, particles=particles,
                     rebalance=rebalance, steer=steer, more_drafts=more_drafts,

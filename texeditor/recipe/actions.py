@@ -470,8 +470,9 @@ def _scales_of_version(cls, version: int, params: dict) -> dict:
     """Versions 1 to 11 tried OLD_REDRAWS times at a dead end of a scale drawn given its parents
     (no ``given_redraws``); version 11 had closures 1 to 5 (default 5). Versions 1 to 10
     showed their tone unfinished (no ``tone_finish``); version 10 had closures 1 to 5
-    (default 5). Versions 1 to 9 drafted every scale as ``particles`` drafts
-    (no ``more_drafts``); version 9 had closures 1 to 5 (default 5). Versions 1 to 8 drew every scale without steering its level
+    (default 5). Versions 1 to 9 drafted every scale as ``particles`` drafts (no
+    ``more_drafts``); version 9 had closures 1 to 5 (default 5). Versions 1 to 8 drew every
+    scale without steering its level
     shares (no ``steer``); version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the
     finest scale's level shares as drawn (no ``rebalance``); version 7 had closures 1 to 5
     (default 5), version 6 1 to 4 (default 4). Versions 1 to 5 drew a coarse scale again to fit
