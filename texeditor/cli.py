@@ -17,7 +17,7 @@ from .fileio import output_path
 from .version import __version__
 
 SYNTH_OUTPUTS = (".png", ".npy", ".texture")
-COMPILING_NOTE = ("texeditor: preparing the synthesis engine (first run only, up to a minute; "
+COMPILING_NOTE = ("texeditor: preparing the synthesis engine (first run only, a minute or so; "
                   "later runs start at once)…")
 
 
