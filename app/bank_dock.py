@@ -15,11 +15,11 @@ import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor import warmup
+from texeditor.wording import counted
 from texeditor.bank.store import Bank, make_record
 from texeditor.errors import TexeditorError
 
 from .bank_view import IdRole, RangeFilters, SaveToBankDialog, ThumbnailGrid
-from .widgets import counted
 
 SEARCH_DELAY_MS = 150
 WATCH_MS = 2000                   # how often the browser looks for changes made elsewhere

@@ -11,13 +11,13 @@ from pathlib import Path
 from PySide6 import QtCore, QtWidgets
 
 from texeditor.export import write_picture, write_png
+from texeditor.wording import counted
 from texeditor.recipe.actions import NewCanvas
 from texeditor.errors import TexeditorError
 from texeditor.recipe.history import History
 from texeditor.recipe.texturefile import load_texture, save_texture
 
 from .new_dialog import NewDialog
-from .widgets import counted
 
 TEXTURE_FILTER = "Textures (*.texture);;All files (*)"
 PNG_FILTER = "PNG images (*.png)"

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor import warmup
+from texeditor.wording import counted
 from texeditor.markov.multiscale import scales_phrase
 from texeditor.recipe.actions import SetPalette, Synthesize, SynthesizeScales
 from texeditor.errors import TexeditorError
@@ -41,7 +42,6 @@ from .synthesis_dock import SynthesisDock
 from .synthesis_worker import TaskRunner, render_synthesis
 from .tool_dock import ToolOptionsDock
 from .tools import tool_classes
-from .widgets import counted
 
 APP_NAME = "texeditor"
 LEFT = QtCore.Qt.DockWidgetArea.LeftDockWidgetArea

@@ -13,10 +13,10 @@ from pathlib import Path
 from PySide6 import QtWidgets
 
 from texeditor.errors import TexeditorError
+from texeditor.wording import counted
 from texeditor.recipe.history import History
 from texeditor.recipe.journal import orphans, recover
 from texeditor.userdata import set_aside_line
-from .widgets import counted
 
 Yes, No = QtWidgets.QMessageBox.StandardButton.Yes, QtWidgets.QMessageBox.StandardButton.No
 

@@ -12,11 +12,6 @@ from texeditor.markov.scan import SCAN_NAMES
 DECORATIONS = QtCore.QSize(16, 40)
 
 
-def counted(n: int, noun: str) -> str:
-    """"1 step", "3 steps": how messages count things."""
-    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
-
-
 def available_area(window: QtWidgets.QWidget) -> QtCore.QRect:
     """The usable part of the screen the window (or its parent) is on, less the window's frame."""
     parent = window.parentWidget()

@@ -15,6 +15,7 @@ from pathlib import Path
 from .errors import InputError, TexeditorError
 from .fileio import output_path
 from .version import __version__
+from .wording import counted
 
 SYNTH_OUTPUTS = (".png", ".npy", ".texture")
 COMPILING_NOTE = ("texeditor: preparing the synthesis engine (first run only, a minute or so; "
@@ -192,8 +193,7 @@ def cmd_render(args) -> int:
     else:
         write_png(out, doc.levels, doc.palette, scale=args.scale)
     height, width = doc.shape
-    steps = len(doc.actions)
-    print(f"{out}: {width}x{height}, {steps} action{'s' if steps != 1 else ''} replayed, hash "
+    print(f"{out}: {width}x{height}, {counted(len(doc.actions), 'action')} replayed, hash "
           f"verified{shown}")
     return 0
 

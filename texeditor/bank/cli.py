@@ -14,6 +14,7 @@ from pathlib import Path
 
 from . import attributes as attrs
 from ..errors import InputError
+from ..wording import counted
 
 
 def add_parser(sub) -> None:
@@ -159,8 +160,8 @@ def cmd_show(bank, args) -> int:
     e = bank.get(args.id)
     kind = " (built-in)" if e.builtin else ""
     lines = [f"entry {e.id}: {e.name}{kind}",
-             f"size {e.width}x{e.height}, G = {e.levels}, {e.actions} action"
-             f"{'s' if e.actions != 1 else ''} (optimised log)",
+             f"size {e.width}x{e.height}, G = {e.levels}, {counted(e.actions, 'action')} "
+             "(optimised log)",
              f"SHA-256 {e.sha256}",
              f"tags: {', '.join(e.tags) or '—'}",
              f"created {_when(e.created)}, modified {_when(e.modified)}"

@@ -23,6 +23,7 @@ import numpy as np
 import skimage as ski
 
 from ..errors import Cancelled, InputError
+from ..wording import counted
 from .balance import rebalance
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
@@ -133,7 +134,7 @@ def check_scales(dpjs) -> None:
 
 def scales_phrase(n: int) -> str:
     """"1 scale", "3 scales": how messages and labels count scales."""
-    return f"{n} scale" if n == 1 else f"{n} scales"
+    return counted(n, "scale")
 
 
 def default_scales(shape) -> int:
