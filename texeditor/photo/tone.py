@@ -60,6 +60,7 @@ LANE_WIDTH = 128           # narrower rows are drawn on one lane (chunks too sma
 GROUPED_SPACE = 2**22      # context codes below this are grouped by counting (tone_index)
 DIRECT_SPACE = 2**21       # 3×3 context codes below this (G ≤ 5) find their photo points in a
                            # look-up table (ToneIndex.direct), not by a binary search
+NEIGHBOURS = 2 * HALF * (HALF + 1)   # the causal neighbourhood's points (_distance_within)
 
 
 class ToneIndex(NamedTuple):
@@ -558,6 +559,30 @@ def _distance_within(grey, i, j, photo, pi, pj, best):
     return total
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _gather(grey, i, j, near):
+    """The greys of the causal neighbourhood of (i, j), in _distance_near's order."""
+    k = 0
+    for di in range(-HALF, 1):
+        for dj in range(-HALF, HALF + 1 if di < 0 else 0):
+            near[k] = grey[i + di, j + dj]
+            k += 1
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _distance_near(near, photo, pi, pj):
+    """_distance_within's total from the point's gathered greys, in full: a total past the
+    best loses either way, and a sum with no test a row is quicker."""
+    total = np.int32(0)
+    k = 0
+    for di in range(-HALF, 1):
+        for dj in range(-HALF, HALF + 1 if di < 0 else 0):
+            d = near[k] - np.int32(photo[pi + di, pj + dj])
+            total += d * d
+            k += 1
+    return np.int64(total)
+
+
 @njit(cache=True, nogil=True)
 def _penalties(pen, shares, row_counts, above, strip):
     """BALANCED: the weight of each (level, grey bin) on the matches of strip ``strip``
@@ -667,6 +692,7 @@ def _render(out_codes, photo_codes, keys, starts, points, direct, photo, source,
     lo, hi = (0, seam) if j0 < seam else (seam, w)
     inverse = 1.0 / pw
     cand = np.empty(4 + RANDOM_CANDIDATES, np.int64)
+    near = np.empty(NEIGHBOURS, np.int32)               # the point's causal neighbourhood
     state = np.empty(1, np.uint64)
     for i in range(i0, i1):
         if balanced and (i == i0 or i % BALANCE_ROWS == 0):
@@ -711,13 +737,18 @@ def _render(out_codes, photo_codes, keys, starts, points, direct, photo, source,
                 count += 1
             best, chosen = np.inf, cand[0]
             across = wrap and not _inside(i, j, h, w, wrap, seam)
+            whole = not across and HALF <= min(i, j) and j + HALF < seam
+            if whole:
+                _gather(grey, i, j, near)
             own = out_codes[2][n]
             for k in range(count):
                 pi, pj = _split(cand[k], pw, inverse)
                 weight = COHERENCE if k < coherent else 1.0
                 if balanced:
                     weight *= pen[own, photo[pi, pj] // bin_width]
-                if across:
+                if whole and HALF <= pi and HALF <= pj < pw - HALF:
+                    d = weight * _distance_near(near, photo, pi, pj)
+                elif across:
                     d = weight * _distance_wrap(grey, i, j, photo, pi, pj, best / weight, seam)
                 else:
                     d = weight * _distance(grey, i, j, photo, pi, pj, best / weight, seam)
