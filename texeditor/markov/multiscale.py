@@ -24,7 +24,7 @@ import skimage as ski
 
 from ..errors import Cancelled, InputError
 from ..wording import counted
-from .balance import rebalance
+from .balance import MAX_POINTS, rebalance
 from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import check_levels, has_colour, quantize, to_grey
@@ -338,6 +338,8 @@ def _holding_the_last(rows_final, height: int, held: list):
 def _rebalanced(model: MultiScaleDPJ, levels, parents, seed: int, tileable: bool):
     """The finest levels with their shares brought back (a copy, when points moved)."""
     k = model.scales - 1
+    if levels.size > MAX_POINTS:          # rebalance would leave it: skip its set-up (0.1 s)
+        return levels, 0
     up = None
     if k > 0:
         up = (upsample_torus if tileable else upsample)(parents, levels.shape)
