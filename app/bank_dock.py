@@ -23,7 +23,7 @@ from .bank_view import IdRole, RangeFilters, SaveToBankDialog, ThumbnailGrid
 
 SEARCH_DELAY_MS = 150
 WATCH_MS = 2000                   # how often the browser looks for changes made elsewhere
-START_ENTRY = "Gravel"            # the built-in the window opens on
+START_ENTRY = "Gravel with tone"  # the built-in the window opens on: shown in its photo's greys
 ENGINE_NOTE_MS = 1500             # the "Preparing the synthesis engine" note after this long
 TEXTURE_FILTER = "Textures (*.texture);;All files (*)"
 

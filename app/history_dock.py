@@ -114,6 +114,7 @@ class HistoryDock(QtWidgets.QDockWidget):
     stepClicked = QtCore.Signal(int)
     editRequested = QtCore.Signal(int, object)
     optimiseRequested = QtCore.Signal(object)
+    TITLE_WIDTH = 280          # pixels of the selected step's title, at most
 
     def __init__(self, parent=None):
         super().__init__("History", parent)
@@ -233,12 +234,20 @@ class HistoryDock(QtWidgets.QDockWidget):
             step = self.history.index - 1
         if step is None or self.history is None:
             self.form.set_action(None)
-            self.group.setTitle("Selected step")
+            self._set_title("Selected step")
         else:
             self.form.set_action(self.history.actions[step], dict(self.history.document.dpjs))
-            self.group.setTitle(f"Step {step + 1}: {self.history.actions[step].label()}")
+            self._set_title(f"Step {step + 1}: {self.history.actions[step].label()}")
         self._shown_step = step
         self._update_buttons()
+
+    def _set_title(self, title: str) -> None:
+        """The form's title, elided past TITLE_WIDTH (a group box is as wide as its title: a long
+        step's would widen the dock, and the canvas would shrink); in full as its tooltip."""
+        shown = self.group.fontMetrics().elidedText(title, QtCore.Qt.TextElideMode.ElideRight,
+                                                    self.TITLE_WIDTH)
+        self.group.setTitle(shown)
+        self.group.setToolTip(title if shown != title else "")
 
     def _form_changed(self) -> None:
         self._update_buttons()

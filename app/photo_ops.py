@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 from PySide6 import QtCore, QtWidgets
 
+from texeditor import warmup
 from texeditor.errors import TexeditorError
 from texeditor.markov.dpj import DPJ
 from texeditor.photo import PhotoModel, document_model, load_model, step_wrap
@@ -130,7 +131,8 @@ class PhotoOps:
         (seeded by the synthesis that made the texture, so a picture is the same each time it is
         shown); None: the palette's colours are shown. ``wait`` False (the canvas after an
         edit): a large picture's tone is drawn on a background thread, and meanwhile the last
-        tone is shown with the points that changed in their palette colours."""
+        tone is shown with the points that changed in their palette colours; so is any while
+        the warm-up has not compiled the tone's kernels (a first start: not on this thread)."""
         if not (self.act_tone.isChecked() and self.tone_available()):
             return None
         doc, model = self.history.document, self.tone_model()
@@ -144,7 +146,7 @@ class PhotoOps:
         if same_model and cached[1] == key:
             return cached[2].picture
         before = cached[2] if same_model else None  # the rows above the first edited one stay
-        if not wait and doc.levels.size >= self.TONE_IN_BACKGROUND:
+        if not wait and (doc.levels.size >= self.TONE_IN_BACKGROUND or warmup.pending("photo")):
             self._draw_tone_later(model, key, doc.levels, seed, wrap, before)
             return self._tone_meanwhile(before, doc)
         start = time.perf_counter()

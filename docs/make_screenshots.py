@@ -82,8 +82,18 @@ def main(argv=None) -> int:
     window.runner.wait()
     settle(app)
 
-    # 1. the window as it opens: a texture synthesised from a bundled DPJ
+    # 1. the window as it opens: the built-in "Gravel with tone", in its photo's greys
     save(window, out / "main-window.png")
+
+    # the rest show the plain "Gravel" (its four levels in the palette's greys)
+    dock = window.bank_dock
+    while dock._to_confirm is not None or window.runner.busy:   # the start entry's check
+        window.runner.wait()
+        settle(app)
+    dock.open_entry(next(e.id for e in dock.bank.search("gravel") if e.name == "Gravel"))
+    window.runner.wait()
+    settle(app)
+    assert window.history.actions[0].TYPE == "synthesize", "the plain Gravel did not open"
 
     # 2. the 3×3 tiled preview, to judge the seams
     window.act_tiled.trigger()

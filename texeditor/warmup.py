@@ -1,8 +1,8 @@
 """The numba kernels compiled ahead of need, in a background thread.
 
 A first start (an empty numba cache: a fresh install, a new numba or Python) compiles the
-synthesis kernels for ~15-40 s; with a warm cache, warming up only loads them (a fraction of a
-second). The GUI calls ``start()`` as soon as its window shows, and shows a stored picture meanwhile
+synthesis kernels for ~15-40 s, then a photo model's (multi-scale, tone: ~20 s more); with a
+warm cache, warming up only loads them (under a second). The GUI calls ``start()`` as soon as its window shows, and shows a stored picture meanwhile
 (`bank.Bank.open_stored`). Work in a worker thread that needs a kernel simply waits for numba's
 compiler lock; work on the GUI thread must not, so the GUI asks ``pending()`` and
 ``needs_kernels(action, doc)`` and lets such a step wait in its worker for ``wait()``. The small
@@ -23,6 +23,8 @@ import numpy as np
 _lock = threading.Lock()
 _done = threading.Event()
 _gui_done = threading.Event()      # the first stage: kernels the GUI thread calls
+_photo_done = threading.Event()    # the last stage: a photo model's (its tone drawn on the GUI
+                                   # thread waits for it)
 _first: list = []                  # more such kernels, from the application (no Qt here)
 _thread: threading.Thread | None = None
 _result: dict = {"seconds": None, "error": None}
@@ -45,6 +47,23 @@ def _compile() -> None:
     rebalance(levels, dpj, [0.0, 1.0])        # shares far off: every kernel of it runs
 
 
+def _photo_model() -> None:
+    """A photo model's kernels (the scales drawn given their parents, the tone, its finish):
+    a tiny colour model acquired and drawn, plain and tiling, so a texture shown in a photo's tone
+    never compiles them on the GUI thread."""
+    from .photo import acquire_model
+    from .photo.tone import BALANCED, FINISHED, TILED, TILED_LANES
+
+    ramp = np.add.outer(np.arange(48), np.arange(48)) * 5
+    photo = np.stack([ramp % 256, ramp * 3 % 256, 255 - ramp % 256], axis=-1).astype(np.uint8)
+    model = acquire_model(photo, scales=2)
+    for tileable in (False, True):
+        model.synthesize((32, 32), seed=0, tileable=tileable)
+    levels = model.synthesize((32, 32), seed=0, tone=False).levels
+    for wrap in (TILED, TILED_LANES):
+        model.render(levels, seed=0, wrap=wrap | BALANCED | FINISHED)
+
+
 def warm_up(then: Callable[[], None] | None = None) -> float:
     """Compile (or load from numba's cache) every kernel; returns the seconds it took. A failure
     is kept in ``error()`` and never raised: a kernel then compiles when first used. ``then()``
@@ -58,6 +77,12 @@ def warm_up(then: Callable[[], None] | None = None) -> float:
         _result["seconds"] = time.perf_counter() - start
         _gui_done.set()
         _done.set()
+    try:
+        _photo_model()
+    except Exception as exc:          # noqa: BLE001
+        _result["error"] = _result["error"] or exc
+    finally:
+        _photo_done.set()
     if then is not None:
         try:
             then()
@@ -91,8 +116,10 @@ def ready() -> bool:
 
 def pending(stage: str | None = None) -> bool:
     """A warm-up is under way: kernel work on the GUI thread would wait for it (``"gui"``: the
-    first stage, the GUI thread's own small kernels, is not done yet)."""
-    return _thread is not None and not (_gui_done if stage == "gui" else _done).is_set()
+    first stage, the GUI thread's own small kernels, is not done yet; ``"photo"``: the last,
+    a photo model's kernels, is not)."""
+    done = {"gui": _gui_done, "photo": _photo_done}.get(stage, _done)
+    return _thread is not None and not done.is_set()
 
 
 def wait(timeout: float | None = None, cancel: Callable[[], bool] | None = None) -> bool:
@@ -158,10 +185,13 @@ def _reset() -> None:
     """Forget a finished warm-up (tests only: the kernels stay compiled)."""
     global _thread
     with _lock:
-        if _thread is not None and _thread.is_alive():
-            raise RuntimeError("a warm-up is still running")
+        if _thread is not None:
+            _thread.join(120)             # its last stage may outlast wait()
+            if _thread.is_alive():
+                raise RuntimeError("a warm-up is still running")
         _thread = None
         _done.clear()
         _gui_done.clear()
+        _photo_done.clear()
         _first.clear()
         _result.update(seconds=None, error=None)

@@ -2,6 +2,7 @@
 kernels. A picture stands for a replay only when it is the recorded texture; anything else is
 refused and the entry is replayed as before. Also the kernels' background warm-up."""
 
+import dataclasses
 import io
 import zipfile
 from pathlib import Path
@@ -33,6 +34,7 @@ def no_synthesis(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("a synthesis ran")
     monkeypatch.setattr(synthesis, "synthesize", refuse)
+    monkeypatch.setattr(synthesis, "synthesize_given", refuse)    # a multi-scale one's finer
     yield
 
 
@@ -42,8 +44,8 @@ def builtin_bank(tmp_path):
         yield bank
 
 
-def gravel(bank) -> int:
-    return next(e.id for e in bank.search("gravel") if e.name == "Gravel")
+def gravel(bank, name: str = "Gravel") -> int:
+    return next(e.id for e in bank.search("gravel") if e.name == name)
 
 
 def forge(path: Path, levels, palette) -> None:
@@ -74,6 +76,27 @@ def test_a_first_start_needs_no_synthesis(builtin_bank, no_synthesis):
     assert [a.TYPE for a in history.actions] == ["synthesize"]
     assert bank.prepare_pending() == [] and bank.pending() == []
     assert all(bank.thumbnails([e.id]) for e in bank.entries())
+
+
+def test_the_toned_start_entry_opens_from_its_picture_and_is_confirmed(builtin_bank,
+                                                                      monkeypatch):
+    """The window opens on "Gravel with tone", a multi-scale synthesis: its stored picture
+    stands for the synthesis (no kernel), and the check drawn later compares them."""
+    from texeditor.recipe.actions import SynthesizeScales
+    bank, entry_id = builtin_bank, gravel(builtin_bank, "Gravel with tone")
+    with monkeypatch.context() as m:
+        m.setattr(synthesis, "synthesize", lambda *a, **k: pytest.fail("a synthesis ran"))
+        m.setattr(synthesis, "synthesize_given", lambda *a, **k: pytest.fail("a synthesis ran"))
+        history = bank.open_stored(entry_id)
+    entry = bank.get(entry_id)
+    assert history is not None and history.document.result_hash() == entry.sha256
+    assert [a.TYPE for a in history.actions] == ["synthesize_scales"]
+    assert np.array_equal(history.document.levels, bank.stored_picture(entry)[0])
+    assert bank.confirm_stored(entry_id)
+    drawn = SynthesizeScales.render_result
+    monkeypatch.setattr(SynthesizeScales, "render_result", lambda self, dpjs, **kw: drawn(
+        dataclasses.replace(self, seed=self.seed + 1), dpjs, **kw))
+    assert not bank.confirm_stored(entry_id)        # another seed's texture is not the picture
 
 
 def test_the_history_from_a_picture_is_real(builtin_bank, no_synthesis):
@@ -217,6 +240,28 @@ def test_the_warm_up_runs_once_in_the_background(fresh_warmup, monkeypatch):
     gate.set()
     assert warmup.wait(timeout=10) and warmup.ready() and not warmup.pending()
     assert calls == [1] and warmup.error() is None and warmup.seconds() >= 0
+
+
+def test_the_warm_up_prepares_a_photo_models_kernels_last(fresh_warmup, monkeypatch):
+    """The synthesis kernels first (steps wait for them), then a photo model's, which the
+    window's tone waits for (pending("photo")) so it is never drawn on the GUI thread."""
+    import threading
+    engine, photo, order = threading.Event(), threading.Event(), []
+    monkeypatch.setattr(warmup, "_compile", lambda: (order.append("engine"), engine.wait(30)))
+    real = warmup._photo_model
+    monkeypatch.setattr(warmup, "_photo_model", lambda: (order.append("photo"), photo.wait(30),
+                                                         real()))
+    assert warmup.start()
+    assert warmup.pending() and warmup.pending("photo")
+    engine.set()
+    assert warmup.wait(timeout=10) and not warmup.pending() and warmup.pending("photo")
+    photo.set()
+    for _ in range(600):
+        if not warmup.pending("photo"):
+            break
+        threading.Event().wait(0.05)
+    assert not warmup.pending("photo") and order == ["engine", "photo"]
+    assert warmup.error() is None
 
 
 def test_a_failed_warm_up_is_kept_never_raised(fresh_warmup, monkeypatch):

@@ -92,9 +92,16 @@ def test_the_application_opens_on_a_builtin_entry_of_the_bank(window, qtbot):
     assert dock.bank is not None and len(dock.model.ids) >= 6
     gravel = dock.bank.find("gravel")
     entry = dock.bank.get(dock.selected())
-    assert entry.name == "Gravel" and entry.builtin and entry.id in gravel
+    assert entry.name == "Gravel with tone" and entry.builtin and entry.id in gravel
     assert window.document.result_hash() == entry.sha256
     assert np.array_equal(window.canvas.levels, window.document.levels)
+    from texeditor.photo import document_tone       # shown in the photo's greys, not 4 flat ones
+    tone = document_tone(window.document)
+    assert tone is not None and np.array_equal(window.canvas.picture[..., 0], tone)
+    history = window.history_dock                   # its long step title does not widen the
+    label = f"Step 1: {window.history.actions[0].label()}"     # docks (the canvas keeps room)
+    assert history.group.title() != label and history.group.toolTip() == label
+    assert history.minimumSizeHint().width() <= 360 and history.width() <= 360
     assert dock.bank.pending() == [] and not window.errors
     assert not window.is_modified()
     dock.raise_()                            # (its tab, when tabified with other docks)

@@ -27,28 +27,37 @@ def slow_compile(monkeypatch, tmp_path):
 
 def test_the_start_entry_shows_before_the_kernels_are_ready(window, qtbot, slow_compile,
                                                             monkeypatch):
+    from texeditor.photo import PhotoModel, document_tone
     gate = slow_compile
     monkeypatch.setattr(Bank, "open", lambda *a, **k: pytest.fail("the start entry was replayed"))
     monkeypatch.setattr(Bank, "render", lambda *a, **k: pytest.fail("a built-in was replayed"))
+    toned_on, rendering = [], PhotoModel.rendering
+    monkeypatch.setattr(PhotoModel, "rendering", lambda self, *a, **k: (
+        toned_on.append(threading.current_thread() is threading.main_thread()),
+        rendering(self, *a, **k))[1])
     window.start_default()
     dock = window.bank_dock
     qtbot.waitUntil(lambda: dock.opened is not None, timeout=10_000)
     assert warmup.pending()
     entry = dock.bank.get(dock.opened[0])
     picture = dock.bank.stored_picture(entry)
-    assert entry.name == "Gravel" and picture is not None
+    assert entry.name == "Gravel with tone" and picture is not None
     assert np.array_equal(window.document.levels, picture[0])
     assert np.array_equal(window.canvas.levels, picture[0])
     assert window.document.result_hash() == entry.sha256
-    assert [a.TYPE for a in window.history.actions] == ["synthesize"]
+    assert [a.TYPE for a in window.history.actions] == ["synthesize_scales"]
     assert "stored picture" in window.statusBar().currentMessage()
+    # its photo's tone is drawn off the GUI thread while the kernels may still compile
+    qtbot.waitUntil(lambda: window.canvas.picture is not None, timeout=20_000)
+    assert toned_on and not any(toned_on) and warmup.pending("photo")
+    assert np.array_equal(window.canvas.picture[..., 0], document_tone(window.document))
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=20_000)   # thumbnails, no replay
     assert dock.bank.pending() == [] and warmup.pending()
     qtbot.waitUntil(lambda: dock.engine_note.isVisible(), timeout=5000)
     assert "first start only" in dock.engine_note.text()
 
     # a step that needs the kernels waits in the worker, with the busy bar, and is not lost
-    ref = window.document.dpj_ref
+    ref = window.history.actions[0].dpjs[0]         # the coarsest scale: a plain DPJ
     assert not window.submit(Synthesize(ref, 40, 30, 5))
     assert window.runner.busy and "synthesis engine" in window.task_label.text()
     assert window.progress.isVisible() and window.history.index == 1
@@ -62,8 +71,9 @@ def test_the_start_entry_shows_before_the_kernels_are_ready(window, qtbot, slow_
     assert dock._to_confirm is None and not window.errors
 
     # synthesis works; undo goes back to the stored picture
-    window.synthesise(48, 32, 9)
-    assert window.runner.wait(60_000) and window.document.shape == (32, 48)
+    window.synthesise(64, 48, 9)
+    assert window.runner.wait(60_000) and window.document.shape == (48, 64)
+    assert window.history.actions[-1].TYPE == "synthesize_scales"
     window.undo()
     window.undo()
     assert np.array_equal(window.document.levels, picture[0]) and window.history.index == 1
@@ -88,6 +98,6 @@ def test_a_forged_picture_is_refused_and_the_entry_replayed(window, qtbot, tmp_p
     assert window.runner.wait(120_000)
     dock = window.bank_dock
     entry = dock.bank.get(dock.opened[0])
-    assert entry.name == "Gravel" and window.document.result_hash() == entry.sha256
+    assert entry.name == "Gravel with tone" and window.document.result_hash() == entry.sha256
     assert dock.bank.pending() == [] and not window.errors        # replayed, not refused
     assert opened == [entry.id] and dock._to_confirm is None

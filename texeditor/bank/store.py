@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from . import attributes as attrs
-from ..recipe.actions import Synthesize, dpj_refs, exemplar_refs
+from ..recipe.actions import Synthesize, SynthesizeScales, dpj_refs, exemplar_refs
 from ..recipe.codec import log_text, read_log
 from ..recipe.document import Document, result_hash
 from ..recipe.exemplars import exemplar_png, read_exemplar_png
@@ -52,6 +52,16 @@ MAX_PICTURE_BYTES = 64 * 2**20
 _SHA256 = re.compile(r"^[0-9a-f]{64}$")
 GRAIN_TYPES = ("render_grains",)  # §5.3: grain shape, explosion, compression (texture_actions)
 _SEP = "\x1f"                     # joins tags in one SQL value (a character no tag may hold)
+
+
+def _first_dpjs(first, recipe: Recipe):
+    """What a log's first step, a synthesis, draws from (render_result's argument: a DPJ, or a
+    multi-scale step's DPJs) when the recipe holds it; None for any other step."""
+    if isinstance(first, Synthesize) and first.dpj in recipe.dpjs:
+        return recipe.dpjs[first.dpj]
+    if isinstance(first, SynthesizeScales) and all(r in recipe.dpjs for r in first.dpjs):
+        return [recipe.dpjs[r] for r in first.dpjs]
+    return None
 
 
 class BankError(TexeditorError):
@@ -688,15 +698,15 @@ class Bank:
 
     def open_stored(self, entry_id: int, **history_options) -> History | None:
         """``open()`` without the synthesis kernels, for a first start while they compile: an
-        entry whose log is one Synthesize (then palette steps only) and that has a stored
-        picture opens at once, the picture standing for the synthesis's result (a real History:
-        its steps, undo and later replays are the log's). The picture is hash-checked, and so is
-        the History's texture; ``confirm_stored`` later synthesises for real and compares.
-        None when this cannot be done (then ``open()`` replays)."""
+        entry whose log is one synthesis (Synthesize or SynthesizeScales, then palette steps
+        only) and that has a stored picture opens at once, the picture standing for the
+        synthesis's result (a real History: its steps, undo and later replays are the log's).
+        The picture is hash-checked, and so is the History's texture; ``confirm_stored`` later
+        synthesises for real and compares. None when this cannot be done (then ``open()``
+        replays)."""
         entry, recipe = self.get(entry_id), self.recipe(entry_id)
         first, rest = (recipe.actions[0], recipe.actions[1:]) if recipe.actions else (None, ())
-        if (not isinstance(first, Synthesize) or first.dpj not in recipe.dpjs
-                or any(a.EFFECT != "palette" for a in rest)):
+        if _first_dpjs(first, recipe) is None or any(a.EFFECT != "palette" for a in rest):
             return None
         picture = self.stored_picture(entry)
         if picture is None:
@@ -711,7 +721,7 @@ class Bank:
         the kernels), and compare it with the stored picture that stood for it."""
         entry, recipe = self.get(entry_id), self.recipe(entry_id)
         first, picture = recipe.actions[0], self.stored_picture(entry)
-        fresh = first.render_result(recipe.dpjs[first.dpj], cancel=cancel).levels
+        fresh = first.render_result(_first_dpjs(first, recipe), cancel=cancel).levels
         return picture is not None and bool(np.array_equal(picture[0], fresh))
 
     def render(self, entry_id: int, *, progress=None, cancel=None) -> Document:
