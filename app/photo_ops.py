@@ -146,7 +146,7 @@ class PhotoOps:
         if same_model and cached[1] == key:
             return cached[2].picture
         before = cached[2] if same_model else None  # the rows above the first edited one stay
-        if not wait and (doc.levels.size >= self.TONE_IN_BACKGROUND or warmup.pending("photo")):
+        if not wait and (doc.levels.size >= self.TONE_IN_BACKGROUND or warmup.pending("tone")):
             self._draw_tone_later(model, key, doc.levels, seed, wrap, before)
             return self._tone_meanwhile(before, doc)
         start = time.perf_counter()

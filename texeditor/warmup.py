@@ -1,8 +1,8 @@
 """The numba kernels compiled ahead of need, in a background thread.
 
 A first start (an empty numba cache: a fresh install, a new numba or Python) compiles the
-synthesis kernels for ~15-40 s, then a photo model's (multi-scale, tone: ~20 s more); with a
-warm cache, warming up only loads them (under a second). The GUI calls ``start()`` as soon as its window shows, and shows a stored picture meanwhile
+synthesis kernels for ~15-40 s (the tone's first, ~10 s), then the rest of a photo model's
+(multi-scale: ~10 s more); with a warm cache, warming up only loads them (under a second). The GUI calls ``start()`` as soon as its window shows, and shows a stored picture meanwhile
 (`bank.Bank.open_stored`). Work in a worker thread that needs a kernel simply waits for numba's
 compiler lock; work on the GUI thread must not, so the GUI asks ``pending()`` and
 ``needs_kernels(action, doc)`` and lets such a step wait in its worker for ``wait()``. The small
@@ -23,8 +23,9 @@ import numpy as np
 _lock = threading.Lock()
 _done = threading.Event()
 _gui_done = threading.Event()      # the first stage: kernels the GUI thread calls
-_photo_done = threading.Event()    # the last stage: a photo model's (its tone drawn on the GUI
-                                   # thread waits for it)
+_tone_done = threading.Event()     # the second: the photographic tone's (the canvas draws a
+                                   # tone off the GUI thread until then)
+_photo_done = threading.Event()    # the last: the rest of a photo model's (multi-scale)
 _first: list = []                  # more such kernels, from the application (no Qt here)
 _thread: threading.Thread | None = None
 _result: dict = {"seconds": None, "error": None}
@@ -32,7 +33,8 @@ _result: dict = {"seconds": None, "error": None}
 
 def _compile() -> None:
     """Call every kernel once on tiny inputs of the types real work passes (so nothing compiles
-    again later). First the small ones the GUI thread may call, then the synthesis."""
+    again later). First the small ones the GUI thread may call, then the tone's, then the
+    synthesis."""
     from .texture import grain_render
     from .markov.balance import rebalance
     from .markov.dpj import DPJ
@@ -42,26 +44,35 @@ def _compile() -> None:
     for kernel in _first:
         kernel()
     _gui_done.set()
+    _tone()                 # (~10 s on a first start: the start entry soon shows its tone)
+    _tone_done.set()
     dpj = DPJ.from_codes(np.arange(16), np.full(16, 1 / 16), 2, (2, 2))
     levels = synthesize(dpj, (8, 8), seed=0).levels
     rebalance(levels, dpj, [0.0, 1.0])        # shares far off: every kernel of it runs
 
 
+def _tone() -> None:
+    """The tone's kernels: a tiny colour picture drawn from itself, each way it may tile."""
+    from .photo.tone import BALANCED, FINISHED, PLAIN, TILED, TILED_LANES, render
+
+    ramp = np.add.outer(np.arange(24), np.arange(24))
+    levels = (ramp % 4).astype(np.uint8)
+    pixels = (np.stack([ramp * 5, ramp * 7, ramp * 11], axis=-1) % 256).astype(np.uint8)
+    grey = pixels[..., 1].copy()
+    for way in (PLAIN, TILED, TILED_LANES):
+        render(levels, 4, levels, grey, pixels, seed=0, wrap=way | BALANCED | FINISHED)
+
+
 def _photo_model() -> None:
-    """A photo model's kernels (the scales drawn given their parents, the tone, its finish):
-    a tiny colour model acquired and drawn, plain and tiling, so a texture shown in a photo's tone
-    never compiles them on the GUI thread."""
+    """The rest of a photo model's kernels (the scales drawn given their parents, steered,
+    rebalanced): a tiny colour model acquired and drawn, plain and tiling."""
     from .photo import acquire_model
-    from .photo.tone import BALANCED, FINISHED, TILED, TILED_LANES
 
     ramp = np.add.outer(np.arange(48), np.arange(48)) * 5
     photo = np.stack([ramp % 256, ramp * 3 % 256, 255 - ramp % 256], axis=-1).astype(np.uint8)
     model = acquire_model(photo, scales=2)
     for tileable in (False, True):
         model.synthesize((32, 32), seed=0, tileable=tileable)
-    levels = model.synthesize((32, 32), seed=0, tone=False).levels
-    for wrap in (TILED, TILED_LANES):
-        model.render(levels, seed=0, wrap=wrap | BALANCED | FINISHED)
 
 
 def warm_up(then: Callable[[], None] | None = None) -> float:
@@ -76,6 +87,7 @@ def warm_up(then: Callable[[], None] | None = None) -> float:
     finally:
         _result["seconds"] = time.perf_counter() - start
         _gui_done.set()
+        _tone_done.set()
         _done.set()
     try:
         _photo_model()
@@ -116,9 +128,9 @@ def ready() -> bool:
 
 def pending(stage: str | None = None) -> bool:
     """A warm-up is under way: kernel work on the GUI thread would wait for it (``"gui"``: the
-    first stage, the GUI thread's own small kernels, is not done yet; ``"photo"``: the last,
-    a photo model's kernels, is not)."""
-    done = {"gui": _gui_done, "photo": _photo_done}.get(stage, _done)
+    first stage, the GUI thread's own small kernels, is not done yet; ``"tone"``: the second,
+    the photographic tone's; ``"photo"``: the last, the rest of a photo model's)."""
+    done = {"gui": _gui_done, "tone": _tone_done, "photo": _photo_done}.get(stage, _done)
     return _thread is not None and not done.is_set()
 
 
@@ -192,6 +204,7 @@ def _reset() -> None:
         _thread = None
         _done.clear()
         _gui_done.clear()
+        _tone_done.clear()
         _photo_done.clear()
         _first.clear()
         _result.update(seconds=None, error=None)

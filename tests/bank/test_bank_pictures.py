@@ -252,9 +252,10 @@ def test_the_warm_up_prepares_a_photo_models_kernels_last(fresh_warmup, monkeypa
     monkeypatch.setattr(warmup, "_photo_model", lambda: (order.append("photo"), photo.wait(30),
                                                          real()))
     assert warmup.start()
-    assert warmup.pending() and warmup.pending("photo")
+    assert warmup.pending() and warmup.pending("tone") and warmup.pending("photo")
     engine.set()
-    assert warmup.wait(timeout=10) and not warmup.pending() and warmup.pending("photo")
+    assert warmup.wait(timeout=10) and not warmup.pending() and not warmup.pending("tone")
+    assert warmup.pending("photo")
     photo.set()
     for _ in range(600):
         if not warmup.pending("photo"):
@@ -262,6 +263,19 @@ def test_the_warm_up_prepares_a_photo_models_kernels_last(fresh_warmup, monkeypa
         threading.Event().wait(0.05)
     assert not warmup.pending("photo") and order == ["engine", "photo"]
     assert warmup.error() is None
+
+
+def test_the_warm_up_compiles_the_tone_before_the_synthesis(monkeypatch):
+    """The start entry's tone waits for the tone's kernels (~10 s on a first start), not for
+    the synthesis's (~a minute)."""
+    warmup._tone()                                   # draws every way a tone tiles
+    order = []
+    monkeypatch.setattr(warmup, "_tone", lambda: order.append("tone"))
+    monkeypatch.setattr(synthesis, "synthesize", lambda *a, **k: (order.append("synthesis"),
+                                                                  synthesis.SynthesisResult(
+        np.zeros((8, 8), np.uint8), 0, 0, 0))[1])
+    warmup._compile()
+    assert order == ["tone", "synthesis"]
 
 
 def test_a_failed_warm_up_is_kept_never_raised(fresh_warmup, monkeypatch):

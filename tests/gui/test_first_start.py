@@ -49,7 +49,7 @@ def test_the_start_entry_shows_before_the_kernels_are_ready(window, qtbot, slow_
     assert "stored picture" in window.statusBar().currentMessage()
     # its photo's tone is drawn off the GUI thread while the kernels may still compile
     qtbot.waitUntil(lambda: window.canvas.picture is not None, timeout=20_000)
-    assert toned_on and not any(toned_on) and warmup.pending("photo")
+    assert toned_on and not any(toned_on) and warmup.pending("tone")
     assert np.array_equal(window.canvas.picture[..., 0], document_tone(window.document))
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=20_000)   # thumbnails, no replay
     assert dock.bank.pending() == [] and warmup.pending()
