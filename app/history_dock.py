@@ -52,6 +52,10 @@ class LogModel(QtCore.QAbstractListModel):
             font.setItalic(not applied)
             font.setBold(row == self.history.index - 1)
             return font
+        if role == QtCore.Qt.ItemDataRole.SizeHintRole:     # as wide as the list (elided)
+            bold = QtGui.QFont()
+            bold.setBold(True)
+            return QtCore.QSize(1, QtGui.QFontMetrics(bold).height() + 2)
         if role == QtCore.Qt.ItemDataRole.ToolTipRole:
             state = "current state" if row == self.history.index - 1 else (
                 "applied" if applied else "undone: click to redo up to here")
@@ -126,6 +130,9 @@ class HistoryDock(QtWidgets.QDockWidget):
         self.view.setEditTriggers(QtWidgets.QAbstractItemView.EditTrigger.NoEditTriggers)
         self.view.clicked.connect(self._clicked)
         self.view.setUniformItemSizes(True)
+        self.view.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.view.setResizeMode(QtWidgets.QListView.ResizeMode.Adjust)   # a long step is
+        #   elided to the list's width (its tooltip says it all), not scrolled sideways
 
         self.group = QtWidgets.QGroupBox("Selected step")
         box = QtWidgets.QVBoxLayout(self.group)

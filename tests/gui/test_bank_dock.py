@@ -102,6 +102,9 @@ def test_the_application_opens_on_a_builtin_entry_of_the_bank(window, qtbot):
     label = f"Step 1: {window.history.actions[0].label()}"     # docks (the canvas keeps room)
     assert history.group.title() != label and history.group.toolTip() == label
     assert history.minimumSizeHint().width() <= 360 and history.width() <= 360
+    qtbot.waitUntil(lambda: history.row_rect(0).width() > 0, timeout=3000)
+    assert history.view.horizontalScrollBar().maximum() == 0        # elided in the list too
+    assert history.row_rect(0).width() <= history.view.viewport().width()
     assert dock.bank.pending() == [] and not window.errors
     assert not window.is_modified()
     dock.raise_()                            # (its tab, when tabified with other docks)
