@@ -548,6 +548,29 @@ def test_tone_drawn_beside_the_synthesis_is_the_tone_of_the_finished_levels(colo
     assert np.array_equal(final, result.levels)
 
 
+@pytest.mark.parametrize("balanced", [False, True])
+def test_a_tone_beside_a_synthesis_keeps_to_one_lane_then_takes_two(monkeypatch, balanced):
+    """While beside() says the levels are being drawn, rows go on one lane (the synthesis
+    keeps its core); after, the rest on two lanes; the picture is the one of two lanes."""
+    model = acquire_model(speckle((256, 256), seed=3), scales=2)
+    levels = model.synthesize((300, 260), seed=4, tone=False).levels
+    wrap = tone.PLAIN | (tone.BALANCED if balanced else 0)
+    expected = model.rendering(levels, seed=4, wrap=wrap).grey
+    lanes, two = [], tone._two_lanes
+    monkeypatch.setattr(tone, "_two_lanes", lambda run, rows, width: (
+        lanes.append(rows), two(run, rows, width)))
+    drawing = [True]
+    renderer = tone.Renderer(levels.shape, model.levels, model.tone.levels, model.tone.grey,
+                             seed=4, wrap=wrap)
+    renderer.beside = lambda: drawing[0]
+    renderer.advance(levels, 150)
+    assert lanes == [] and renderer.done == 149             # one lane beside the synthesis
+    drawing[0] = False
+    renderer.advance(levels, 300)
+    assert lanes == [(149, 300)]                            # then both lanes
+    assert np.array_equal(renderer.result()[0], expected)
+
+
 def test_a_fresh_models_tone_index_is_built_on_the_tone_thread(monkeypatch):
     """The tone's index of the photo is built on the tone's thread while the levels are drawn
     (the first synthesis of a model does not wait for it first); the picture is the same."""

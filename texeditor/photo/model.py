@@ -116,6 +116,7 @@ class PhotoModel:
         renderer, latest = [], [None]
         seed = draw["seed"]
         stale = threading.Event()           # the levels were rebalanced: stop this tone
+        drawn = threading.Event()           # the levels are drawn: the tone takes both cores
         with ThreadPoolExecutor(1, thread_name_prefix="tone") as worker:
             index = worker.submit(self._index)     # built while the coarse scales are drawn
             jobs = []
@@ -131,6 +132,7 @@ class PhotoModel:
                                              self.tone.grey, self.tone.colour, seed=seed,
                                              index=index.result(), wrap=wrap,
                                              cancel=stale.is_set))
+                    renderer[0].beside = lambda: not drawn.is_set()
                 if jobs and jobs[-1].done():
                     jobs[-1].result()                   # a tone error stops the synthesis
                 latest[0] = (levels, n)
@@ -141,6 +143,8 @@ class PhotoModel:
                 for job in jobs:
                     job.cancel()
                 raise
+            finally:
+                drawn.set()
             if result.moved:            # rebalanced after its rows were told final: the
                 stale.set()             # tone drawn so far is of other levels
             for job in jobs:
