@@ -2,7 +2,8 @@
 
 A first start (an empty numba cache: a fresh install, a new numba or Python) compiles the
 synthesis kernels for ~15-40 s (the tone's first, ~10 s), then the rest of a photo model's
-(multi-scale: ~10 s more); with a warm cache, warming up only loads them (under a second). The GUI calls ``start()`` as soon as its window shows, and shows a stored picture meanwhile
+(multi-scale: ~10 s more); with a warm cache, warming up only loads them (under a second). The
+GUI calls ``start()`` as soon as its window shows, and shows a stored picture meanwhile
 (`bank.Bank.open_stored`). Work in a worker thread that needs a kernel simply waits for numba's
 compiler lock; work on the GUI thread must not, so the GUI asks ``pending()`` and
 ``needs_kernels(action, doc)`` and lets such a step wait in its worker for ``wait()``. The small
