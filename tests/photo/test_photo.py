@@ -839,8 +839,9 @@ def test_a_rendering_after_an_edit_keeps_the_rows_above_and_matches_a_fresh_one(
 @settings(max_examples=200, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.integers(1, 12), st.integers(1, 12))
 def test_a_match_is_the_sum_over_the_causal_neighbourhood_inside_both_pictures(seed, h, w):
-    """tone._distance (with its shortcut for points away from the edges) is the sum of squared
-    grey differences over the 12 causal neighbours that lie in both pictures, before ``limit``."""
+    """tone._distance is the sum of squared grey differences over the 12 causal neighbours that
+    lie in both pictures, before ``limit``; so is _distance_near, from the gathered greys, where
+    they all do (most points)."""
     rng = np.random.default_rng(seed)
     grey = rng.integers(0, 256, (h, w), dtype=np.uint8)
     photo = rng.integers(0, 256, (rng.integers(1, 12), rng.integers(1, 12)), dtype=np.uint8)
@@ -856,6 +857,11 @@ def test_a_match_is_the_sum_over_the_causal_neighbourhood_inside_both_pictures(s
     assert tone._distance(grey, i, j, photo, pi, pj, np.inf, limit) == expected
     early = tone._distance(grey, i, j, photo, pi, pj, expected - 1, limit)
     assert early > expected - 1 if expected else early == 0
+    half = tone.HALF
+    if half <= min(i, j, pi) and j + half < limit and half <= pj < photo.shape[1] - half:
+        near = np.empty(tone.NEIGHBOURS, np.int32)
+        tone._gather(grey, i, j, near)
+        assert tone._distance_near(near, photo, pi, pj) == expected
 
 
 @settings(max_examples=60, deadline=None)

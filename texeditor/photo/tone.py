@@ -61,7 +61,7 @@ ONE_LANE_ROWS = 32         # beside a synthesis: rows drawn at a time on one lan
 GROUPED_SPACE = 2**22      # context codes below this are grouped by counting (tone_index)
 DIRECT_SPACE = 2**21       # 3×3 context codes below this (G ≤ 5) find their photo points in a
                            # look-up table (ToneIndex.direct), not by a binary search
-NEIGHBOURS = 2 * HALF * (HALF + 1)   # the causal neighbourhood's points (_distance_within)
+NEIGHBOURS = 2 * HALF * (HALF + 1)   # the causal neighbourhood's points (_gather)
 
 
 class ToneIndex(NamedTuple):
@@ -537,10 +537,9 @@ def _before(y, x, i, j, w, seam):
 def _distance(grey, i, j, photo, pi, pj, best, limit):
     """Squared grey differences over the rendered causal neighbourhood of (i, j) (columns
     before ``limit``), against the photo around (pi, pj); stops once past ``best``. Points off
-    either picture are skipped."""
+    either picture are skipped (a point and a candidate away from the edges take
+    _distance_near)."""
     pw = photo.shape[1]
-    if HALF <= min(i, pi, j, pj) and j + HALF < limit and pj + HALF < pw:
-        return _distance_within(grey, i, j, photo, pi, pj, best)
     total = np.int64(0)
     for di in range(-HALF, 1):
         y, py = i + di, pi + di
@@ -551,20 +550,6 @@ def _distance(grey, i, j, photo, pi, pj, best, limit):
             if 0 <= x < limit and 0 <= px < pw:
                 d = np.int64(grey[y, x]) - np.int64(photo[py, px])
                 total += d * d
-        if total > best:
-            return total
-    return total
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _distance_within(grey, i, j, photo, pi, pj, best):
-    """_distance where no point is off either picture (most points): the same sums, without
-    a test per point."""
-    total = np.int64(0)
-    for di in range(-HALF, 1):
-        for dj in range(-HALF, HALF + 1 if di < 0 else 0):
-            d = np.int64(grey[i + di, j + dj]) - np.int64(photo[pi + di, pj + dj])
-            total += d * d
         if total > best:
             return total
     return total
@@ -582,8 +567,9 @@ def _gather(grey, i, j, near):
 
 @njit(cache=True, nogil=True, inline="always")
 def _distance_near(near, photo, pi, pj):
-    """_distance_within's total from the point's gathered greys, in full: a total past the
-    best loses either way, and a sum with no test a row is quicker."""
+    """_distance's total where no point is off either picture (most points), from the point's
+    gathered greys and in full: a total past the best loses either way, and a sum with no test
+    a row or a point is quicker."""
     total = np.int32(0)
     k = 0
     for di in range(-HALF, 1):
