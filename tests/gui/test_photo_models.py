@@ -401,6 +401,41 @@ def test_a_large_tone_is_drawn_in_the_background_and_each_edit_shows_at_once(
     assert not window.errors
 
 
+def test_the_coarsest_row_limit_is_edited_in_the_history_form(qtbot, window):
+    """From a small gravel crop (its coarsest law dead-ends nearly everywhere), synthesise twice,
+    then set the last step's coarsest row limit to 16 (no limit, as steps before version 13)
+    and Apply & replay: the older texture, with its tone; then 0 (no redraws at all); undo
+    twice gives the version 13 texture back, and undo to the start the blank canvas."""
+    import skimage as ski
+    model = acquire_model(ski.data.gravel()[:256, :256], scales=3)
+    window.attach_model(model)
+    start = window.document.levels.copy()
+    synthesise(qtbot, window, 160, 120, 4)
+    synthesise(qtbot, window, 160, 120, 5)
+    step = window.history.actions[-1]
+    assert step.coarse_row_redraws == 0.5 and step.seed == 5
+    new = window.document.levels.copy()
+    assert np.array_equal(new, model.synthesize((120, 160), seed=5, tone=False).levels)
+    last = len(window.history.actions) - 1
+    edit_and_apply(qtbot, window, last, "coarse_row_redraws", "16")
+    assert not window.errors and window.history.actions[-1].coarse_row_redraws == 16
+    free = model.synthesize((120, 160), seed=5, tone=False, coarse_row_redraws=16).levels
+    assert np.array_equal(window.document.levels, free) and not np.array_equal(free, new)
+    qtbot.waitUntil(lambda: np.array_equal(window.canvas.picture, tone_of(window, 5)),
+                    timeout=30_000)
+    edit_and_apply(qtbot, window, last, "coarse_row_redraws", "0")
+    assert not window.errors and window.history.actions[-1].coarse_row_redraws == 0
+    none = model.synthesize((120, 160), seed=5, tone=False, coarse_row_redraws=0).levels
+    assert np.array_equal(window.document.levels, none)
+    for _ in range(2):
+        qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert np.array_equal(window.document.levels, new)
+    qtbot.waitUntil(lambda: np.array_equal(window.canvas.picture, tone_of(window, 5)),
+                    timeout=30_000)
+    undo_to_start(qtbot, window)
+    assert np.array_equal(window.document.levels, start) and not window.errors
+
+
 def test_a_step_drawn_with_16_coarse_redraws_again_is_the_older_texture(qtbot, window):
     """Synthesise twice from brick's model (its coarsest law meets dead ends), then set the last
     step's Coarse redraws to 16 in the History form and Apply & replay: the canvas shows what a

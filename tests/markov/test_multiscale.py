@@ -245,14 +245,42 @@ def test_the_coarsest_scale_tries_coarse_redraws_times_at_a_dead_end():
     alone = multiscale.MultiScaleDPJ((coarse,))         # drawn once: the coarsest scale's draw
     assert multiscale.COARSE_REDRAWS == 4 < multiscale.OLD_REDRAWS == 16
     default = multiscale.synthesize_scales(alone, (64, 64), seed=1)
-    four = synthesize(coarse, (64, 64), seed=1, max_redraws=4)
+    four = synthesize(coarse, (64, 64), seed=1, max_redraws=4,
+                      row_redraws=multiscale.COARSE_ROW_REDRAWS)
     assert np.array_equal(default.levels, four.levels) and default.redraws == four.redraws
-    old = multiscale.synthesize_scales(alone, (64, 64), seed=1, coarse_redraws=16)
+    old = multiscale.synthesize_scales(alone, (64, 64), seed=1, coarse_redraws=16,
+                                       coarse_row_redraws=multiscale.NO_ROW_LIMIT)
     assert np.array_equal(old.levels, synthesize(coarse, (64, 64), seed=1).levels)
     assert not np.array_equal(old.levels, default.levels)
     for bad in (17, -1, True, "4"):
         with pytest.raises(InputError):
             multiscale.synthesize_scales(alone, (64, 64), coarse_redraws=bad)
+
+
+def test_a_row_of_the_coarsest_scale_redraws_at_most_coarse_row_redraws_a_point():
+    """Where the coarsest law dead-ends nearly everywhere (gravel's 256² crop: 3 redraws a point
+    without a limit, nearly all of them in vain), a row redraws at most COARSE_ROW_REDRAWS
+    times a point of its width (then backs off at once); NO_ROW_LIMIT (recipes before it) is no
+    limit at all, and where rows redraw less than the limit the texture is the same."""
+    from texeditor.photo import acquire_model
+    gravel = acquire_model(ski.data.gravel()[:256, :256]).scales.dpjs[0]
+
+    def drawn(limit, dpj=gravel, shape=(128, 128)):
+        return synthesize(dpj, shape, seed=3, max_redraws=4, row_redraws=limit)
+    free, capped = drawn(None), drawn(multiscale.COARSE_ROW_REDRAWS)
+    assert free.redraws > 1.5 * 128 * 128 and capped.redraws <= 0.5 * 128 * 128
+    assert capped.repairs < 1.1 * free.repairs           # the tries it saves got nowhere
+    assert np.array_equal(drawn(multiscale.NO_ROW_LIMIT).levels, free.levels)
+    assert drawn(0).redraws == 0
+    moon = acquire_model(ski.data.moon()).scales.dpjs[0]        # its tries get through: a few
+    few, same = drawn(None, moon, (96, 96)), drawn(0.5, moon, (96, 96))   # redraws a texture
+    assert 0 < few.redraws < 200 and np.array_equal(few.levels, same.levels)
+    for bad in (16.5, -0.1, True, "1", float("nan")):
+        with pytest.raises(InputError):
+            drawn(bad)
+        with pytest.raises(InputError):
+            multiscale.synthesize_scales(multiscale.MultiScaleDPJ((gravel,)), (64, 64),
+                                         coarse_row_redraws=bad)
 
 
 def test_the_finer_scales_try_given_redraws_times_at_a_dead_end():

@@ -87,8 +87,8 @@ def test_one_row_follows_the_exact_conditional_law_given_the_rows_above():
     out, counts, draws = np.zeros((2, w), np.uint8), {}, 20000
     for _ in range(draws):
         out[0] = above
-        synthesis._sample_rows(out, 1, 2, tables, state, 0, np.int64(0), np.int64(0),
-                               np.int64(1), np.int64(synthesis.NO_BUDGET),
+        synthesis._sample_rows(out, 1, 2, tables, state, 0, np.int64(synthesis.NO_BUDGET),
+                               np.int64(0), np.int64(0), np.int64(1), np.int64(synthesis.NO_BUDGET),
                                np.int64(synthesis.NO_BUDGET))
         counts[tuple(out[1])] = counts.get(tuple(out[1]), 0) + 1
     keys = [b for b in exact if exact[b] > 0]

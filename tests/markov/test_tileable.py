@@ -230,7 +230,7 @@ def test_the_trial_draw_that_chose_the_coarsest_law_is_its_first_try(closure, mo
         first = (coarsest, multiscale.scale_seed(seed, 0))
         drawn = [dpj for dpj, *call in calls if tuple(call) == first]
         law, _ = multiscale._torus_law(model.dpjs[0], coarsest, seed, closure,
-                                       multiscale.COARSE_REDRAWS)
+                                       (multiscale.COARSE_REDRAWS, multiscale.COARSE_ROW_REDRAWS))
         laws.add(law.window)
         assert sum(dpj is law for dpj in drawn) == 1       # tried once, not drawn again
         with monkeypatch.context() as m:
@@ -324,7 +324,8 @@ def test_closing_the_bottom_seam_redraws_only_near_it(name):
     for seed in range(10):
         state = np.random.SeedSequence(seed).generate_state(1, np.uint64)
         torus = np.pad(np.zeros((h, w), np.uint8), ((0, 2), (0, 2)), mode="wrap")
-        S._sample_rows(torus, 0, h, rows, state, 64, np.int64(h), np.int64(w), np.int64(2),
+        S._sample_rows(torus, 0, h, rows, state, 64, np.int64(S.NO_BUDGET), np.int64(h),
+                       np.int64(w), np.int64(2),
                        np.int64(S.NO_BUDGET), np.int64(S.NO_BUDGET))
         across = np.ascontiguousarray(torus.T)
         before = across.copy()
@@ -426,7 +427,8 @@ def test_closure_5_reads_the_last_column_as_the_others():
         for closure in (4, 5):
             state = np.random.SeedSequence(seed).generate_state(1, np.uint64)
             torus = np.pad(np.zeros((h, w), np.uint8), ((0, 2), (0, 2)), mode="wrap")
-            S._sample_rows(torus, 0, h, rows, state, 16, np.int64(h), np.int64(w),
+            S._sample_rows(torus, 0, h, rows, state, 16, np.int64(S.NO_BUDGET), np.int64(h),
+                           np.int64(w),
                            np.int64(closure), np.int64(S.NO_BUDGET), np.int64(S.NO_BUDGET))
             across = np.ascontiguousarray(torus.T)
             before = across.copy()

@@ -16,7 +16,8 @@ from texeditor import DPJ
 from texeditor.errors import FormatError, InputError
 from texeditor.markov.particles import MAX_PARTICLES, PARTICLES
 from texeditor.photo import acquire_model, load_model, model_from_bytes, tone
-from texeditor.markov.multiscale import GIVEN_REDRAWS, SCALES_CLOSURE
+from texeditor.markov.multiscale import (COARSE_ROW_REDRAWS, GIVEN_REDRAWS, NO_ROW_LIMIT,
+                                         SCALES_CLOSURE)
 from texeditor.recipe.actions import SynthesizeScales
 from texeditor.recipe.texturefile import render_texture, save_texture, synthesize_scales_texture
 from tests.support.photo import speckle
@@ -341,6 +342,30 @@ def test_textures_of_version_12_replay_as_they_were_written(name):
         given_redraws=16).levels)
 
 
+@pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
+def test_textures_of_version_13_replay_as_they_were_written(name):
+    """Files written by SynthesizeScales version 13 (tests/data/scales-v13: gravel plain, coffee
+    tileable in colour) come out bit-identical, levels and tone: a row of the coarsest scale
+    redraws at most 0.5 times a point; the same step without that limit, as steps before it,
+    draws another texture."""
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_model, document_tone
+    expected = json.loads((DATA / "scales-v13" / "expected.json").read_text())[name]
+    doc = render_texture(DATA / "scales-v13" / f"{name}.texture")
+    step = doc.actions[-1]
+    assert expected["version"] == 13 and step.coarse_row_redraws == 0.5
+    assert step.tileable == expected["tileable"] and step.closure == expected["closure"]
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
+    free = dataclasses.replace(step, coarse_row_redraws=NO_ROW_LIMIT).prepare(doc)
+    assert not np.array_equal(free, doc.levels)
+    assert np.array_equal(free, document_model(doc, step).synthesize(
+        (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
+        coarse_row_redraws=NO_ROW_LIMIT).levels)
+
+
 FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10),    # the multiscale step's switches,
          ("tone_finish", 11))                                    # with the version each came with
 
@@ -420,7 +445,8 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 10, {"closure": 6}, None), ("synthesize_scales", 11, {}, 5),
     ("synthesize_scales", 11, {"closure": 6}, None), ("synthesize_scales", 12, {}, 5),
     ("synthesize_scales", 12, {"closure": 4}, 4), ("synthesize_scales", 12, {"closure": 6}, None),
-    ("synthesize_scales", 13, {}, None),
+    ("synthesize_scales", 13, {}, 5), ("synthesize_scales", 13, {"closure": 6}, None),
+    ("synthesize_scales", 14, {}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
@@ -476,6 +502,25 @@ def test_a_multiscale_step_keeps_its_finer_redraws(version, obj, redraws):
         step = read_scales_step(version, obj)
         assert step.given_redraws == redraws and step.coarse_redraws == (16 if version < 4
                                                                           else 4)
+
+
+@pytest.mark.parametrize("version, obj, limit", [
+    (12, {}, NO_ROW_LIMIT), (4, {}, NO_ROW_LIMIT), (12, {"coarse_row_redraws": 0.5}, None),
+    (13, {}, COARSE_ROW_REDRAWS), (13, {"coarse_row_redraws": 16}, 16.0),
+    (13, {"coarse_row_redraws": 0}, 0.0), (13, {"coarse_row_redraws": 16.5}, None),
+    (13, {"coarse_row_redraws": -1}, None), (13, {"coarse_row_redraws": True}, None),
+    (13, {"coarse_row_redraws": "1"}, None)])
+def test_a_multiscale_step_keeps_its_coarsest_row_limit(version, obj, limit):
+    """Steps before version 13 let a row of the coarsest scale redraw without limit (and
+    cannot name one); version 13 names 0 to 16 a point, default COARSE_ROW_REDRAWS (0.5)."""
+    if limit is None:
+        with pytest.raises(FormatError):
+            read_scales_step(version, obj)
+    else:
+        step = read_scales_step(version, obj)
+        assert step.coarse_row_redraws == limit and step.given_redraws == (
+            GIVEN_REDRAWS if version >= 12 else 16)
+        assert step.to_json()["version"] == SynthesizeScales.VERSION == 13
 
 
 def _rezip(data: bytes, change) -> bytes:

@@ -57,6 +57,15 @@ COARSE_REDRAWS = 4          # a dead end of the coarsest scale: tries redrawing 
                             # 20–34 thousand redraws, most in runs of 16 that end in a back-off,
                             # 90 % of the scale's time); recipes before it kept 16 (OLD_REDRAWS)
 OLD_REDRAWS = 16
+COARSE_ROW_REDRAWS = 0.5    # ... and once a row of it has redrawn this many times per point of
+                            # its width, its further dead ends back off at once. Where the 5×5
+                            # DPJ of a small reduction is nearly a copy of it, most positions
+                            # dead-end and hardly any try gets through (gravel's 256² crop, its
+                            # coarsest scale of a 512² texture: 3 redraws a point, 74 % of the
+                            # points backing off either way, 1.8 s of a 2048² texture's 4.5 s);
+                            # where tries do get through, rows stay far below it (moon, camera:
+                            # 0–0.15 a point). Recipes before it had no limit (NO_ROW_LIMIT)
+NO_ROW_LIMIT = 16.0         # a dead end tries at most 16 times: a row never reaches 16 a point
 GIVEN_REDRAWS = 8           # ... and of a scale drawn given its parents. Its tries redraw more
                             # rows, wider, every fourth try, and a dead end that four did not get
                             # past seldom gets past at all: brick at 2048², its 1024² scale, 16
@@ -257,14 +266,16 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       coarse_redraws: int = COARSE_REDRAWS,
                       particles: int = PARTICLES, rebalance: bool = True,
                       steer: bool = True, more_drafts: bool = True,
-                      given_redraws: int = GIVEN_REDRAWS) -> SynthesisResult:
+                      given_redraws: int = GIVEN_REDRAWS,
+                      coarse_row_redraws: float = COARSE_ROW_REDRAWS) -> SynthesisResult:
     """Draw the coarsest scale, then each finer one given the one under it; the finest levels
     (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
     ``tileable``: every scale is drawn on the torus (``closure``: which seam closure, 1 to
     SCALES_CLOSURE, see synthesize). ``coarse_redraws``: the coarsest scale's tries at a dead
     end before it backs off (COARSE_REDRAWS; OLD_REDRAWS in older recipes); ``given_redraws``
     the same for the scales drawn given their parents (GIVEN_REDRAWS; OLD_REDRAWS in older
-    recipes).
+    recipes); ``coarse_row_redraws``: the redraws a row of the coarsest scale may make, per
+    point of its width (COARSE_ROW_REDRAWS; NO_ROW_LIMIT in older recipes).
 
     A coarse scale's field has long-range correlations: one draw of it can hold a level's share
     a tenth off the model's, and every finer scale inherits it. So each scale but the finest is
@@ -285,7 +296,8 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     shapes = scale_shapes(check_size(shape), model.scales)
     _check_scale_sizes(model, shapes)
     closure = check_scales_closure(closure)
-    redraws_at = (check_redraws(coarse_redraws), check_redraws(given_redraws))
+    redraws_at = (check_redraws(coarse_redraws), check_redraws(given_redraws),
+                  check_row_redraws(coarse_row_redraws))
     particles = check_particles(particles)
     weights = np.array([h * w for h, w in shapes], float)
     done = np.concatenate([[0], np.cumsum(weights)]) / weights.sum()
@@ -300,7 +312,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                                        bool(tileable)) for k in range(1, model.scales)]
         trial = None
         if tileable and closure >= 2:
-            law, trial = _torus_law(model.dpjs[0], shapes[0], seed, closure, redraws_at[0],
+            law, trial = _torus_law(model.dpjs[0], shapes[0], seed, closure, redraws_at[0::2],
                                     model.frequencies(0) if steer else None)
             model = MultiScaleDPJ((law,) + model.dpjs[1:])
         for k in range(model.scales):
@@ -370,7 +382,8 @@ def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel,
     """Scale k drawn as close to its level shares as synthesize_scales says; ``done``: the
     share of the work done before each scale (progress); ``first``: the first try, when it is
     already drawn (the trial draw that chose the coarsest law on the torus); ``redraws_at``:
-    the tries at a dead end of the coarsest scale and of the others; ``steer``: its
+    the tries at a dead end of the coarsest scale and of the others, and the redraws a row of
+    the coarsest may make per point; ``steer``: its
     plain draws steered towards the shares; ``more_drafts``: drafted as more particles when
     it is small."""
     report = None if progress is None else (
@@ -382,7 +395,8 @@ def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel,
         if t == 0 and first is not None:
             return first
         return _draw_scale(model, k, shapes[k], parents, _try_seed(seed, k, t), report,
-                           cancel, final, bool(tileable), closure, redraws_at[k > 0], shares,
+                           cancel, final, bool(tileable), closure,
+                           redraws_at[0::2] if k == 0 else (redraws_at[1], None), shares,
                            expected if steer and shares is None else None)
     if particles == 0 or k == model.scales - 1:
         return _closest_draw(draw, _tries(k, model.scales), expected, report, cancel)
@@ -456,7 +470,8 @@ def _settle(job) -> None:
         pass
 
 
-def _torus_law(dpj: DPJ, shape, seed: int, closure: int, redraws: int = OLD_REDRAWS,
+def _torus_law(dpj: DPJ, shape, seed: int, closure: int,
+               redraws=(OLD_REDRAWS, NO_ROW_LIMIT),
                steer=None) -> tuple[DPJ, SynthesisResult | None]:
     """The coarsest scale's law for a tileable draw: its own, or the law of its largest
     sub-window (one row and column fewer at a time) whose draw on the torus closes; and that
@@ -470,8 +485,9 @@ def _torus_law(dpj: DPJ, shape, seed: int, closure: int, redraws: int = OLD_REDR
     closes; the first draw that leaves at most TORUS_TOLERANCE of its windows outside says
     which (judged on ``scale_seed(seed, 0)``, so the same seed picks the same window;
     closure 3 stops a draw past TORUS_BUDGET redraws a point: it does not close; closure 5
-    also past TORUS_REPAIRS back-offs a point; each draw tries ``redraws`` times at a dead
-    end, as the coarsest scale's draws will, and steered towards ``steer``, the level shares, as
+    also past TORUS_REPAIRS back-offs a point; each draw redraws as ``redraws`` says (the
+    tries at a dead end, the redraws a row may make per point), as the coarsest scale's draws
+    will, and steered towards ``steer``, the level shares, as
     they will be, when given)."""
     laws = derived(dpj, "torus laws", _sub_windows)
     points = shape[0] * shape[1]
@@ -482,7 +498,8 @@ def _torus_law(dpj: DPJ, shape, seed: int, closure: int, redraws: int = OLD_REDR
         law = laws[t]
         drawn = synthesize(law, shape, seed=scale_seed(seed, 0), tileable=True,
                            closure=_seam(closure), cancel=cancel, redraw_budget=budget,
-                           repair_budget=repairs, max_redraws=redraws, steer=steer)
+                           repair_budget=repairs, max_redraws=redraws[0],
+                           row_redraws=redraws[1], steer=steer)
         if past_budget((budget, repairs), drawn.redraws, drawn.repairs):
             return None
         seen = estimate_dpj(drawn.levels, law.window, law.levels, wrap=True)
@@ -512,6 +529,13 @@ def check_redraws(redraws) -> int:
     return int(redraws)
 
 
+def check_row_redraws(redraws) -> float:
+    if isinstance(redraws, bool) or not isinstance(redraws, (int, float, np.integer, np.floating)) \
+            or not 0 <= redraws <= NO_ROW_LIMIT:
+        raise InputError(f"{redraws!r} redraws a point of a row: choose 0 to {NO_ROW_LIMIT:g}")
+    return float(redraws)
+
+
 def check_scales_closure(closure) -> int:
     if closure not in range(1, SCALES_CLOSURE + 1) or isinstance(closure, bool):
         raise InputError(f"seam closure {closure!r} does not exist: choose 1 to "
@@ -533,17 +557,18 @@ def _tries(k: int, scales: int) -> int:
 def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final, tileable,
                 closure, redraws, shares=None, steer=None):
     """Scale k, given the levels of scale k - 1 (``parents``); ``redraws``: its tries at a
-    dead end."""
+    dead end and (the coarsest) the redraws a row may make per point."""
     dpj = model.dpjs[k]
     if k == 0:
         return synthesize(dpj, shape, seed=seed, progress=progress, cancel=cancel,
                           rows_final=rows_final, tileable=tileable, closure=_seam(closure),
-                          max_redraws=redraws, shares=shares, steer=steer)
+                          max_redraws=redraws[0], row_redraws=redraws[1], shares=shares,
+                          steer=steer)
     up = upsample_torus(parents, shape) if tileable else upsample(parents, shape)
     return synthesize_given(dpj, up, parent_levels(model.dpjs, k), seed=seed,
                             progress=progress, cancel=cancel, rows_final=rows_final,
                             tileable=tileable, closure=_seam(closure), shares=shares,
-                            steer=steer, max_redraws=redraws)
+                            steer=steer, max_redraws=redraws[0])
 
 
 def _frequency_error(levels: np.ndarray, expected: np.ndarray) -> float:

@@ -16,6 +16,7 @@ above and the points already chosen to its left) never raise and never hang:
 
 from __future__ import annotations
 
+import math
 import threading
 import weakref
 from dataclasses import dataclass
@@ -69,7 +70,8 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
                rows_final: Callable[[np.ndarray, int], None] | None = None,
                tileable: bool = False, closure: int = CLOSURE,
                redraw_budget: int | None = None, repair_budget: int | None = None,
-               shares: particles.Shares | None = None, steer=None) -> SynthesisResult:
+               shares: particles.Shares | None = None, steer=None,
+               row_redraws: float | None = None) -> SynthesisResult:
     """Draw an (H, W) level matrix from ``dpj``; same DPJ and seed → same matrix.
 
     ``progress(fraction)`` is called between bands of rows; ``cancel()`` returning True stops the
@@ -99,12 +101,28 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
 
     ``steer``: level shares the rows are steered towards as they are drawn (markov.steering:
     the law tilted band by band; not with ``shares``).
+
+    ``row_redraws``: a row redraws the rows above at most this many times per point of its
+    width (then every further dead end of the row backs off at once); None: no limit.
     """
     h, w = _check_request(dpj, shape)
     out = np.zeros((h, w), dtype=np.uint8)
     across = _tables(_transposed(dpj)) if tileable else None
-    return _draw(out, _tables(dpj), seed, progress, cancel, max_redraws, rows_final, across,
+    return _draw(out, _tables(dpj), seed, progress, cancel,
+                 (max_redraws, _row_cap(row_redraws, w)), rows_final, across,
                  _check_closure(closure), (redraw_budget, repair_budget), shares, steer)
+
+
+def _row_cap(row_redraws, width: int) -> int:
+    """The redraws a row of ``width`` points may make (synthesize's ``row_redraws``)."""
+    if row_redraws is None:
+        return NO_BUDGET
+    if isinstance(row_redraws, bool) or not isinstance(row_redraws, (int, float, np.integer,
+                                                                     np.floating)) \
+            or not 0 <= row_redraws <= 16:
+        raise InputError(f"{row_redraws!r} redraws a point of a row: choose 0 to 16, or no "
+                         "limit")
+    return int(math.ceil(row_redraws * width))
 
 
 def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed: int = 0,
@@ -136,7 +154,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     gx = dpj.levels // gp
     out = (parents.astype(np.uint8) * np.uint8(gx))
     across = _tables(_transposed(dpj), gp) if tileable else None
-    result = _draw(out, _tables(dpj, gp), seed, progress, cancel, max_redraws,
+    result = _draw(out, _tables(dpj, gp), seed, progress, cancel, (max_redraws, NO_BUDGET),
                    rows_final and _own_levels(out, gx, rows_final, tileable), across, closure,
                    (None, None), shares, steer, parents)
     np.remainder(result.levels, gx, out=result.levels)
@@ -156,11 +174,12 @@ def _own_levels(out, gx, rows_final, tileable):
     return report
 
 
-def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
+def _draw(out, t, seed, progress, cancel, redraws_at, rows_final=None,
           across=None, closure=CLOSURE, budget=(None, None), shares=None, steer=None,
           parents=None) -> SynthesisResult:
     """Fill ``out`` band by band (progress, cancel and the rows now final between bands;
-    ``steer``: the level shares the bands are steered towards, given ``parents``).
+    ``redraws_at``: (tries at a dead end, redraws a row may make); ``steer``: the level shares
+    the bands are steered towards, given ``parents``).
 
     Tileable (``across``: the tables of the DPJ transposed): drawn on the torus — in a copy of
     ``out`` whose first v-1 rows and u-1 columns are repeated after its last, so every window
@@ -176,13 +195,13 @@ def _draw(out, t, seed, progress, cancel, max_redraws, rows_final=None,
             raise InputError("a synthesis given its level shares has no rows_final, budget or "
                              "steering")
         work, repairs, redraws = _draw_given_shares(work, (h, w), t, seed, progress, cancel,
-                                                    max_redraws, tile_h, tile_w, closure, shares)
+                                                    redraws_at, tile_h, tile_w, closure, shares)
         if not tileable:
             out[:] = work
     else:
         steered = None if steer is None else steering.steering(t, _check_shares(steer, t.gx),
                                                                parents)
-        work, repairs, redraws = _draw_bands(out, work, t, state, progress, cancel, max_redraws,
+        work, repairs, redraws = _draw_bands(out, work, t, state, progress, cancel, redraws_at,
                                              rows_final, tile_h, tile_w, closure, budget,
                                              steered)
         if past_budget(budget, redraws, repairs):
@@ -209,19 +228,19 @@ def _torus(out: np.ndarray, rows: int, columns: int) -> np.ndarray:
     return work
 
 
-def _draw_given_shares(work, shape, t, seed, progress, cancel, max_redraws, tile_h, tile_w,
+def _draw_given_shares(work, shape, t, seed, progress, cancel, redraws_at, tile_h, tile_w,
                        closure, shares):
     """The rows of ``work`` drafted given ``shares`` (markov.particles): the draft chosen, what
     it cost."""
     def extend(draft, r0, r1):
-        return _sample_rows(draft.rows, r0, r1, t, draft.state, max_redraws, tile_h, tile_w,
+        return _sample_rows(draft.rows, r0, r1, t, draft.state, *redraws_at, tile_h, tile_w,
                             np.int64(closure), np.int64(NO_BUDGET), np.int64(NO_BUDGET))
     chosen = particles.draw(work, shape, t.v, t.levels, t.gx, extend, shares, check_seed(seed),
                             MAX_REDRAW_DEPTH, cancel, progress)
     return chosen.rows, chosen.repairs, chosen.redraws
 
 
-def _draw_bands(out, work, t, state, progress, cancel, max_redraws, rows_final, tile_h, tile_w,
+def _draw_bands(out, work, t, state, progress, cancel, redraws_at, rows_final, tile_h, tile_w,
                 closure, budget, steered=None):
     """The rows of ``work`` drawn band by band; stops once past ``budget`` (redraws,
     repairs; None: no limit). ``steered``: a markov.steering.Steering; the rows are then
@@ -241,7 +260,7 @@ def _draw_bands(out, work, t, state, progress, cancel, max_redraws, rows_final, 
             raise Cancelled("synthesis cancelled")
         if steered is not None and r0 > 0:
             law = t.weighed(steered.tilted(t.fent))
-        rep, red = _sample_rows(work, r0, r1, law, state, max_redraws, tile_h, tile_w,
+        rep, red = _sample_rows(work, r0, r1, law, state, *redraws_at, tile_h, tile_w,
                                 np.int64(closure), _left(budget[0], redraws),
                                 _left(budget[1], repairs))
         if steered is not None:
@@ -918,12 +937,13 @@ def _redraw_above(out, r, n, tries, col0, col1, t, seg, state):
 
 
 @njit(cache=True, nogil=True)
-def _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws):
+def _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws, row_redraws):
     """Draw row r given the v-1-kmin rows above it. Returns (repairs, redraws).
 
     A dead end at position n redraws the rows above around n and resumes the forward pass just
     before the redrawn columns (the filter there is unchanged); after ``max_redraws`` failed
-    tries at the same place, or where no full context rows lie above, that position backs off.
+    tries at the same place, once the row has redrawn ``row_redraws`` times, or where no full
+    context rows lie above, that position backs off.
     The row is drawn on columns 0..col1-1 (a tileable row's copied columns come after), and
     the rows above are redrawn within [col0, col1).
     """
@@ -939,7 +959,7 @@ def _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws):
             break
         if n > frontier:  # a dead end further along the row: a fresh budget of tries
             frontier, tries = n, 0
-        if tries >= max_redraws or t.v == 1 or r < t.v:
+        if tries >= max_redraws or redraws >= row_redraws or t.v == 1 or r < t.v:
             lenient_at = n  # resume at n (R still holds the filter of n - 1), backing off
             continue
         c0 = _redraw_above(out, r, n, tries, col0, col1, t, seg, state)
@@ -958,8 +978,8 @@ def _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws):
 
 
 @njit(cache=True, nogil=True)
-def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w, closure, budget,
-                 repair_budget):
+def _sample_rows(out, r0, r1, t, state, max_redraws, row_redraws, tile_h, tile_w, closure,
+                 budget, repair_budget):
     """Rows r0..r1-1. Without parents the first call (r0 = 0) draws the first v rows as the
     chain of column states; with parents each of them is drawn with the rows above it. Stops
     after the row that takes the redraws past ``budget`` or the repairs past
@@ -988,7 +1008,8 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, tile_h, tile_w, closure, bu
                 c0 = -1 - c0 if c0 < 0 else c0
     for r in range(start, r1):
         kmin = np.int64(max(0, t.v - 1 - r))
-        rep, red = _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws)
+        rep, red = _draw_row(out, r, kmin, col0, col1, t, work, seg, state, max_redraws,
+                             row_redraws)
         repairs += rep
         redraws += red
         if tile_h > 0:

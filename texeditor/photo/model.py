@@ -24,7 +24,8 @@ from ..fileio import load_json, read_limited, write_file
 from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers
 from ..markov.levels import to_grey
 from ..markov.particles import PARTICLES
-from ..markov.multiscale import (COARSE_LEVELS, COARSE_REDRAWS, COARSE_WINDOW, GIVEN_REDRAWS,
+from ..markov.multiscale import (COARSE_LEVELS, COARSE_REDRAWS, COARSE_ROW_REDRAWS,
+                                 COARSE_WINDOW, GIVEN_REDRAWS,
                                  LEVELS, SCALES_CLOSURE, WINDOW,
                                  MultiScaleDPJ, check_scales_closure, estimate_scales,
                                  synthesize_scales)
@@ -89,6 +90,7 @@ class PhotoModel:
                    particles: int = PARTICLES,
                    rebalance: bool = True, steer: bool = True, more_drafts: bool = True,
                    given_redraws: int = GIVEN_REDRAWS,
+                   coarse_row_redraws: float = COARSE_ROW_REDRAWS,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
@@ -96,13 +98,14 @@ class PhotoModel:
         ``render(levels, wrap=tone_wrap(tileable, closure, tone_balance, tone_finish))``, in
         about half the time on two cores). ``tileable``: the levels and the picture repeat
         without a seam (``closure``, ``coarse_redraws``, ``particles``, ``rebalance``,
-        ``steer``, ``more_drafts``, ``given_redraws``: see markov.multiscale.synthesize_scales;
+        ``steer``, ``more_drafts``, ``given_redraws``, ``coarse_row_redraws``: see
+        markov.multiscale.synthesize_scales;
         ``tone_balance``: each level's greys keep the photo's histogram, tone.BALANCED;
         ``tone_finish``: its pixel-scale power is the photo's, tone.FINISHED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
                     closure=closure, coarse_redraws=coarse_redraws, particles=particles,
                     rebalance=rebalance, steer=steer, more_drafts=more_drafts,
-                    given_redraws=given_redraws)
+                    given_redraws=given_redraws, coarse_row_redraws=coarse_row_redraws)
         if not tone or self.tone is None:
             result = synthesize_scales(self.scales, shape, **draw)
             image = self.render(result.levels, seed=seed, tone=False)

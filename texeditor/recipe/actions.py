@@ -15,8 +15,8 @@ import numpy as np
 
 from ..markov.dpj import MAX_LEVELS, grey_ramp
 from ..markov.scan import ROWS, SCANS, check_scan
-from ..markov.multiscale import (COARSE_REDRAWS, GIVEN_REDRAWS, OLD_REDRAWS, SCALES_CLOSURE,
-                                 scales_phrase)
+from ..markov.multiscale import (COARSE_REDRAWS, COARSE_ROW_REDRAWS, GIVEN_REDRAWS,
+                                 NO_ROW_LIMIT, OLD_REDRAWS, SCALES_CLOSURE, scales_phrase)
 from ..markov.particles import DRAFT_POINTS, MAX_PARTICLES, MORE_PARTICLES, PARTICLES
 from ..markov.synthesis import CLOSURE
 from ..errors import FormatError, InputError, check_unicode
@@ -467,7 +467,9 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 11 tried OLD_REDRAWS times at a dead end of a scale drawn given its parents
+    """Versions 1 to 12 let a row of the coarsest scale redraw as often as its dead ends asked
+    (no ``coarse_row_redraws``: NO_ROW_LIMIT); version 12 had closures 1 to 5 (default 5).
+    Versions 1 to 11 tried OLD_REDRAWS times at a dead end of a scale drawn given its parents
     (no ``given_redraws``); version 11 had closures 1 to 5 (default 5). Versions 1 to 10
     showed their tone unfinished (no ``tone_finish``); version 10 had closures 1 to 5
     (default 5). Versions 1 to 9 drafted every scale as ``particles`` drafts (no
@@ -480,6 +482,11 @@ def _scales_of_version(cls, version: int, params: dict) -> dict:
     (default 3). Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest
     scale and drew their tone without balance; version 1 had no ``closure`` (closed the first
     way), version 2 closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
+    if "coarse_row_redraws" in params:
+        raise FormatError(f"action {cls.TYPE!r} version {version} has no coarse_row_redraws")
+    params = {**params, "coarse_row_redraws": NO_ROW_LIMIT}
+    if version == 12:
+        return _closure_as_written(cls, version, params, 5)
     if "given_redraws" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} has no given_redraws")
     params = {**params, "given_redraws": OLD_REDRAWS}
@@ -590,7 +597,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 12
+    VERSION: ClassVar[int] = 13
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -636,6 +643,12 @@ class SynthesizeScales(Action):
                                    "redrawing the rows above before it backs off "
                                    f"({GIVEN_REDRAWS}: current; {OLD_REDRAWS} in recipes before "
                                    "version 12)")
+    coarse_row_redraws: float = param("float", 0, NO_ROW_LIMIT, default=COARSE_ROW_REDRAWS,
+                                      doc="a row of the coarsest scale redraws at most this many "
+                                          "times per point of its width, then its dead ends "
+                                          f"back off at once ({COARSE_ROW_REDRAWS:g}: current; "
+                                          f"{NO_ROW_LIMIT:g}, no limit, in recipes before "
+                                          "version 13)")
 
     upgrade = classmethod(_scales_of_version)
 
@@ -655,7 +668,8 @@ class SynthesizeScales(Action):
                                  coarse_redraws=self.coarse_redraws, particles=self.particles,
                                  rebalance=self.rebalance, steer=self.steer,
                                  more_drafts=self.more_drafts,
-                                 given_redraws=self.given_redraws)
+                                 given_redraws=self.given_redraws,
+                                 coarse_row_redraws=self.coarse_row_redraws)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
