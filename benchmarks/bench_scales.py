@@ -69,7 +69,7 @@ def drawn_scales(model, shape, seed):
 
 def given_own_parents(model, reductions, k, seed):
     """Scale k drawn once from its DPJ given the photo's own reduction under it."""
-    parents = ms.upsample(reductions[k - 1], reductions[k].shape)
+    parents = ms.upsample(reductions[k - 1], reductions[k].shape, ms.parents_under(model.dpjs[k]))
     return synthesize_given(model.dpjs[k], parents, model.levels_at(k - 1), seed=seed).levels
 
 

@@ -11,7 +11,6 @@ from texeditor.markov import balance, multiscale
 from texeditor.markov.balance import SLACK, TRIGGER, rebalance
 from texeditor.markov.dpj import encode
 from texeditor.markov.synthesis import synthesize_given
-from texeditor.photo import acquire_model
 from tests.support.torus import off_the_dpj, photo_dpj
 
 BLOBS = ski.data.binary_blobs(128, blob_size_fraction=0.15, volume_fraction=0.5,
@@ -130,8 +129,10 @@ def test_a_scene_photos_finest_scale_comes_out_at_its_shares(tileable, monkeypat
     """A crop of chelsea whose finest shares come out a tenth and more off (drafted as version 9
     drafts it, 16 tries at a finer dead end): rebalanced, within
     0.03 (the moves a rare level can take may run out short of TRIGGER), and no composite window of the finest scale (on the torus too) leaves the DPJ
-    (those the draw's back-offs left stay)."""
-    model = acquire_model(ski.data.chelsea()[100:292, 200:392], scales=3).scales
+    (those the draw's back-offs left stay). A model of version 9's time: parents read one row
+    ahead at every scale."""
+    model, _ = multiscale.estimate_scales(ski.data.chelsea()[100:292, 200:392], scales=3,
+                                          under=False)
     seen = []
 
     def spy(levels, dpj, aim, *, parents=None, parent_levels=1, seed=0, wrap=False):

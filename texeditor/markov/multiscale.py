@@ -57,6 +57,8 @@ COARSE_REDRAWS = 4          # a dead end of the coarsest scale: tries redrawing 
                             # 20–34 thousand redraws, most in runs of 16 that end in a back-off,
                             # 90 % of the scale's time); recipes before it kept 16 (OLD_REDRAWS)
 OLD_REDRAWS = 16
+PARENTS_UNDER = "parents_under"   # a conditional DPJ's meta: True, its parents are read under
+                                  # each point (upsample), else one row ahead
 COARSE_ROW_REDRAWS = 0.5    # ... and once a row of it has redrawn this many times per point of
                             # its width, its further dead ends back off at once. Where the 5×5
                             # DPJ of a small reduction is nearly a copy of it, most positions
@@ -134,6 +136,8 @@ def check_scales(dpjs) -> None:
         raise InputError(f"a multi-scale DPJ has 1..{MAX_SCALES} DPJs")
     below = dpjs[0].levels
     for k in range(1, len(dpjs)):
+        if not isinstance(dpjs[k].meta.get(PARENTS_UNDER, False), bool):
+            raise InputError(f"scale {k}: {PARENTS_UNDER} says true or false")
         gp = parent_levels(dpjs, k)
         if gp != below or dpjs[k].levels % gp or dpjs[k].levels // gp < 2:
             raise InputError(f"scale {k}: a conditional DPJ of {dpjs[k].levels} composite levels "
@@ -186,32 +190,48 @@ def pyramid(photo: np.ndarray, scales: int, as_float=np.asarray) -> list[np.ndar
     return out[::-1]
 
 
-def upsample(parents: np.ndarray, shape) -> np.ndarray:
+def upsample(parents: np.ndarray, shape, under: bool = False) -> np.ndarray:
     """The parent of every finer point: the coarse point under the point just below it (the
-    last row: its own). A row is drawn given the rows above and its parents, never the rows
-    below; reading the parents one row ahead lets every odd row see the coarse row it leads
-    into, which keeps the level frequencies (with the parents under the point itself, rare
-    levels thinned out by a few hundredths per scale)."""
+    last row: its own), or with ``under`` the coarse point under the point itself. A row is
+    drawn given the rows above and its parents, never the rows below; reading the parents one
+    row ahead lets every odd row see the coarse row it leads into, which keeps the finest
+    scale's rare levels (read under the point, a thin mortar joint comes out doubled), but a
+    coarse point then leads three finer rows, not two: every scale read so stretches the
+    layout by half again down the rows (gravel's pebbles ran down the picture in drips, its
+    levels' vertical correlation at 8 points 0.27 against the photo's 0.04). So a photo model
+    reads its scales under the point but the finest, which reads ahead (PARENTS_UNDER)."""
     h, w = shape
+    if under:
+        return np.repeat(np.repeat(parents, 2, axis=0), 2, axis=1)[:h, :w]
     up = np.repeat(np.repeat(parents, 2, axis=0), 2, axis=1)[1: h + 1, :w]
     return up if len(up) == h else np.vstack([up, up[-1:]])
 
 
-def upsample_torus(parents: np.ndarray, shape) -> np.ndarray:
-    """``upsample`` on the torus: the last row's parent is the first row's, and a side of odd
-    length is resampled to the nearest coarse point, so the parents tile as the points do."""
+def upsample_torus(parents: np.ndarray, shape, under: bool = False) -> np.ndarray:
+    """``upsample`` on the torus: the last row's parent is the first row's (one row ahead),
+    and a side of odd length is resampled to the nearest coarse point, so the parents tile as
+    the points do."""
     (h, w), (hc, wc) = shape, parents.shape
-    rows = (np.arange(1, h + 1) * hc // h) % hc
+    rows = (np.arange(h) * hc // h) if under else (np.arange(1, h + 1) * hc // h) % hc
     cols = np.arange(w) * wc // w
     return parents[np.ix_(rows, cols)]
 
 
+def parents_under(dpj: DPJ) -> bool:
+    """Whether a conditional DPJ reads each point's parent under the point itself (models
+    acquired since PARENTS_UNDER; older DPJs read it one row ahead)."""
+    return bool(dpj.meta.get(PARENTS_UNDER, False))
+
+
 def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
                     window=WINDOW, coarse_levels: int = COARSE_LEVELS,
-                    coarse_window=COARSE_WINDOW, quantizer: str = "lab"):
+                    coarse_window=COARSE_WINDOW, quantizer: str = "lab",
+                    under: bool = True):
     """Acquire a multi-scale DPJ from a photo. Returns (model, the photo's levels at each scale,
     coarsest first). Each scale is quantised on its own (a reduced photo has less contrast);
-    with the "lab" quantiser a colour photo's levels are colour classes at every scale."""
+    with the "lab" quantiser a colour photo's levels are colour classes at every scale.
+    ``under``: the scales between the coarsest and the finest read their parents under each
+    point (upsample; False: one row ahead, as models acquired before PARENTS_UNDER)."""
     colour = quantizer == "lab" and has_colour(image)
     grey = None if colour else to_grey(image)        # a colour photo's grey is not needed
     scales = default_scales(np.shape(image)) if scales is None else int(scales)
@@ -244,12 +264,13 @@ def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
     dpjs = [estimate_dpj(lv[0], coarse_window, coarse_levels, wrap=True,
                          palette=quantized[0].palette, meta={"scale": 0, "scales": scales})]
     for k in range(1, scales):
-        gp = per_scale[k - 1]
-        composite = upsample(lv[k - 1], lv[k].shape) * per_scale[k] + lv[k]
+        gp, below = per_scale[k - 1], under and k < scales - 1   # the finest reads ahead
+        composite = upsample(lv[k - 1], lv[k].shape, below) * per_scale[k] + lv[k]
         # composite level parent · G + level shows as its level
+        meta = {"scale": k, "scales": scales, "parent_levels": gp}
         dpjs.append(estimate_dpj(composite, window, gp * per_scale[k], wrap=True,
                                  palette=np.tile(quantized[k].palette, (gp, 1)),
-                                 meta={"scale": k, "scales": scales, "parent_levels": gp}))
+                                 meta={**meta, PARENTS_UNDER: True} if below else meta))
     return MultiScaleDPJ(tuple(dpjs)), lv
 
 
@@ -354,7 +375,8 @@ def _rebalanced(model: MultiScaleDPJ, levels, parents, seed: int, tileable: bool
         return levels, 0
     up = None
     if k > 0:
-        up = (upsample_torus if tileable else upsample)(parents, levels.shape)
+        up = (upsample_torus if tileable else upsample)(parents, levels.shape,
+                                                        parents_under(model.dpjs[k]))
     moved_levels = levels.copy()
     moved = rebalance(moved_levels, model.dpjs[k], model.frequencies(k), parents=up,
                       parent_levels=parent_levels(model.dpjs, k), seed=scale_seed(seed, k),
@@ -564,7 +586,7 @@ def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final, ti
                           rows_final=rows_final, tileable=tileable, closure=_seam(closure),
                           max_redraws=redraws[0], row_redraws=redraws[1], shares=shares,
                           steer=steer)
-    up = upsample_torus(parents, shape) if tileable else upsample(parents, shape)
+    up = (upsample_torus if tileable else upsample)(parents, shape, parents_under(dpj))
     return synthesize_given(dpj, up, parent_levels(model.dpjs, k), seed=seed,
                             progress=progress, cancel=cancel, rows_final=rows_final,
                             tileable=tileable, closure=_seam(closure), shares=shares,
