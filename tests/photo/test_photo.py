@@ -544,8 +544,21 @@ def _tone_with(arrays: dict) -> bytes:
     return out.getvalue()
 
 
+def _meta_changed(dpj_bytes: bytes, **changes) -> bytes:
+    """A DPJ file with its meta's keys changed (the arrays as they were)."""
+    import json
+    with np.load(io.BytesIO(dpj_bytes), allow_pickle=False) as npz:
+        arrays = {k: npz[k] for k in npz.files}
+    meta = {**json.loads(str(arrays["meta"])), **changes}
+    out = io.BytesIO()
+    np.savez(out, **{**arrays, "meta": np.array(json.dumps(meta))})
+    return out.getvalue()
+
+
 HOSTILE = {
     "no scale": lambda m: m.pop("scale-1.dpj"),
+    "parents mark not a bool": lambda m: m.__setitem__(
+        "scale-1.dpj", _meta_changed(m["scale-1.dpj"], parents_under="yes")),
     "extra member": lambda m: m.__setitem__("evil.py", b"print(1)"),
     "bad version": lambda m: m.__setitem__("model.json", b'{"format_version": 3, "scales": 2}'),
     "scales not int": lambda m: m.__setitem__("model.json",
