@@ -39,6 +39,8 @@ COARSE_WINDOW = (5, 5)      # the coarsest scale: a wide window over few levels 
 COARSE_LEVELS = 2
 WINDOW = (3, 2)             # finer scales: the parents carry the layout, a small window the edges
 LEVELS = 4
+PARENTS_UNDER = "parents_under"   # a conditional DPJ's meta: True, its parents are read under
+                                  # each point (upsample), else one row ahead
 FREQUENCY_TOLERANCE = 0.01  # a coarse scale is drawn again while a level's share is further off
 PLAIN_TRIES = 2             # plain draws of a scale (side by side) before it is drafted
 DRAFT_TRIGGER = 0.03        # ... when a level's share in both is further off than this (as far
@@ -57,8 +59,6 @@ COARSE_REDRAWS = 4          # a dead end of the coarsest scale: tries redrawing 
                             # 20–34 thousand redraws, most in runs of 16 that end in a back-off,
                             # 90 % of the scale's time); recipes before it kept 16 (OLD_REDRAWS)
 OLD_REDRAWS = 16
-PARENTS_UNDER = "parents_under"   # a conditional DPJ's meta: True, its parents are read under
-                                  # each point (upsample), else one row ahead
 COARSE_ROW_REDRAWS = 0.5    # ... and once a row of it has redrawn this many times per point of
                             # its width, its further dead ends back off at once. Where the 5×5
                             # DPJ of a small reduction is nearly a copy of it, most positions
@@ -208,8 +208,8 @@ def upsample(parents: np.ndarray, shape, under: bool = False) -> np.ndarray:
 
 
 def upsample_torus(parents: np.ndarray, shape, under: bool = False) -> np.ndarray:
-    """``upsample`` on the torus: the last row's parent is the first row's (one row ahead),
-    and a side of odd length is resampled to the nearest coarse point, so the parents tile as
+    """``upsample`` on the torus (``under`` as there): the last row's parent is the first
+    row's (one row ahead), and a side of odd length is resampled to the nearest coarse point, so the parents tile as
     the points do."""
     (h, w), (hc, wc) = shape, parents.shape
     rows = (np.arange(h) * hc // h) if under else (np.arange(1, h + 1) * hc // h) % hc
