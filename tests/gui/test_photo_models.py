@@ -401,32 +401,48 @@ def test_a_large_tone_is_drawn_in_the_background_and_each_edit_shows_at_once(
     assert not window.errors
 
 
+def synthesised_twice(qtbot, window, photo, scales: int, seeds):
+    """A model of ``photo`` attached, then two 160×120 syntheses (``seeds``) from the Synthesis
+    dock: (the model, the canvas before them, the last one's levels — checked against the
+    model's own — and the index of its step)."""
+    model = acquire_model(photo, scales=scales)
+    window.attach_model(model)
+    start = window.document.levels.copy()
+    for seed in seeds:
+        synthesise(qtbot, window, 160, 120, seed)
+    step = window.history.actions[-1]
+    new = window.document.levels.copy()
+    assert step.seed == seeds[-1] and np.array_equal(new, model.synthesize(
+        (120, 160), seed=seeds[-1], tone=False).levels)
+    return model, start, new, len(window.history.actions) - 1
+
+
+def edited_draw(qtbot, window, model, step: int, name: str, value):
+    """Type ``value`` for step ``step``'s parameter ``name`` in the History form, Apply &
+    replay: the canvas holds what the model draws with that value (returned)."""
+    edit_and_apply(qtbot, window, step, name, str(value))
+    done = window.history.actions[-1]
+    assert not window.errors and getattr(done, name) == value
+    drawn = model.synthesize((done.height, done.width), seed=done.seed, tone=False,
+                             **{name: value}).levels
+    assert np.array_equal(window.document.levels, drawn)
+    return drawn
+
+
 def test_the_coarsest_row_limit_is_edited_in_the_history_form(qtbot, window):
     """From a small gravel crop (its coarsest law dead-ends nearly everywhere), synthesise twice,
     then set the last step's coarsest row limit to 16 (no limit, as steps before version 13)
     and Apply & replay: the older texture, with its tone; then 0 (no redraws at all); undo
     twice gives the version 13 texture back, and undo to the start the blank canvas."""
     import skimage as ski
-    model = acquire_model(ski.data.gravel()[:256, :256], scales=3)
-    window.attach_model(model)
-    start = window.document.levels.copy()
-    synthesise(qtbot, window, 160, 120, 4)
-    synthesise(qtbot, window, 160, 120, 5)
-    step = window.history.actions[-1]
-    assert step.coarse_row_redraws == 0.5 and step.seed == 5
-    new = window.document.levels.copy()
-    assert np.array_equal(new, model.synthesize((120, 160), seed=5, tone=False).levels)
-    last = len(window.history.actions) - 1
-    edit_and_apply(qtbot, window, last, "coarse_row_redraws", "16")
-    assert not window.errors and window.history.actions[-1].coarse_row_redraws == 16
-    free = model.synthesize((120, 160), seed=5, tone=False, coarse_row_redraws=16).levels
-    assert np.array_equal(window.document.levels, free) and not np.array_equal(free, new)
+    model, start, new, last = synthesised_twice(qtbot, window, ski.data.gravel()[:256, :256],
+                                                3, (4, 5))
+    assert window.history.actions[-1].coarse_row_redraws == 0.5
+    free = edited_draw(qtbot, window, model, last, "coarse_row_redraws", 16)
+    assert not np.array_equal(free, new)
     qtbot.waitUntil(lambda: np.array_equal(window.canvas.picture, tone_of(window, 5)),
                     timeout=30_000)
-    edit_and_apply(qtbot, window, last, "coarse_row_redraws", "0")
-    assert not window.errors and window.history.actions[-1].coarse_row_redraws == 0
-    none = model.synthesize((120, 160), seed=5, tone=False, coarse_row_redraws=0).levels
-    assert np.array_equal(window.document.levels, none)
+    edited_draw(qtbot, window, model, last, "coarse_row_redraws", 0)
     for _ in range(2):
         qtbot.keyClick(window, Key.Key_Z, CTRL)
     assert np.array_equal(window.document.levels, new)
@@ -443,20 +459,11 @@ def test_a_step_drawn_with_16_coarse_redraws_again_is_the_older_texture(qtbot, w
     version 4 texture; the same with 16 tries at a finer dead end (before version 12); then
     the tone's switches, and undo to the start."""
     import skimage as ski
-    model = acquire_model(ski.data.brick()[:160, :160], scales=2)
-    window.attach_model(model)
-    start = window.document.levels.copy()
-    synthesise(qtbot, window, 160, 120, 6)
-    synthesise(qtbot, window, 160, 120, 7)
-    step = window.history.actions[-1]
-    assert step.coarse_redraws == 4 and step.seed == 7
-    new = window.document.levels.copy()
-    assert np.array_equal(new, model.synthesize((120, 160), seed=7, tone=False).levels)
-    last = len(window.history.actions) - 1
-    edit_and_apply(qtbot, window, last, "coarse_redraws", "16")
-    assert not window.errors and window.history.actions[-1].coarse_redraws == 16
-    older = model.synthesize((120, 160), seed=7, tone=False, coarse_redraws=16).levels
-    assert np.array_equal(window.document.levels, older) and not np.array_equal(older, new)
+    model, start, new, last = synthesised_twice(qtbot, window, ski.data.brick()[:160, :160],
+                                                2, (6, 7))
+    assert window.history.actions[-1].coarse_redraws == 4
+    older = edited_draw(qtbot, window, model, last, "coarse_redraws", 16)
+    assert not np.array_equal(older, new)
     assert np.array_equal(window.canvas.picture, tone_of(window, 7))
     qtbot.keyClick(window, Key.Key_Z, CTRL)
     assert np.array_equal(window.document.levels, new)
