@@ -29,8 +29,9 @@ from .dpj import DPJ, MAX_LEVELS, check_window
 from .estimation import estimate_dpj
 from .levels import check_levels, has_colour, quantize, to_grey
 from .particles import PARTICLES, Shares, check_particles, drafts_for
-from .synthesis import (SynthesisResult, build_tables, check_seed, check_size,
-                        derived, past_budget, synthesize, synthesize_given)
+from .synthesis import (NO_ROW_LIMIT, SynthesisResult, build_tables, check_row_redraws,
+                        check_seed, check_size, derived, past_budget, synthesize,
+                        synthesize_given)
 
 COARSEST_SIDE = 64          # the photo's coarsest reduction keeps about this many points a side
 PYRAMID_ROWS = 256          # the first halving converts the photo this many rows at a time
@@ -67,7 +68,6 @@ COARSE_ROW_REDRAWS = 0.5    # ... and once a row of it has redrawn this many tim
                             # points backing off either way, 1.8 s of a 2048² texture's 4.5 s);
                             # where tries do get through, rows stay far below it (moon, camera:
                             # 0–0.15 a point). Recipes before it had no limit (NO_ROW_LIMIT)
-NO_ROW_LIMIT = 16.0         # a dead end tries at most 16 times: a row never reaches 16 a point
 GIVEN_REDRAWS = 8           # ... and of a scale drawn given its parents. Its tries redraw more
                             # rows, wider, every fourth try, and a dead end that four did not get
                             # past seldom gets past at all: brick at 2048², its 1024² scale, 16
@@ -549,13 +549,6 @@ def check_redraws(redraws) -> int:
     if redraws not in range(OLD_REDRAWS + 1) or isinstance(redraws, bool):
         raise InputError(f"{redraws!r} redraws at a dead end: choose 0 to {OLD_REDRAWS}")
     return int(redraws)
-
-
-def check_row_redraws(redraws) -> float:
-    if isinstance(redraws, bool) or not isinstance(redraws, (int, float, np.integer, np.floating)) \
-            or not 0 <= redraws <= NO_ROW_LIMIT:
-        raise InputError(f"{redraws!r} redraws a point of a row: choose 0 to {NO_ROW_LIMIT:g}")
-    return float(redraws)
 
 
 def check_scales_closure(closure) -> int:

@@ -31,6 +31,8 @@ from ..errors import Cancelled, InputError
 
 MAX_PIXELS = 2**28
 NO_BUDGET = 2**62              # redraws: no limit
+NO_ROW_LIMIT = 16.0            # redraws a point of a row: a dead end tries at most 16
+                               # times, so a row never reaches it (no limit)
 ROWS_PER_CALL_PIXELS = 2**16   # work per kernel call: how often progress and cancel are checked
 FINAL_BANDS = 8                # with rows_final, at least this many calls (later work, such as a
                                # tone, starts on the first rows while the others are drawn)
@@ -117,12 +119,17 @@ def _row_cap(row_redraws, width: int) -> int:
     """The redraws a row of ``width`` points may make (synthesize's ``row_redraws``)."""
     if row_redraws is None:
         return NO_BUDGET
+    return int(math.ceil(check_row_redraws(row_redraws) * width))
+
+
+def check_row_redraws(row_redraws) -> float:
+    """A number of redraws a point of a row, 0 to NO_ROW_LIMIT."""
     if isinstance(row_redraws, bool) or not isinstance(row_redraws, (int, float, np.integer,
                                                                      np.floating)) \
-            or not 0 <= row_redraws <= 16:
-        raise InputError(f"{row_redraws!r} redraws a point of a row: choose 0 to 16, or no "
-                         "limit")
-    return int(math.ceil(row_redraws * width))
+            or not 0 <= row_redraws <= NO_ROW_LIMIT:
+        raise InputError(f"{row_redraws!r} redraws a point of a row: choose 0 to "
+                         f"{NO_ROW_LIMIT:g}")
+    return float(row_redraws)
 
 
 def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed: int = 0,
