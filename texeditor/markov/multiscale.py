@@ -317,8 +317,8 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     shapes = scale_shapes(check_size(shape), model.scales)
     _check_scale_sizes(model, shapes)
     closure = check_scales_closure(closure)
-    redraws_at = (check_redraws(coarse_redraws), check_redraws(given_redraws),
-                  check_row_redraws(coarse_row_redraws))
+    redraws_at = ((check_redraws(coarse_redraws), check_row_redraws(coarse_row_redraws)),
+                  (check_redraws(given_redraws), None))     # the coarsest's, the others'
     particles = check_particles(particles)
     weights = np.array([h * w for h, w in shapes], float)
     done = np.concatenate([[0], np.cumsum(weights)]) / weights.sum()
@@ -333,7 +333,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                                        bool(tileable)) for k in range(1, model.scales)]
         trial = None
         if tileable and closure >= 2:
-            law, trial = _torus_law(model.dpjs[0], shapes[0], seed, closure, redraws_at[0::2],
+            law, trial = _torus_law(model.dpjs[0], shapes[0], seed, closure, redraws_at[0],
                                     model.frequencies(0) if steer else None)
             model = MultiScaleDPJ((law,) + model.dpjs[1:])
         for k in range(model.scales):
@@ -404,8 +404,7 @@ def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel,
     """Scale k drawn as close to its level shares as synthesize_scales says; ``done``: the
     share of the work done before each scale (progress); ``first``: the first try, when it is
     already drawn (the trial draw that chose the coarsest law on the torus); ``redraws_at``:
-    the tries at a dead end of the coarsest scale and of the others, and the redraws a row of
-    the coarsest may make per point; ``steer``: its
+    how the coarsest scale and the others redraw (_draw_scale's ``redraws``); ``steer``: its
     plain draws steered towards the shares; ``more_drafts``: drafted as more particles when
     it is small."""
     report = None if progress is None else (
@@ -417,8 +416,7 @@ def _draw_scale_closest(model, k, shapes, parents, seed, done, progress, cancel,
         if t == 0 and first is not None:
             return first
         return _draw_scale(model, k, shapes[k], parents, _try_seed(seed, k, t), report,
-                           cancel, final, bool(tileable), closure,
-                           redraws_at[0::2] if k == 0 else (redraws_at[1], None), shares,
+                           cancel, final, bool(tileable), closure, redraws_at[k > 0], shares,
                            expected if steer and shares is None else None)
     if particles == 0 or k == model.scales - 1:
         return _closest_draw(draw, _tries(k, model.scales), expected, report, cancel)
