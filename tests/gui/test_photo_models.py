@@ -452,6 +452,43 @@ def test_the_coarsest_row_limit_is_edited_in_the_history_form(qtbot, window):
     assert np.array_equal(window.document.levels, start) and not window.errors
 
 
+def test_moves_free_of_the_parents_are_unticked_in_the_history_form(qtbot, window):
+    """From a small chelsea crop, synthesise twice (the last draw's finest shares 0.11 off until
+    moves free of its parents bring them back), untick "Shares: moves free of the parents" in
+    the History form and Apply & replay: the texture as steps before version 14 drew it, off
+    its shares, with its tone; undo gives the version 14 texture back, a fill after it is one
+    more step, and undo to the start the blank canvas."""
+    import skimage as ski
+    model, start, new, last = synthesised_twice(qtbot, window,
+                                                ski.data.chelsea()[100:292, 200:392], 3, (8, 9))
+
+    def off(levels):
+        return np.abs(np.bincount(levels.ravel(), minlength=4) / levels.size
+                      - model.frequencies()).max()
+    assert window.history.actions[-1].free_moves and off(new) <= 0.03
+    dock = window.history_dock
+    qtbot.mouseClick(dock.view.viewport(), LEFT, pos=dock.row_rect(last).center())
+    kind, box = dock.form.editors["free_moves"]
+    assert kind == "bool" and box.isChecked()
+    box.setFocus()
+    qtbot.keyClick(box, Key.Key_Space)
+    qtbot.mouseClick(dock.apply_button, LEFT)
+    assert window.runner.wait(60_000) and not window.errors
+    assert window.history.actions[-1].free_moves is False
+    bound = model.synthesize((120, 160), seed=9, tone=False, free_moves=False).levels
+    assert np.array_equal(window.document.levels, bound) and off(bound) > 0.05
+    qtbot.waitUntil(lambda: np.array_equal(window.canvas.picture, tone_of(window, 9)),
+                    timeout=30_000)
+    qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert np.array_equal(window.document.levels, new)
+    qtbot.waitUntil(lambda: np.array_equal(window.canvas.picture, tone_of(window, 9)),
+                    timeout=30_000)
+    fill_a_cell(qtbot, window)                         # a click after the edit: one more step
+    assert not window.errors
+    undo_to_start(qtbot, window)
+    assert np.array_equal(window.document.levels, start) and not window.errors
+
+
 def test_a_step_drawn_with_16_coarse_redraws_again_is_the_older_texture(qtbot, window):
     """Synthesise twice from brick's model (its coarsest law meets dead ends), then set the last
     step's Coarse redraws to 16 in the History form and Apply & replay: the canvas shows what a

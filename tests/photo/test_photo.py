@@ -177,7 +177,8 @@ def test_textures_of_version_3_replay_with_16_coarse_redraws_as_they_did(name):
     assert np.array_equal(redrawn, model.synthesize((120, 160), seed=7, tileable=step.tileable,
                                                     closure=step.closure, tone=False,
                                                     rebalance=False, steer=False,
-                                                    more_drafts=False, given_redraws=16).levels)
+                                                    more_drafts=False, given_redraws=16,
+                                                    free_moves=False).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -205,7 +206,7 @@ def test_textures_of_version_5_replay_drawing_a_coarse_scale_again_whole(name):
                                                     tileable=step.tileable, tone=False,
                                                     closure=step.closure, rebalance=False,
                                                     steer=False, more_drafts=False,
-                                                    given_redraws=16).levels)
+                                                    given_redraws=16, free_moves=False).levels)
 
 
 def test_a_tileable_texture_of_version_6_replays_with_closure_4():
@@ -230,7 +231,8 @@ def test_a_tileable_texture_of_version_6_replays_with_closure_4():
                                                              tileable=True, closure=5, tone=False,
                                                              rebalance=False, steer=False,
                                                              more_drafts=False,
-                                                             given_redraws=16).levels)
+                                                             given_redraws=16,
+                                                             free_moves=False).levels)
 
 
 def test_a_texture_of_version_7_replays_without_rebalancing():
@@ -260,7 +262,7 @@ def test_a_texture_of_version_7_replays_without_rebalancing():
     shares = np.bincount(redrawn.ravel(), minlength=4) / redrawn.size
     assert np.abs(shares - model.frequencies()).max() <= TRIGGER
     drawn = model.synthesize((100, 140), seed=step.seed, steer=False, more_drafts=False,
-                             given_redraws=16)
+                             given_redraws=16, free_moves=False)
     assert np.array_equal(drawn.levels, redrawn) and drawn.moved >= moved.sum()   # moves
     assert np.array_equal(drawn.image, model.render(redrawn, seed=step.seed))
 
@@ -290,7 +292,8 @@ def test_a_texture_of_version_8_replays_unsteered():
     redrawn = new.prepare(doc)
     model = document_model(doc, step)
     assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed, tone=False,
-                                                    more_drafts=False, given_redraws=16).levels)
+                                                    more_drafts=False, given_redraws=16,
+                                                    free_moves=False).levels)
     assert not np.array_equal(redrawn, doc.levels)
 
 
@@ -316,7 +319,7 @@ def test_textures_of_version_9_replay_as_they_were_written():
         assert new.to_json()["version"] == SynthesizeScales.VERSION and new.to_json()["more_drafts"] is True
         assert np.array_equal(new.prepare(doc), document_model(doc, step).synthesize(
             (100, 140), seed=step.seed, tileable=step.tileable, closure=step.closure,
-            tone=False, given_redraws=16).levels)
+            tone=False, given_redraws=16, free_moves=False).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -339,7 +342,7 @@ def test_textures_of_version_12_replay_as_they_were_written(name):
     assert not np.array_equal(sixteen, doc.levels)
     assert np.array_equal(sixteen, document_model(doc, step).synthesize(
         (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
-        given_redraws=16).levels)
+        given_redraws=16, free_moves=False).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -363,11 +366,40 @@ def test_textures_of_version_13_replay_as_they_were_written(name):
     assert not np.array_equal(free, doc.levels)
     assert np.array_equal(free, document_model(doc, step).synthesize(
         (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
-        coarse_row_redraws=NO_ROW_LIMIT).levels)
+        coarse_row_redraws=NO_ROW_LIMIT, free_moves=False).levels)
+
+
+@pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
+def test_textures_of_version_14_replay_as_they_were_written(name):
+    """Files written by SynthesizeScales version 14 (tests/data/scales-v14: chelsea plain, coffee
+    tileable in colour) come out bit-identical, levels and tone, within 0.03 of the model's
+    level shares: the moves free of the parents brought them back; the same step without them,
+    as steps before it, draws a texture 0.08 off."""
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_model, document_tone
+    expected = json.loads((DATA / "scales-v14" / "expected.json").read_text())[name]
+    doc = render_texture(DATA / "scales-v14" / f"{name}.texture")
+    step = doc.actions[-1]
+    assert expected["version"] == 14 and step.free_moves and step.seed == expected["seed"]
+    assert step.tileable == expected["tileable"] and step.closure == expected["closure"]
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
+    model = document_model(doc, step)
+
+    def off(levels):
+        return np.abs(np.bincount(levels.ravel(), minlength=4) / levels.size
+                      - model.frequencies()).max()
+    bound = dataclasses.replace(step, free_moves=False).prepare(doc)
+    assert off(doc.levels) <= 0.03 < 0.08 < off(bound)
+    assert np.array_equal(bound, model.synthesize(
+        (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
+        free_moves=False).levels)
 
 
 FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10),    # the multiscale step's switches,
-         ("tone_finish", 11))                                    # with the version each came with
+         ("tone_finish", 11), ("free_moves", 14))                # with the version each came with
 
 
 def flag_cases():
@@ -382,8 +414,8 @@ def flag_cases():
 
 @pytest.mark.parametrize("name, version, obj, value", list(flag_cases()))
 def test_a_multiscale_step_keeps_its_switches_as_its_version_has_them(name, version, obj, value):
-    """Rebalancing (version 8), steering (9), more drafts of small scales (10) and the tone's
-    finish (11): an older step draws without them and cannot name them; the version that brought
+    """Rebalancing (version 8), steering (9), more drafts of small scales (10), the tone's
+    finish (11) and moves free of the parents (14): an older step draws without them and cannot name them; the version that brought
     one names it, default on."""
     if value is None:
         with pytest.raises(FormatError):
@@ -446,7 +478,8 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 11, {"closure": 6}, None), ("synthesize_scales", 12, {}, 5),
     ("synthesize_scales", 12, {"closure": 4}, 4), ("synthesize_scales", 12, {"closure": 6}, None),
     ("synthesize_scales", 13, {}, 5), ("synthesize_scales", 13, {"closure": 6}, None),
-    ("synthesize_scales", 14, {}, None),
+    ("synthesize_scales", 14, {}, 5), ("synthesize_scales", 14, {"closure": 6}, None),
+    ("synthesize_scales", 15, {}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
@@ -520,7 +553,7 @@ def test_a_multiscale_step_keeps_its_coarsest_row_limit(version, obj, limit):
         step = read_scales_step(version, obj)
         assert step.coarse_row_redraws == limit and step.given_redraws == (
             GIVEN_REDRAWS if version >= 12 else 16)
-        assert step.to_json()["version"] == SynthesizeScales.VERSION == 13
+        assert step.to_json()["version"] == SynthesizeScales.VERSION == 14
 
 
 def _rezip(data: bytes, change) -> bytes:

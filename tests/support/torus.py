@@ -11,11 +11,17 @@ from texeditor.markov.dpj import encode
 def off_the_dpj(levels, dpj, torus=True) -> float:
     """Share of the windows (read on the torus: across both seams and the corner too) that the
     DPJ does not have."""
+    return float(np.mean(off_places(levels, dpj, torus)))
+
+
+def off_places(levels, dpj, torus=False) -> np.ndarray:
+    """Where (top-left corners) the windows the DPJ lacks lie (on the torus: across the seams
+    too)."""
     u, v = dpj.window
     a = np.pad(levels, ((0, v - 1), (0, u - 1)), mode="wrap") if torus else levels
-    codes = encode(np.ascontiguousarray(sliding_window_view(a, (v, u)).reshape(-1, v, u)),
-                   dpj.levels)
-    return float(np.mean(~np.isin(codes, dpj.codes)))
+    windows = sliding_window_view(a, (v, u))
+    codes = encode(np.ascontiguousarray(windows).reshape(-1, v, u), dpj.levels)
+    return ~np.isin(codes, dpj.codes).reshape(windows.shape[:2])
 
 
 def photo_dpj(name, window, levels=4):

@@ -37,6 +37,8 @@ SLACK = 0.01        # ... until no two neighbouring levels are further apart tha
 LEAST = 2           # a point takes a level at least this many of its 8 neighbours have
 # the log-probability a move may cost, pass by pass (the last passes let a region grow further)
 THETAS = (-1.0, -3.0, -6.0, -12.0, -30.0, -30.0, -30.0)
+FREE_PASSES = 64    # passes of moves free of the parents (markov.multiscale): a region may grow
+                    # by tens of points, as a small field far off its shares needs
 RUNS = 16           # a pass tries the border points in this many runs (see _in_runs)
 MAX_POINTS = 2**21  # a larger field keeps its shares: its moves would take about a second
                     # (chelsea: 0.03 s at 512², 0.15 s at 1024², 0.9 s at 2048²)
@@ -44,10 +46,12 @@ _EMPTY = -1
 
 
 def rebalance(levels: np.ndarray, dpj: DPJ, aim, *, parents: np.ndarray | None = None,
-              parent_levels: int = 1, seed: int = 0, wrap: bool = False) -> int:
+              parent_levels: int = 1, seed: int = 0, wrap: bool = False,
+              passes: int = len(THETAS)) -> int:
     """Move border points of ``levels`` (H, W) uint8, in place, towards the shares ``aim``
     (one a level) without a window leaving ``dpj`` (composite levels parent · G + level when
     ``parents`` are given, as markov.multiscale draws them). ``wrap``: the field is a torus.
+    ``passes``: the passes over the border points (THETAS, the last one repeated past them).
     Returns how many moves were made (a point may move twice; 0 when no share is off by more
     than TRIGGER, or the field has more than MAX_POINTS points)."""
     aim = np.asarray(aim, float)
@@ -55,6 +59,8 @@ def rebalance(levels: np.ndarray, dpj: DPJ, aim, *, parents: np.ndarray | None =
     if dpj.levels != g * (parent_levels if parents is not None else 1):
         raise InputError(f"a DPJ of {dpj.levels} levels does not hold {g} levels"
                          + (f" over {parent_levels} parent levels" if parents is not None else ""))
+    if isinstance(passes, bool) or not isinstance(passes, (int, np.integer)) or passes < 1:
+        raise InputError(f"the passes of a rebalance are a whole number from 1, got {passes!r}")
     h, w = levels.shape
     target = np.round(aim * h * w).astype(np.int64)
     counts = np.bincount(levels.ravel(), minlength=g)[:g]
@@ -67,7 +73,12 @@ def rebalance(levels: np.ndarray, dpj: DPJ, aim, *, parents: np.ndarray | None =
     state = np.random.SeedSequence([int(seed), 0xBA1]).generate_state(1, np.uint64)
     return int(_rebalance(composite, levels, g, dpj.window[0], dpj.window[1], dpj.levels, keys,
                           table, bits, target, counts.astype(np.int64), int(SLACK * h * w),
-                          state, np.array(THETAS), LEAST, bool(wrap)))
+                          state, _thetas(int(passes)), LEAST, bool(wrap)))
+
+
+def _thetas(passes: int) -> np.ndarray:
+    """The log-probability each of ``passes`` passes lets a move cost (THETAS, then its last)."""
+    return np.array(THETAS[:passes] + THETAS[-1:] * max(0, passes - len(THETAS)))
 
 
 def _window_table(dpj: DPJ):

@@ -24,8 +24,8 @@ import skimage as ski
 
 from ..errors import Cancelled, InputError
 from ..wording import counted
-from .balance import MAX_POINTS, rebalance
-from .dpj import DPJ, MAX_LEVELS, check_window
+from .balance import FREE_PASSES, MAX_POINTS, TRIGGER, rebalance
+from .dpj import DPJ, MAX_LEVELS, check_window, encode
 from .estimation import estimate_dpj
 from .levels import check_levels, has_colour, quantize, to_grey
 from .particles import PARTICLES, Shares, check_particles, drafts_for
@@ -288,7 +288,8 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       particles: int = PARTICLES, rebalance: bool = True,
                       steer: bool = True, more_drafts: bool = True,
                       given_redraws: int = GIVEN_REDRAWS,
-                      coarse_row_redraws: float = COARSE_ROW_REDRAWS) -> SynthesisResult:
+                      coarse_row_redraws: float = COARSE_ROW_REDRAWS,
+                      free_moves: bool = True) -> SynthesisResult:
     """Draw the coarsest scale, then each finer one given the one under it; the finest levels
     (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
     ``tileable``: every scale is drawn on the torus (``closure``: which seam closure, 1 to
@@ -308,7 +309,9 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     closest kept. ``rebalance``: the finest scale's level shares, when they come out off,
     are then brought back by moving region borders (markov.balance; ``moved`` counts the
     moves, made after rows_final was told of all rows but the last band, and the last call,
-    all rows final, is not made then; False, as recipes before it). ``steer``: every plain
+    all rows final, is not made then; False, as recipes before it); ``free_moves``: when the
+    moves its parents allow leave a share off, more moves follow, free of them (False, as
+    recipes before it). ``steer``: every plain
     draw of a scale is steered towards its level shares as its rows are drawn
     (markov.steering; False, as recipes before it), so drafts and moves are seldom needed.
     ``more_drafts``: a small scale is drafted as more particles (particles.drafts_for; False,
@@ -351,7 +354,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     if rebalance:
         if cancel is not None and cancel():
             raise Cancelled("synthesis cancelled")
-        levels, moved = _rebalanced(model, levels, parents, seed, tileable)
+        levels, moved = _rebalanced(model, levels, parents, seed, tileable, free_moves)
         if held and not moved:
             rows_final(*held[-1])
     return SynthesisResult(levels, repairs, redraws, int(seed), moved)
@@ -368,8 +371,13 @@ def _holding_the_last(rows_final, height: int, held: list):
     return told
 
 
-def _rebalanced(model: MultiScaleDPJ, levels, parents, seed: int, tileable: bool):
-    """The finest levels with their shares brought back (a copy, when points moved)."""
+def _rebalanced(model: MultiScaleDPJ, levels, parents, seed: int, tileable: bool,
+                free_moves: bool = False):
+    """The finest levels with their shares brought back (a copy, when points moved): first by
+    moves its parents allow; then, if ``free_moves`` and a share is still off (a small field
+    from a photo of a few large regions: its parents were drawn as few blobs), by moves on the
+    law of the finest windows alone (own_law), over FREE_PASSES passes. The finest scale has
+    no scale drawn given it, so its parents only say where its levels may go."""
     k = model.scales - 1
     if levels.size > MAX_POINTS:          # rebalance would leave it: skip its set-up (0.1 s)
         return levels, 0
@@ -377,11 +385,27 @@ def _rebalanced(model: MultiScaleDPJ, levels, parents, seed: int, tileable: bool
     if k > 0:
         up = (upsample_torus if tileable else upsample)(parents, levels.shape,
                                                         parents_under(model.dpjs[k]))
+    aim, g = model.frequencies(k), model.levels_at(k)
     moved_levels = levels.copy()
-    moved = rebalance(moved_levels, model.dpjs[k], model.frequencies(k), parents=up,
+    moved = rebalance(moved_levels, model.dpjs[k], aim, parents=up,
                       parent_levels=parent_levels(model.dpjs, k), seed=scale_seed(seed, k),
                       wrap=bool(tileable))
+    if free_moves and _frequency_error(moved_levels, aim) > TRIGGER:
+        moved += rebalance(moved_levels, own_law(model.dpjs[k], g), aim,
+                           seed=scale_seed(seed, k), wrap=bool(tileable), passes=FREE_PASSES)
     return (moved_levels, moved) if moved else (levels, 0)
+
+
+def own_law(dpj: DPJ, g: int) -> DPJ:
+    """The law of a conditional DPJ's windows of its own ``g`` levels, the parents summed out
+    (the photo's windows of that scale, as a plain DPJ counts them); kept while ``dpj`` lives."""
+    if g == dpj.levels:
+        return dpj
+
+    def summed(d: DPJ) -> DPJ:
+        codes, where = np.unique(encode(d.configs % g, g), return_inverse=True)
+        return DPJ.from_codes(codes, np.bincount(where, weights=d.probs), g, d.window)
+    return derived(dpj, f"own law of {g} levels", summed)
 
 
 def _check_scale_sizes(model: MultiScaleDPJ, shapes) -> None:

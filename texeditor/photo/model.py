@@ -90,7 +90,7 @@ class PhotoModel:
                    particles: int = PARTICLES,
                    rebalance: bool = True, steer: bool = True, more_drafts: bool = True,
                    given_redraws: int = GIVEN_REDRAWS,
-                   coarse_row_redraws: float = COARSE_ROW_REDRAWS,
+                   coarse_row_redraws: float = COARSE_ROW_REDRAWS, free_moves: bool = True,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
@@ -98,14 +98,15 @@ class PhotoModel:
         ``render(levels, wrap=tone_wrap(tileable, closure, tone_balance, tone_finish))``, in
         about half the time on two cores). ``tileable``: the levels and the picture repeat
         without a seam (``closure``, ``coarse_redraws``, ``particles``, ``rebalance``,
-        ``steer``, ``more_drafts``, ``given_redraws``, ``coarse_row_redraws``: see
+        ``steer``, ``more_drafts``, ``given_redraws``, ``coarse_row_redraws``, ``free_moves``: see
         markov.multiscale.synthesize_scales;
         ``tone_balance``: each level's greys keep the photo's histogram, tone.BALANCED;
         ``tone_finish``: its pixel-scale power is the photo's, tone.FINISHED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
                     closure=closure, coarse_redraws=coarse_redraws, particles=particles,
                     rebalance=rebalance, steer=steer, more_drafts=more_drafts,
-                    given_redraws=given_redraws, coarse_row_redraws=coarse_row_redraws)
+                    given_redraws=given_redraws, coarse_row_redraws=coarse_row_redraws,
+                    free_moves=free_moves)
         if not tone or self.tone is None:
             result = synthesize_scales(self.scales, shape, **draw)
             image = self.render(result.levels, seed=seed, tone=False)

@@ -467,7 +467,8 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 12 let a row of the coarsest scale redraw as often as its dead ends asked
+    """Versions 1 to 13 rebalanced the finest scale's level shares only by moves its parents
+    allow (no ``free_moves``); version 13 had closures 1 to 5 (default 5). Versions 1 to 12 let a row of the coarsest scale redraw as often as its dead ends asked
     (no ``coarse_row_redraws``: NO_ROW_LIMIT); version 12 had closures 1 to 5 (default 5).
     Versions 1 to 11 tried OLD_REDRAWS times at a dead end of a scale drawn given its parents
     (no ``given_redraws``); version 11 had closures 1 to 5 (default 5). Versions 1 to 10
@@ -482,6 +483,11 @@ def _scales_of_version(cls, version: int, params: dict) -> dict:
     (default 3). Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest
     scale and drew their tone without balance; version 1 had no ``closure`` (closed the first
     way), version 2 closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
+    if "free_moves" in params:
+        raise FormatError(f"action {cls.TYPE!r} version {version} has no free_moves")
+    params = {**params, "free_moves": False}
+    if version == 13:
+        return _closure_as_written(cls, version, params, 5)
     if "coarse_row_redraws" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} has no coarse_row_redraws")
     params = {**params, "coarse_row_redraws": NO_ROW_LIMIT}
@@ -597,7 +603,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 13
+    VERSION: ClassVar[int] = 14
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -649,6 +655,10 @@ class SynthesizeScales(Action):
                                           f"back off at once ({COARSE_ROW_REDRAWS:g}: current; "
                                           f"{NO_ROW_LIMIT:g}, no limit, in recipes before "
                                           "version 13)")
+    free_moves: bool = param("bool", default=True,
+                             doc="when the moves its parents allow leave a level's share of the "
+                                 "finest scale off, more moves follow, free of them (current; "
+                                 "recipes before version 14 stopped there)")
 
     upgrade = classmethod(_scales_of_version)
 
@@ -669,7 +679,8 @@ class SynthesizeScales(Action):
                                  rebalance=self.rebalance, steer=self.steer,
                                  more_drafts=self.more_drafts,
                                  given_redraws=self.given_redraws,
-                                 coarse_row_redraws=self.coarse_row_redraws)
+                                 coarse_row_redraws=self.coarse_row_redraws,
+                                 free_moves=self.free_moves)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
