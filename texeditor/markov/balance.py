@@ -17,10 +17,14 @@ plausible moves first, until every pair of neighbouring levels is within SLACK o
   neighbours join the next pass, so a region can grow by a few points' width.
 
 On 16 photos at 512² (4 seeds each) it brought the worst share of 7 scene photos from 0.04–0.07
-off to 0.010–0.023 (cell to 0.033, clock from 0.13 to 0.035); page, retina and logo stay
+off to 0.010–0.023 (cell to 0.033, clock from 0.13 to 0.035); page, retina and logo stayed
 0.11–0.20 off (their parents rule out the moves). It moves 2–15 % of the points; the GLCM and 3×3
 window distances to the photo fell on 12 and 11 of the 12 photos it moved (bench_quality.py's
-drift line measures the shares).
+drift line measures the shares). When the parents rule the moves out, markov.multiscale moves
+again on the finest windows' own law for FREE_PASSES passes (``passes``): small textures from
+photos of a few large regions then come within 0.03 (benchmarks/bench_shares.py: 228 → 105 of
+1280 draws beyond it); a level held by one or two large regions of the photo, absent from the
+texture, has no border to grow from and stays off.
 """
 
 from __future__ import annotations
