@@ -311,9 +311,9 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     moves, made after rows_final was told of all rows but the last band, and the last call,
     all rows final, is not made then; False, as recipes before it); ``free_moves``: when the
     moves its parents allow leave a share off, more moves follow, free of them (False, as
-    recipes before it). ``steer``: every plain
-    draw of a scale is steered towards its level shares as its rows are drawn
-    (markov.steering; False, as recipes before it), so drafts and moves are seldom needed.
+    recipes before it). ``steer``: every plain draw of a scale is steered towards its level
+    shares as its rows are drawn (markov.steering; False, as recipes before it), so drafts
+    and moves are seldom needed.
     ``more_drafts``: a small scale is drafted as more particles (particles.drafts_for; False,
     as recipes before it). The same model and seed give the same matrix."""
     seed = check_seed(seed)

@@ -98,8 +98,8 @@ class PhotoModel:
         ``render(levels, wrap=tone_wrap(tileable, closure, tone_balance, tone_finish))``, in
         about half the time on two cores). ``tileable``: the levels and the picture repeat
         without a seam (``closure``, ``coarse_redraws``, ``particles``, ``rebalance``,
-        ``steer``, ``more_drafts``, ``given_redraws``, ``coarse_row_redraws``, ``free_moves``: see
-        markov.multiscale.synthesize_scales;
+        ``steer``, ``more_drafts``, ``given_redraws``, ``coarse_row_redraws``,
+        ``free_moves``: see markov.multiscale.synthesize_scales;
         ``tone_balance``: each level's greys keep the photo's histogram, tone.BALANCED;
         ``tone_finish``: its pixel-scale power is the photo's, tone.FINISHED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,

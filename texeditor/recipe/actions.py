@@ -468,8 +468,9 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
     """Versions 1 to 13 rebalanced the finest scale's level shares only by moves its parents
-    allow (no ``free_moves``); version 13 had closures 1 to 5 (default 5). Versions 1 to 12 let a row of the coarsest scale redraw as often as its dead ends asked
-    (no ``coarse_row_redraws``: NO_ROW_LIMIT); version 12 had closures 1 to 5 (default 5).
+    allow (no ``free_moves``); version 13 had closures 1 to 5 (default 5). Versions 1 to 12
+    let a row of the coarsest scale redraw as often as its dead ends asked (no
+    ``coarse_row_redraws``: NO_ROW_LIMIT); version 12 had closures 1 to 5 (default 5).
     Versions 1 to 11 tried OLD_REDRAWS times at a dead end of a scale drawn given its parents
     (no ``given_redraws``); version 11 had closures 1 to 5 (default 5). Versions 1 to 10
     showed their tone unfinished (no ``tone_finish``); version 10 had closures 1 to 5
