@@ -452,6 +452,23 @@ def test_the_coarsest_row_limit_is_edited_in_the_history_form(qtbot, window):
     assert np.array_equal(window.document.levels, start) and not window.errors
 
 
+def unticked(qtbot, window, step: int, name: str):
+    """Click step ``step`` in the History list, untick its switch ``name`` with the keyboard,
+    Apply & replay: the step now done."""
+    dock = window.history_dock
+    qtbot.mouseClick(dock.view.viewport(), LEFT, pos=dock.row_rect(step).center())
+    kind, box = dock.form.editors[name]
+    assert kind == "bool" and box.isChecked()
+    box.setFocus()
+    qtbot.keyClick(box, Key.Key_Space)
+    assert not box.isChecked()
+    qtbot.mouseClick(dock.apply_button, LEFT)
+    assert window.runner.wait(60_000) and not window.errors
+    done = window.history.actions[-1]
+    assert getattr(done, name) is False
+    return done
+
+
 def test_moves_free_of_the_parents_are_unticked_in_the_history_form(qtbot, window):
     """From a small chelsea crop, synthesise twice (the last draw's finest shares 0.11 off until
     moves free of its parents bring them back), untick "Shares: moves free of the parents" in
@@ -466,15 +483,7 @@ def test_moves_free_of_the_parents_are_unticked_in_the_history_form(qtbot, windo
         return np.abs(np.bincount(levels.ravel(), minlength=4) / levels.size
                       - model.frequencies()).max()
     assert window.history.actions[-1].free_moves and off(new) <= 0.03
-    dock = window.history_dock
-    qtbot.mouseClick(dock.view.viewport(), LEFT, pos=dock.row_rect(last).center())
-    kind, box = dock.form.editors["free_moves"]
-    assert kind == "bool" and box.isChecked()
-    box.setFocus()
-    qtbot.keyClick(box, Key.Key_Space)
-    qtbot.mouseClick(dock.apply_button, LEFT)
-    assert window.runner.wait(60_000) and not window.errors
-    assert window.history.actions[-1].free_moves is False
+    unticked(qtbot, window, last, "free_moves")
     bound = model.synthesize((120, 160), seed=9, tone=False, free_moves=False).levels
     assert np.array_equal(window.document.levels, bound) and off(bound) > 0.05
     qtbot.waitUntil(lambda: np.array_equal(window.canvas.picture, tone_of(window, 9)),
@@ -517,31 +526,15 @@ def test_a_step_drawn_with_16_coarse_redraws_again_is_the_older_texture(qtbot, w
 
     # untick Tone balance in the form, Apply & replay: the same levels, the tone drawn the way
     # of steps before version 4
-    dock = window.history_dock
-    qtbot.mouseClick(dock.view.viewport(), LEFT, pos=dock.row_rect(last).center())
-    kind, box = dock.form.editors["tone_balance"]
-    assert kind == "bool" and box.isChecked()
-    box.setFocus()
-    qtbot.keyClick(box, Key.Key_Space)
-    assert not box.isChecked()
-    qtbot.mouseClick(dock.apply_button, LEFT)
-    assert window.runner.wait(60_000) and not window.errors
-    assert window.history.actions[-1].tone_balance is False
+    unticked(qtbot, window, last, "tone_balance")
     assert np.array_equal(window.document.levels, new)
     unbalanced = rgb(model.render(new, seed=7, wrap=tone.PLAIN | tone.FINISHED))
     assert np.array_equal(window.canvas.picture, unbalanced)
     assert not np.array_equal(unbalanced, tone_of(window, 7))
 
     # then untick Tone finish: the picture as drawn, every grey one of the photo's own
-    qtbot.mouseClick(dock.view.viewport(), LEFT, pos=dock.row_rect(last).center())
-    kind, box = dock.form.editors["tone_finish"]
-    assert kind == "bool" and box.isChecked()
-    box.setFocus()
-    qtbot.keyClick(box, Key.Key_Space)
-    qtbot.mouseClick(dock.apply_button, LEFT)
-    assert window.runner.wait(60_000) and not window.errors
-    step = window.history.actions[-1]
-    assert step.tone_finish is False and step.tone_balance is False
+    step = unticked(qtbot, window, last, "tone_finish")
+    assert step.tone_balance is False
     drawn = rgb(model.render(new, seed=7, wrap=tone.PLAIN))
     assert np.array_equal(window.document.levels, new)
     assert np.array_equal(window.canvas.picture, drawn) and not np.array_equal(drawn, unbalanced)
