@@ -466,68 +466,35 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
     return _closure_of_version_1(cls, version, params)
 
 
+# the parameters SynthesizeScales gained, newest first: the version each came with, and the value
+# a step of an older version reads (it cannot name the parameter)
+_SCALES_GAINED = (
+    (14, "free_moves", False),                  # moves free of the parents after the bound ones
+    (13, "coarse_row_redraws", NO_ROW_LIMIT),   # a coarsest row redrew without limit
+    (12, "given_redraws", OLD_REDRAWS),         # 16 tries at a dead end of a finer scale
+    (11, "tone_finish", False),                 # the tone shown as drawn
+    (10, "more_drafts", False),                 # every scale drafted as ``particles``
+    (9, "steer", False),                        # every scale drawn unsteered
+    (8, "rebalance", False),                    # the finest scale's shares kept as drawn
+    (6, "particles", 0),                        # a coarse scale drawn again whole
+)
+
+
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """Versions 1 to 13 rebalanced the finest scale's level shares only by moves its parents
-    allow (no ``free_moves``); version 13 had closures 1 to 5 (default 5). Versions 1 to 12
-    let a row of the coarsest scale redraw as often as its dead ends asked (no
-    ``coarse_row_redraws``: NO_ROW_LIMIT); version 12 had closures 1 to 5 (default 5).
-    Versions 1 to 11 tried OLD_REDRAWS times at a dead end of a scale drawn given its parents
-    (no ``given_redraws``); version 11 had closures 1 to 5 (default 5). Versions 1 to 10
-    showed their tone unfinished (no ``tone_finish``); version 10 had closures 1 to 5
-    (default 5). Versions 1 to 9 drafted every scale as ``particles`` drafts (no
-    ``more_drafts``); version 9 had closures 1 to 5 (default 5). Versions 1 to 8 drew every
-    scale without steering its level
-    shares (no ``steer``); version 8 had closures 1 to 5 (default 5). Versions 1 to 7 kept the
-    finest scale's level shares as drawn (no ``rebalance``); version 7 had closures 1 to 5
-    (default 5), version 6 1 to 4 (default 4). Versions 1 to 5 drew a coarse scale again to fit
-    its level shares (no ``particles``); version 5 had closures 1 to 4, version 4 1 to 3
-    (default 3). Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest
-    scale and drew their tone without balance; version 1 had no ``closure`` (closed the first
-    way), version 2 closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
-    if "free_moves" in params:
-        raise FormatError(f"action {cls.TYPE!r} version {version} has no free_moves")
-    params = {**params, "free_moves": False}
-    if version == 13:
-        return _closure_as_written(cls, version, params, 5)
-    if "coarse_row_redraws" in params:
-        raise FormatError(f"action {cls.TYPE!r} version {version} has no coarse_row_redraws")
-    params = {**params, "coarse_row_redraws": NO_ROW_LIMIT}
-    if version == 12:
-        return _closure_as_written(cls, version, params, 5)
-    if "given_redraws" in params:
-        raise FormatError(f"action {cls.TYPE!r} version {version} has no given_redraws")
-    params = {**params, "given_redraws": OLD_REDRAWS}
-    if version == 11:
-        return _closure_as_written(cls, version, params, 5)
-    if "tone_finish" in params:
-        raise FormatError(f"action {cls.TYPE!r} version {version} has no tone_finish")
-    params = {**params, "tone_finish": False}
-    if version == 10:
-        return _closure_as_written(cls, version, params, 5)
-    if "more_drafts" in params:
-        raise FormatError(f"action {cls.TYPE!r} version {version} has no more_drafts")
-    params = {**params, "more_drafts": False}
-    if version == 9:
-        return _closure_as_written(cls, version, params, 5)
-    if "steer" in params:
-        raise FormatError(f"action {cls.TYPE!r} version {version} has no steer")
-    params = {**params, "steer": False}
-    if version == 8:
-        return _closure_as_written(cls, version, params, 5)
-    if "rebalance" in params:
-        raise FormatError(f"action {cls.TYPE!r} version {version} has no rebalance")
-    params = {**params, "rebalance": False}
-    if version == 7:
-        return _closure_as_written(cls, version, params, 5)
-    if version == 6:
-        return _closure_as_written(cls, version, params, 4)
-    if "particles" in params:
-        raise FormatError(f"action {cls.TYPE!r} version {version} has no particles")
-    params = {**params, "particles": 0}
-    if version == 5:
-        return _closure_as_written(cls, version, params, 4)
-    if version == 4:
-        return _closure_as_written(cls, version, params, 3)
+    """An older step with the parameters it lacks (_SCALES_GAINED) and its closure: versions 7
+    to 13 had closures 1 to 5 (default 5), 5 and 6 1 to 4 (default 4), 4 1 to 3 (default 3).
+    Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest scale and drew
+    their tone without balance; version 1 had no ``closure`` (closed the first way), version 2
+    closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
+    for since, name, older in _SCALES_GAINED:
+        if version >= since:
+            break
+        if name in params:
+            raise FormatError(f"action {cls.TYPE!r} version {version} has no {name}")
+        params = {**params, name: older}
+    if version >= 4:
+        return _closure_as_written(cls, version, params, 5 if version >= 7 else
+                                   4 if version >= 5 else 3)
     if version not in (1, 2, 3) or "coarse_redraws" in params or "tone_balance" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} is not supported "
                           f"(this program reads versions 1 to {cls.VERSION})")
