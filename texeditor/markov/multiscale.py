@@ -209,8 +209,8 @@ def upsample(parents: np.ndarray, shape, under: bool = False) -> np.ndarray:
 
 def upsample_torus(parents: np.ndarray, shape, under: bool = False) -> np.ndarray:
     """``upsample`` on the torus (``under`` as there): the last row's parent is the first
-    row's (one row ahead), and a side of odd length is resampled to the nearest coarse point, so the parents tile as
-    the points do."""
+    row's (one row ahead), and a side of odd length is resampled to the nearest coarse point,
+    so the parents tile as the points do."""
     (h, w), (hc, wc) = shape, parents.shape
     rows = (np.arange(h) * hc // h) if under else (np.arange(1, h + 1) * hc // h) % hc
     cols = np.arange(w) * wc // w
