@@ -77,6 +77,7 @@ class FileOps:
         if not self.maybe_save():
             ev.ignore()
             return
+        self.closing = True                # a task cancelled now starts nothing in its place
         self.runner.cancel()
         self.runner.wait(10_000)
         self.journal_discard()

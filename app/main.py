@@ -84,6 +84,7 @@ def run(argv=None) -> int:
     def another_window():
         extra = MainWindow()
         extra.show()
+        extra.bank_dock.load(prepare=False)
         extra_windows.append(extra)
         return extra
 
@@ -92,6 +93,8 @@ def run(argv=None) -> int:
         window.bank_dock.load(prepare=False)      # the bank is listed beside the file
     elif args.screenshot is not None or not offer_recovery(window, another_window, problems):
         window.start_default()
+    else:
+        window.bank_dock.load(prepare=False)      # ... and beside restored work
     report_problems(window, problems)      # one message naming every file set aside
     if args.screenshot is None:
         return app.exec()

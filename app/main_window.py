@@ -97,6 +97,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self._journal = None       # this window's crash journal (None: not yet; False: failed)
         self.runner = TaskRunner(self)
         self._replaying = None     # the PendingEdit of a past step replayed in the worker
+        self.closing = False       # closeEvent accepted: a task cancelled now is not replaced
         self.headless = False      # --screenshot: errors go to stderr, never a modal dialog
         self.paint_zone = None     # the zone the two zone tools share (app.tools.zone)
         self.peano_dialog = None          # non-modal dialogs, kept to be shown again

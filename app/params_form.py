@@ -11,6 +11,7 @@ import secrets
 from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.recipe.actions import param_specs
+from texeditor.wording import counted
 
 INT32 = 2**31 - 1
 LONG_TEXT = 80             # a text parameter longer than this is structured data, shown as its size
@@ -168,11 +169,11 @@ class ParamsForm(QtWidgets.QWidget):
         if value is None:
             return "default"
         if kind == "palette":
-            return f"{len(value)} colours (edit them in the Palette dock)"
+            return f"{counted(len(value), 'colour')} (edit them in the Palette dock)"
         if kind == "points":
-            return f"{len(value)} points"
+            return counted(len(value), "point")
         if kind == "texts":
-            return f"{len(value)} texture recipes (set by its tool)"
+            return f"{counted(len(value), 'texture recipe')} (set by its tool)"
         return str(value)
 
     def values(self) -> dict:

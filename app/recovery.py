@@ -1,7 +1,11 @@
 """Restoring work after a crash: the journals of dead processes, offered back on start-up.
 
-`texeditor.recipe.journal` keeps them; this module asks the user, replays the log into a History and
-shows it as an unsaved document (its title starred), one window per document.
+`texeditor.recipe.journal` keeps them; this module lists them all in one dialog (as LibreOffice's
+document recovery does: a crash of several windows leaves several), replays each one chosen into a
+History in a window's task runner — progress and Cancel in the status bar, the window live while a
+long log replays or a first start compiles the kernels — and shows it as an unsaved document (its
+title starred), one window per document. A journal is deleted only once its work is on screen or
+the user discarded it: a cancelled or postponed restore is offered again at the next start.
 """
 
 from __future__ import annotations
@@ -10,65 +14,193 @@ import sys
 import time
 from pathlib import Path
 
-from PySide6 import QtWidgets
+from PySide6 import QtCore, QtWidgets
 
-from texeditor.errors import TexeditorError
 from texeditor.wording import counted
 from texeditor.recipe.history import History
 from texeditor.recipe.journal import orphans, recover
 from texeditor.userdata import set_aside_line
 
-Yes, No = QtWidgets.QMessageBox.StandardButton.Yes, QtWidgets.QMessageBox.StandardButton.No
-
-
 def offer_recovery(window, make_window=None, problems: list | None = None) -> int:
-    """Ask about each journal left by a crash; the first document restored goes into ``window``,
-    the next ones into windows from ``make_window()``. Returns how many were restored.
+    """Offer every journal left by a crash in one dialog; the first document chosen is restored
+    into ``window``, the next ones into windows from ``make_window()`` (without it they wait for
+    the next start). Returns how many restores were started: they end in the windows' runners,
+    and a window whose restore fails or is cancelled opens the bank's start-up texture instead.
 
     A journal that cannot be read or replayed (a folder or a FIFO named like one, damage) is set
     aside, never deleted, and never stops the start: a line naming it is appended to
     ``problems``, or, without that list, shown at once by `report_problems`."""
-    restored, own = 0, problems is None
+    own = problems is None
     problems = [] if own else problems
+    found = _readable(problems)
+    chosen = []
+    if found:
+        dialog = RecoveryDialog(window, found)
+        if dialog.exec() == QtWidgets.QDialog.DialogCode.Accepted:
+            chosen = dialog.chosen()
+            for item in found:
+                if item not in chosen:
+                    item.path.unlink(missing_ok=True)
+    if make_window is None and len(chosen) > 1:
+        window.statusBar().showMessage(f"{counted(len(chosen) - 1, 'more texture')} will be "
+                                       "offered again at the next start.", 10000)
+        chosen = chosen[:1]
+    for k, item in enumerate(chosen):
+        restore(window if k == 0 else make_window(), item, fallback=k == 0,
+                elsewhere=make_window)
+    if own:
+        report_problems(window, problems)
+    return len(chosen)
+
+
+def _readable(problems: list) -> list:
+    """The orphan journals that hold unsaved work, read (newest first); the unreadable ones set
+    aside, the ones with nothing unsaved deleted."""
     try:
-        found_paths = orphans()
+        paths = orphans()
     except OSError as exc:
-        found_paths = []
         problems.append(f"the crash journals cannot be listed ({exc.strerror or exc})")
-    for path in found_paths:
+        return []
+    found = []
+    for path in paths:
         try:
-            found = recover(path)
+            item = recover(path)
         except RecursionError:
             problems.append(set_aside_line(path, "nested too deep"))
             continue
         except Exception as exc:             # any defect: this file must not stop the start
             problems.append(set_aside_line(path, str(exc) or type(exc).__name__))
             continue
-        if found.changes == 0:               # saved (or untouched) when it died: nothing lost
+        if item.changes == 0:                # saved (or untouched) when it died: nothing lost
             path.unlink(missing_ok=True)
             continue
-        if _ask(window, found) != Yes:
-            path.unlink(missing_ok=True)
-            continue
-        try:
-            history = History.from_log(found.actions, found.dpjs, exemplars=found.exemplars)
-        except (TexeditorError, ValueError, TypeError, KeyError, ArithmeticError,
-                MemoryError) as exc:
-            problems.append(set_aside_line(path, f"the unsaved work cannot be restored "
-                                                  f"({str(exc) or type(exc).__name__})"))
-            continue
-        target = window if restored == 0 or make_window is None else make_window()
-        target.set_history(history, Path(found.source) if found.source else None)
-        target.mark_unsaved()                # restored work is unsaved work
-        target.journal_sync(reset=True)      # a journal of its own from now on
-        path.unlink(missing_ok=True)
-        restored += 1
-        target.statusBar().showMessage(
-            f"Restored {counted(len(found.actions), 'step')} of unsaved work: save it to keep "
+        found.append(item)
+    return found
+
+
+def restore(target, item, *, fallback: bool = True, elsewhere=None):
+    """Replay the journal ``item`` in ``target``'s runner and show it there as unsaved work;
+    in a window from ``elsewhere()`` if the user began another texture in ``target`` meanwhile
+    (without it, the journal waits for the next start). When the replay fails (the journal is
+    set aside and named) or is cancelled (it is kept), an empty ``target`` opens the start-up
+    texture (``fallback``) or closes (an extra window). Returns the runner's job."""
+    name = describe(item)
+
+    def work(progress, cancel):
+        return History.from_log(item.actions, item.dpjs, exemplars=item.exemplars,
+                                progress=progress, cancel=cancel)
+
+    def done(history):
+        window = target
+        if target.history is not None and target.is_modified():
+            if elsewhere is None:
+                target.statusBar().showMessage(f"{name} was not restored over your new work: "
+                                               "it will be offered again at the next start.",
+                                               15000)
+                return
+            window = elsewhere()
+        window.set_history(history, Path(item.source) if item.source else None)
+        window.mark_unsaved()                # restored work is unsaved work
+        window.journal_sync(reset=True)      # a journal of its own from now on
+        item.path.unlink(missing_ok=True)
+        window.statusBar().showMessage(
+            f"Restored {counted(len(item.actions), 'step')} of unsaved work: save it to keep "
             "it.", 10000)
-    if own:
-        report_problems(window, problems)
-    return restored
+
+    def given_up():
+        if target.history is None and not target.closing:   # nothing begun in it meanwhile
+            target.start_default() if fallback else target.close()
+
+    def cancelled():
+        given_up()
+        target.statusBar().showMessage(f"Restoring {name} was cancelled: it will be offered "
+                                       "again at the next start.", 15000)
+
+    def failed(exc):
+        line = set_aside_line(item.path, f"the unsaved work cannot be restored "
+                                         f"({str(exc) or type(exc).__name__})")
+        given_up()
+        report_problems(target, [line])
+
+    return target.runner.run(f"Restoring {name}…", work, done, on_cancel=cancelled,
+                             on_error=failed)
+
+
+def describe(item) -> str:
+    """The texture a journal holds, for the user: its file's name, or 'an unsaved texture'."""
+    return Path(item.source).name if item.source else "an unsaved texture"
+
+
+def opened_when(item) -> str:
+    try:
+        return time.strftime("%Y-%m-%d %H:%M", time.localtime(item.started))
+    except (OverflowError, OSError, ValueError):
+        return "at an unknown time"
+
+
+class RecoveryDialog(QtWidgets.QDialog):
+    """Every texture a crash left unsaved, each with a tick box (all ticked): Restore brings back
+    the ticked ones and discards the others; Not now keeps them all for the next start."""
+
+    def __init__(self, parent, found: list):
+        super().__init__(parent)
+        self.found = list(found)
+        self.setWindowTitle("Restore unsaved work?")
+        several = len(found) > 1
+        if several:
+            text = (f"texeditor closed unexpectedly while editing "
+                    f"{counted(len(found), 'unsaved texture')}.\n\nRestore the ticked ones as "
+                    "they were after their last completed step, each in a window of its own? "
+                    "The others are discarded.")
+        else:
+            text = (f"texeditor closed unexpectedly while editing {describe(found[0])} (opened "
+                    f"{opened_when(found[0])}).\n\nRestore it as it was after its last "
+                    f"completed step ({counted(len(found[0].actions), 'step')})?")
+        intro = QtWidgets.QLabel(text)
+        intro.setWordWrap(True)
+        self.list = QtWidgets.QListWidget()
+        for item in found:
+            row = QtWidgets.QListWidgetItem(
+                f"{describe(item)} — opened {opened_when(item)}, "
+                f"{counted(len(item.actions), 'step')}")
+            row.setFlags(row.flags() | QtCore.Qt.ItemFlag.ItemIsUserCheckable)
+            row.setCheckState(QtCore.Qt.CheckState.Checked)
+            self.list.addItem(row)
+        self.list.setVisible(several)
+        self.list.itemChanged.connect(self._update_buttons)
+        buttons = QtWidgets.QDialogButtonBox()
+        self.restore_button = buttons.addButton(
+            "Restore", QtWidgets.QDialogButtonBox.ButtonRole.AcceptRole)
+        self.discard_button = buttons.addButton(
+            "Discard" + (" all" if several else ""),
+            QtWidgets.QDialogButtonBox.ButtonRole.DestructiveRole)
+        self.later_button = buttons.addButton(
+            "Not now", QtWidgets.QDialogButtonBox.ButtonRole.RejectRole)
+        self.restore_button.setDefault(True)
+        self.restore_button.clicked.connect(self.accept)
+        self.discard_button.clicked.connect(self.discard_all)
+        self.later_button.clicked.connect(self.reject)
+        layout = QtWidgets.QVBoxLayout(self)
+        layout.addWidget(intro)
+        layout.addWidget(self.list)
+        layout.addWidget(buttons)
+        self.resize(560, 320 if several else 140)
+
+    def chosen(self) -> list:
+        """The journals ticked for restoring."""
+        return [item for k, item in enumerate(self.found)
+                if self.list.item(k).checkState() == QtCore.Qt.CheckState.Checked]
+
+    def discard_all(self) -> None:
+        for k in range(self.list.count()):
+            self.list.item(k).setCheckState(QtCore.Qt.CheckState.Unchecked)
+        self.accept()
+
+    def _update_buttons(self, _item=None) -> None:
+        ticked = len(self.chosen())
+        self.restore_button.setEnabled(ticked > 0)
+        self.restore_button.setText("Restore" if ticked in (0, len(self.found))
+                                    else f"Restore {ticked}")
 
 
 def report_problems(window, problems: list[str]) -> None:
@@ -83,17 +215,3 @@ def report_problems(window, problems: list[str]) -> None:
     window.statusBar().showMessage(text, 30000)
     if getattr(window, "headless", False):
         print(f"texeditor: {text}", file=sys.stderr)
-
-
-def _ask(window, found) -> QtWidgets.QMessageBox.StandardButton:
-    try:
-        when = time.strftime("%Y-%m-%d %H:%M", time.localtime(found.started))
-    except (OverflowError, OSError, ValueError):
-        when = "at an unknown time"
-    what = Path(found.source).name if found.source else "an unsaved texture"
-    return QtWidgets.QMessageBox.question(
-        window, "Restore unsaved work?",
-        f"texeditor closed unexpectedly while editing {what} (opened {when}).\n\n"
-        f"Restore it as it was after its last completed step "
-        f"({counted(len(found.actions), 'step')})?",
-        Yes | No, Yes)

@@ -89,3 +89,11 @@ def test_a_fill_that_changes_nothing_adds_no_step_and_says_so(qtbot, window):
     assert window.document.levels[10, 10] == (level + 1) % window.document.num_levels
     click(canvas.viewport(), cell_pos(canvas, 10, 10))       # the same click again: none
     assert window.history.index == steps + 1
+
+
+def test_the_step_form_counts_points_colours_and_recipes_in_good_english():
+    from app.params_form import ParamsForm
+    assert ParamsForm._describe("points", [(3, 4)]) == "1 point"
+    assert ParamsForm._describe("points", [(3, 4), (5, 6)]) == "2 points"
+    assert ParamsForm._describe("palette", [(0, 0, 0)]).startswith("1 colour (")
+    assert ParamsForm._describe("texts", ["a", "b"]).startswith("2 texture recipes (")

@@ -21,7 +21,8 @@ RECOVERY = textwrap.dedent("""
     import sys
     from PySide6 import QtWidgets
     app = QtWidgets.QApplication([])
-    QtWidgets.QMessageBox.question = lambda *a, **k: QtWidgets.QMessageBox.StandardButton.Yes
+    from app.recovery import RecoveryDialog
+    RecoveryDialog.exec = lambda self: QtWidgets.QDialog.DialogCode.Accepted   # Restore all
     def modal(*a, **k):
         print("MODAL DIALOG", a[1:3], file=sys.stderr)
         sys.exit(3)
@@ -31,6 +32,7 @@ RECOVERY = textwrap.dedent("""
     window = MainWindow()
     window.show()
     print("restored", offer_recovery(window))
+    window.runner.wait(60_000)
     print("status", window.statusBar().currentMessage())
     window.journal_discard()
 """)
