@@ -73,6 +73,13 @@ class FileOps:
             return self.save()
         return answer == QtWidgets.QMessageBox.StandardButton.Discard
 
+    def quit_all(self) -> bool:
+        """File ▸ Quit: close every texeditor window (a crash can leave several restored), this
+        one first, each asking about its own unsaved work; a Cancel stops the quit there."""
+        others = [w for w in QtWidgets.QApplication.topLevelWidgets()
+                  if isinstance(w, type(self)) and w is not self and w.isVisible()]
+        return all(w.close() for w in [self, *others])
+
     def closeEvent(self, ev) -> None:
         if not self.maybe_save():
             ev.ignore()

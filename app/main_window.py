@@ -234,7 +234,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
                              "configurations and give them probabilities (thesis §5.2.2)")
         self.act_edit_dpj = a("Edit D&PJ…", lambda: dpj_editor.open_editor(self), "Ctrl+J",
                               "Open the current DPJ in the DPJ editor")
-        self.act_quit = a("&Quit", self.close, K.Quit)
+        self.act_quit = a("&Quit", self.quit_all, K.Quit, "Close every texeditor window, "
+                          "asking about unsaved work")
         self.act_undo = a("&Undo", self.undo, "Ctrl+Z")
         self.act_redo = a("&Redo", self.redo, ["Ctrl+Shift+Z", "Ctrl+Y"])
         self.act_synth = a("&Synthesise", self.synthesise_from_dock, "Ctrl+R",

@@ -332,3 +332,27 @@ def test_zoom_is_shown_only_once_there_is_a_texture(qtbot, window):
     qtbot.waitUntil(lambda: empty.zoom_label.text().endswith(" %"))
     assert window.zoom_label.text().startswith("zoom ") and window.zoom_label.text() != "zoom –"
     empty.mark_clean()
+
+
+def test_quit_closes_every_window_each_asking_and_a_cancel_stops_it(qtbot, window, monkeypatch):
+    from app.main_window import MainWindow
+    from texeditor.recipe.actions import NewCanvas, SetLevels
+    from texeditor.recipe.history import History
+    Button = QtWidgets.QMessageBox.StandardButton
+    second = MainWindow()
+    second.show()
+    second.set_history(History())
+    second.submit(NewCanvas(20, 10, 4))
+    second.submit(SetLevels(0, 0, 2, 2, 1))
+    window.submit(SetLevels(0, 0, 2, 2, 3))
+    answers, asked = [Button.Discard, Button.Cancel], []
+    monkeypatch.setattr(QtWidgets.QMessageBox, "question",
+                        lambda parent, *a, **k: asked.append(parent) or answers.pop(0))
+    assert not window.quit_all()                    # Discard here, Cancel in the second window
+    assert asked == [window, second]
+    assert not window.isVisible() and second.isVisible()
+    assert second.document.levels[0, 0] == 1        # the cancelled one kept its work
+    answers.append(Button.Discard)
+    second.act_quit.trigger()                       # File ▸ Quit (Ctrl+Q) from the one left
+    assert not second.isVisible() and asked == [window, second, second]
+    second.deleteLater()
