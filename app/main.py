@@ -84,18 +84,21 @@ def run(argv=None) -> int:
     def another_window():
         extra = MainWindow()
         extra.show()
-        extra.bank_dock.load(prepare=False)
+        extra.bank_dock.load(prepare=False)       # the bank beside the restored work
         extra_windows.append(extra)
         return extra
 
+    offered = False                        # crash journals: read in the worker, then offered
     if args.open is not None:
         window.open_file(args.open)
         window.bank_dock.load(prepare=False)      # the bank is listed beside the file
-    elif args.screenshot is not None or not offer_recovery(window, another_window, problems):
+    elif args.screenshot is None:
+        offered = offer_recovery(window, another_window, problems,
+                                 otherwise=window.start_default)
+    if args.open is None and not offered:
         window.start_default()
-    else:
-        window.bank_dock.load(prepare=False)      # ... and beside restored work
-    report_problems(window, problems)      # one message naming every file set aside
+    if not offered:                        # (offer_recovery names them once it has read)
+        report_problems(window, problems)  # one message naming every file set aside
     if args.screenshot is None:
         return app.exec()
 

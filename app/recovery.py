@@ -16,53 +16,92 @@ from pathlib import Path
 
 from PySide6 import QtCore, QtWidgets
 
+from texeditor.errors import Cancelled
 from texeditor.wording import counted
 from texeditor.recipe.history import History
 from texeditor.recipe.journal import orphans, recover
 from texeditor.userdata import set_aside_line
 
-def offer_recovery(window, make_window=None, problems: list | None = None) -> int:
-    """Offer every journal left by a crash in one dialog; the first document chosen is restored
+def offer_recovery(window, make_window=None, problems: list | None = None, *,
+                   otherwise=None) -> bool:
+    """Offer the work of crashed sessions back. False when no journal was left (nothing
+    happens). Else True: the journals are read in ``window``'s runner (a journal may hold
+    hundreds of MB: seconds), then offered in one dialog; the first document chosen is restored
     into ``window``, the next ones into windows from ``make_window()`` (without it they wait for
-    the next start). Returns how many restores were started: they end in the windows' runners,
-    and a window whose restore fails or is cancelled opens the bank's start-up texture instead.
+    the next start). ``otherwise()`` runs when nothing is restored: none chosen, Not now, the
+    reading cancelled; and, in ``window`` only, when its restore fails or is cancelled.
 
     A journal that cannot be read or replayed (a folder or a FIFO named like one, damage) is set
-    aside, never deleted, and never stops the start: a line naming it is appended to
-    ``problems``, or, without that list, shown at once by `report_problems`."""
-    own = problems is None
-    problems = [] if own else problems
-    found = _readable(problems)
-    chosen = []
-    if found:
-        dialog = RecoveryDialog(window, found)
-        if dialog.exec() == QtWidgets.QDialog.DialogCode.Accepted:
-            chosen = dialog.chosen()
-            for item in found:
-                if item not in chosen:
-                    item.path.unlink(missing_ok=True)
-    if make_window is None and len(chosen) > 1:
-        window.statusBar().showMessage(f"{counted(len(chosen) - 1, 'more texture')} will be "
-                                       "offered again at the next start.", 10000)
-        chosen = chosen[:1]
-    for k, item in enumerate(chosen):
-        restore(window if k == 0 else make_window(), item, fallback=k == 0,
-                elsewhere=make_window)
-    if own:
-        report_problems(window, problems)
-    return len(chosen)
-
-
-def _readable(problems: list) -> list:
-    """The orphan journals that hold unsaved work, read (newest first); the unreadable ones set
-    aside, the ones with nothing unsaved deleted."""
+    aside, never deleted, and never stops the start: the lines naming them, after ``problems``
+    (say, libraries set aside), are shown in one message by `report_problems` once read."""
+    problems = list(problems or [])
     try:
         paths = orphans()
     except OSError as exc:
-        problems.append(f"the crash journals cannot be listed ({exc.strerror or exc})")
-        return []
+        report_problems(window, problems + [f"the crash journals cannot be listed "
+                                            f"({exc.strerror or exc})"])
+        return False
+    if not paths:
+        return False
+    otherwise = otherwise or (lambda: None)
+
+    def read(progress, cancel):
+        lines = []
+        return _readable(paths, lines, progress, cancel), lines
+
+    def offer(result):
+        found, lines = result
+        if found:
+            _ask(window, found, make_window, otherwise)
+        else:
+            otherwise()
+        report_problems(window, problems + lines)
+
+    def later():
+        otherwise()
+        report_problems(window, problems)
+
+    window.runner.run("Reading the work a crash left unsaved…", read, offer,
+                      on_cancel=later, on_error=lambda exc: later())
+    return True
+
+
+def _ask(window, found, make_window, otherwise) -> None:
+    """The dialog (window-modal, no nested event loop); then the restores, or ``otherwise``."""
+    dialog = RecoveryDialog(window, found)
+
+    def answered(code):
+        chosen = dialog.chosen() if code == QtWidgets.QDialog.DialogCode.Accepted else []
+        if code == QtWidgets.QDialog.DialogCode.Accepted:
+            for item in found:
+                if not any(item is c for c in chosen):
+                    item.path.unlink(missing_ok=True)
+        if make_window is None and len(chosen) > 1:
+            window.statusBar().showMessage(f"{counted(len(chosen) - 1, 'more texture')} will "
+                                           "be offered again at the next start.", 10000)
+            chosen = chosen[:1]
+        if not chosen:
+            otherwise()
+            return
+        window.bank_dock.load(prepare=False)     # the bank is listed beside restored work
+        for k, item in enumerate(chosen):
+            restore(window if k == 0 else make_window(), item,
+                    fallback=otherwise if k == 0 else None, elsewhere=make_window)
+    dialog.finished.connect(answered)
+    dialog.finished.connect(dialog.deleteLater)
+    window.recovery_dialog = dialog
+    dialog.open()
+
+
+def _readable(paths, problems: list, progress=None, cancel=None) -> list:
+    """The journals at ``paths`` that hold unsaved work, read (in the worker); the unreadable
+    ones set aside (a line in ``problems`` each), those with nothing unsaved deleted."""
     found = []
-    for path in paths:
+    for n, path in enumerate(paths):
+        if cancel is not None and cancel():
+            raise Cancelled()
+        if progress is not None:
+            progress(n / len(paths))
         try:
             item = recover(path)
         except RecursionError:
@@ -78,12 +117,12 @@ def _readable(problems: list) -> list:
     return found
 
 
-def restore(target, item, *, fallback: bool = True, elsewhere=None):
+def restore(target, item, *, fallback=None, elsewhere=None):
     """Replay the journal ``item`` in ``target``'s runner and show it there as unsaved work;
     in a window from ``elsewhere()`` if the user began another texture in ``target`` meanwhile
     (without it, the journal waits for the next start). When the replay fails (the journal is
-    set aside and named) or is cancelled (it is kept), an empty ``target`` opens the start-up
-    texture (``fallback``) or closes (an extra window). Returns the runner's job."""
+    set aside and named) or is cancelled (it is kept), an empty ``target`` runs ``fallback()``
+    (the start-up texture), or without it closes (an extra window). Returns the runner's job."""
     name = describe(item)
 
     def work(progress, cancel):
@@ -109,7 +148,7 @@ def restore(target, item, *, fallback: bool = True, elsewhere=None):
 
     def given_up():
         if target.history is None and not target.closing:   # nothing begun in it meanwhile
-            target.start_default() if fallback else target.close()
+            fallback() if fallback is not None else target.close()
 
     def cancelled():
         given_up()

@@ -134,7 +134,7 @@ def case_journal(folder: Path) -> list:
                 break
             f.write(record + b"\n")
     return [f"journal recovery, {path.stat().st_size / 2**20:.0f} MiB: {seed} distinct DPJs of "
-            f"{MAX_ENTRIES:,} entries", ["--python", "from texeditor import journal; "
+            f"{MAX_ENTRIES:,} entries", ["--python", "from texeditor.recipe import journal; "
                                         f"print(len(journal.recover({str(path)!r}).dpjs))"]]
 
 

@@ -1,6 +1,6 @@
 """Crash recovery end to end: real app processes are killed after N actions; the next start
-offers their work back in one dialog and restores exactly those N actions, in the window's task
-runner (the window stays live; Cancel keeps the journal for the next start)."""
+reads their journals and restores exactly those N actions in the window's task runner (the
+window stays live; Cancel keeps the journal for the next start), after one dialog offers them."""
 
 import os
 import subprocess
@@ -51,32 +51,44 @@ def expected_levels(n: int):
     return levels
 
 
+class Seen:
+    """What a recovery dialog showed (it is deleted once answered)."""
+
+    def __init__(self, dialog):
+        self.text = dialog.findChild(QtWidgets.QLabel).text()
+        self.rows = dialog.list.count()
+        self.list_shown = dialog.list.isVisible()
+        self.ticked = [dialog.list.item(k).checkState().name for k in range(self.rows)]
+
+
 def answering(monkeypatch, act):
-    """The recovery dialog shows, ``act(dialog)`` clicks in it; returns the dialogs seen."""
+    """The recovery dialog shows, ``act(dialog)`` clicks in it; returns what each one showed."""
     seen = []
 
     def run(dialog):
         dialog.show()
-        seen.append(dialog)
+        seen.append(Seen(dialog))
         act(dialog)
-        return dialog.result()
-    monkeypatch.setattr(RecoveryDialog, "exec", run)
+    monkeypatch.setattr(RecoveryDialog, "open", run)
     return seen
 
 
-def ticked(dialog):
-    return [dialog.list.item(k).checkState().name for k in range(dialog.list.count())]
+def offered(window, make_window=None):
+    """offer_recovery, waited for (reading, the dialog, the restores); what ``otherwise`` saw."""
+    otherwise = []
+    assert offer_recovery(window, make_window, otherwise=lambda: otherwise.append(1))
+    assert window.runner.busy and "Reading" in window.task_label.text()   # in the worker
+    assert window.runner.wait(60_000)
+    return otherwise
 
 
 def test_a_killed_app_is_restored_exactly_up_to_its_last_action(window, monkeypatch, qtbot):
     crash(6)
     assert len(orphans()) == 1
     seen = answering(monkeypatch, lambda d: d.restore_button.click())
-    assert offer_recovery(window) == 1
-    assert "6 steps" in seen[0].findChild(QtWidgets.QLabel).text()
-    assert not seen[0].list.isVisible()                  # one texture: no list to tick
-    assert window.runner.busy and "Restoring" in window.task_label.text()    # in the worker
-    assert window.runner.wait(60_000)
+    assert offered(window) == []
+    assert "6 steps" in seen[0].text
+    assert not seen[0].list_shown                         # one texture: no list to tick
     assert len(window.history.applied) == 6
     assert np.array_equal(window.document.levels, expected_levels(6))
     assert window.is_modified() and "*" in window.windowTitle()
@@ -93,8 +105,9 @@ def test_discarding_forgets_the_journal(window, monkeypatch):
     crash(6)
     before = window.history.applied
     answering(monkeypatch, lambda d: d.discard_button.click())
-    assert offer_recovery(window) == 0
+    assert offered(window) == [1]                        # the start-up texture instead
     assert window.history.applied == before and orphans() == []
+    assert offer_recovery(window) is False               # nothing left to offer
 
 
 def test_not_now_keeps_every_journal_for_the_next_start(window, monkeypatch):
@@ -102,11 +115,11 @@ def test_not_now_keeps_every_journal_for_the_next_start(window, monkeypatch):
     crash(5)
     before = window.history.applied
     seen = answering(monkeypatch, lambda d: d.later_button.click())
-    assert offer_recovery(window) == 0
+    assert offered(window) == [1]
     assert window.history.applied == before and len(orphans()) == 2
     answering(monkeypatch, lambda d: d.reject())          # Esc: the same
-    assert offer_recovery(window) == 0 and len(orphans()) == 2
-    assert ticked(seen[0]) == ["Checked", "Checked"]
+    assert offered(window) == [1] and len(orphans()) == 2
+    assert seen[0].ticked == ["Checked", "Checked"]
 
 
 def test_two_crashed_windows_are_offered_in_one_dialog_each_restored_in_its_own(
@@ -122,10 +135,9 @@ def test_two_crashed_windows_are_offered_in_one_dialog_each_restored_in_its_own(
         extra.append(win)
         return win
     seen = answering(monkeypatch, lambda d: d.restore_button.click())
-    assert offer_recovery(window, make_window) == 2
-    assert seen[0].list.count() == 2 and "2 unsaved textures" in \
-        seen[0].findChild(QtWidgets.QLabel).text()
-    assert window.runner.wait(60_000) and extra and extra[0].runner.wait(60_000)
+    assert offered(window, make_window) == []
+    assert seen[0].rows == 2 and seen[0].list_shown and "2 unsaved textures" in seen[0].text
+    assert extra and extra[0].runner.wait(60_000)
     steps = sorted([len(window.history.applied), len(extra[0].history.applied)])
     assert steps == [3, 5] and orphans() == []
     for win in (window, extra[0]):
@@ -144,8 +156,7 @@ def test_an_unticked_texture_is_discarded_and_the_ticked_one_restored(window, mo
         assert dialog.restore_button.text() == "Restore 1"
         dialog.restore_button.click()
     answering(monkeypatch, untick_the_second)
-    assert offer_recovery(window, None) == 1
-    assert window.runner.wait(60_000)
+    assert offered(window) == []
     assert len(window.history.applied) in (3, 5) and orphans() == []
 
 
@@ -159,7 +170,7 @@ def test_nothing_ticked_cannot_be_restored(window, monkeypatch):
         assert not dialog.restore_button.isEnabled()
         dialog.later_button.click()
     answering(monkeypatch, untick_all)
-    assert offer_recovery(window) == 0 and len(orphans()) == 2
+    assert offered(window) == [1] and len(orphans()) == 2
 
 
 def held_replay(monkeypatch):
@@ -177,12 +188,14 @@ def held_replay(monkeypatch):
     return release
 
 
-def test_a_cancelled_restore_keeps_the_journal_and_the_window_as_it_was(window, monkeypatch):
+def test_a_cancelled_restore_keeps_the_journal_and_the_window_as_it_was(window, monkeypatch,
+                                                                        qtbot):
     crash(6)
     before = window.history.applied
     release = held_replay(monkeypatch)
     answering(monkeypatch, lambda d: d.restore_button.click())
-    assert offer_recovery(window) == 1
+    assert offer_recovery(window)
+    qtbot.waitUntil(lambda: "Restoring" in window.task_label.text(), timeout=30_000)
     window.cancel_button.click()               # the status bar's Cancel, as Esc
     release.set()
     assert window.runner.wait(60_000)
@@ -201,7 +214,8 @@ def test_work_begun_while_restoring_is_not_replaced(window, monkeypatch, qtbot):
         win = MainWindow()
         extra.append(win)
         return win
-    assert offer_recovery(window, make_window) == 1
+    assert offer_recovery(window, make_window)
+    qtbot.waitUntil(lambda: "Restoring" in window.task_label.text(), timeout=30_000)
     window.submit(SetLevels(0, 0, 4, 4, 2))    # the user goes on meanwhile
     mine = window.history.applied
     release.set()
@@ -211,3 +225,17 @@ def test_work_begun_while_restoring_is_not_replaced(window, monkeypatch, qtbot):
     assert orphans() == []
     extra[0].mark_clean()
     extra[0].close()
+
+
+def test_reading_the_journals_can_be_cancelled_and_keeps_them(window, monkeypatch):
+    import app.recovery
+    crash(3)
+    release, read = threading.Event(), app.recovery.recover
+    monkeypatch.setattr(app.recovery, "recover", lambda path: release.wait(30) and read(path))
+    seen = answering(monkeypatch, lambda d: d.restore_button.click())
+    otherwise = []
+    assert offer_recovery(window, otherwise=lambda: otherwise.append(1))
+    window.runner.cancel()                     # Esc while the journals are read
+    release.set()
+    assert window.runner.wait(60_000)
+    assert otherwise == [1] and seen == [] and len(orphans()) == 1

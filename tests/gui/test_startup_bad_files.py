@@ -22,7 +22,7 @@ RECOVERY = textwrap.dedent("""
     from PySide6 import QtWidgets
     app = QtWidgets.QApplication([])
     from app.recovery import RecoveryDialog
-    RecoveryDialog.exec = lambda self: QtWidgets.QDialog.DialogCode.Accepted   # Restore all
+    RecoveryDialog.open = lambda self: self.accept()                    # Restore all
     def modal(*a, **k):
         print("MODAL DIALOG", a[1:3], file=sys.stderr)
         sys.exit(3)
@@ -31,8 +31,9 @@ RECOVERY = textwrap.dedent("""
     from app.recovery import offer_recovery
     window = MainWindow()
     window.show()
-    print("restored", offer_recovery(window))
+    offer_recovery(window)
     window.runner.wait(60_000)
+    print("restored", 0 if window.history is None else 1)
     print("status", window.statusBar().currentMessage())
     window.journal_discard()
 """)
