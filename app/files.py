@@ -10,13 +10,14 @@ from pathlib import Path
 
 from PySide6 import QtCore, QtWidgets
 
-from texeditor.export import write_picture, write_png
+from texeditor.export import to_rgb, write_picture, write_png
 from texeditor.wording import counted
 from texeditor.recipe.actions import NewCanvas
 from texeditor.errors import TexeditorError
 from texeditor.recipe.history import History
 from texeditor.recipe.texturefile import load_texture, save_texture
 
+from .images import photo_rgb, qimage_from_rgb
 from .new_dialog import NewDialog
 
 TEXTURE_FILTER = "Textures (*.texture);;All files (*)"
@@ -217,6 +218,20 @@ class FileOps:
             return False
         h, w = doc.shape
         self.statusBar().showMessage(f"Exported {path} ({w * scale}×{h * scale} pixels).", 8000)
+        return True
+
+    def copy_picture(self) -> bool:
+        """Edit ▸ Copy picture: the picture on show (tone, plates, else the levels in their
+        palette) to the clipboard, to paste into a painting program."""
+        doc = self.history.document if self.history is not None else None
+        if doc is None or not doc.levels.size:
+            return False
+        picture = self.display_picture()
+        rgb = to_rgb(doc.levels, doc.palette) if picture is None else photo_rgb(picture)
+        QtWidgets.QApplication.clipboard().setImage(qimage_from_rgb(rgb))
+        h, w = doc.shape
+        self.statusBar().showMessage(f"Copied the picture ({w}×{h} pixels) to the clipboard.",
+                                     5000)
         return True
 
     def _folder(self) -> str:

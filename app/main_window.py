@@ -236,6 +236,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
                               "Open the current DPJ in the DPJ editor")
         self.act_quit = a("&Quit", self.quit_all, K.Quit, "Close every texeditor window, "
                           "asking about unsaved work")
+        self.act_copy_picture = a("&Copy picture", self.copy_picture, K.Copy,
+                                  "Copy the picture on show to the clipboard")
         self.act_undo = a("&Undo", self.undo, "Ctrl+Z")
         self.act_redo = a("&Redo", self.redo, ["Ctrl+Shift+Z", "Ctrl+Y"])
         self.act_synth = a("&Synthesise", self.synthesise_from_dock, "Ctrl+R",
@@ -299,7 +301,10 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         menu.addActions([self.act_new_dpj, self.act_edit_dpj])
         menu.addSeparator()
         menu.addAction(self.act_quit)
-        self.menu("EditMenu").addActions([self.act_undo, self.act_redo])
+        menu = self.menu("EditMenu")
+        menu.addActions([self.act_undo, self.act_redo])
+        menu.addSeparator()
+        menu.addAction(self.act_copy_picture)
         menu = self.menu("ImageMenu")
         menu.addActions([self.act_synth, self.act_cancel])
         menu.addSeparator()

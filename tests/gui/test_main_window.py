@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from PySide6 import QtCore, QtWidgets
+from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.recipe.actions import SetPalette, Synthesize
 
@@ -356,3 +356,24 @@ def test_quit_closes_every_window_each_asking_and_a_cancel_stops_it(qtbot, windo
     second.act_quit.trigger()                       # File ▸ Quit (Ctrl+Q) from the one left
     assert not second.isVisible() and asked == [window, second, second]
     second.deleteLater()
+
+
+def test_copy_picture_puts_what_is_shown_on_the_clipboard_after_each_edit(qtbot, window):
+    from texeditor.export import to_rgb
+    from texeditor.recipe.actions import SetLevels
+
+    def clipboard_rgb():
+        image = QtWidgets.QApplication.clipboard().image().convertToFormat(
+            QtGui.QImage.Format.Format_RGB888)
+        h, w = image.height(), image.width()
+        return np.frombuffer(image.constBits(), np.uint8).reshape(h, image.bytesPerLine())[
+            :, :3 * w].reshape(h, w, 3)
+    QtWidgets.QApplication.clipboard().clear()
+    qtbot.keyClick(window.canvas, QtCore.Qt.Key.Key_C, CTRL)        # Edit ▸ Copy picture
+    doc = window.document
+    assert np.array_equal(clipboard_rgb(), to_rgb(doc.levels, doc.palette))
+    window.submit(SetLevels(0, 0, 5, 5, (int(doc.levels[0, 0]) + 1) % doc.num_levels))
+    window.act_copy_picture.trigger()                               # again, after an edit
+    doc = window.document
+    assert np.array_equal(clipboard_rgb(), to_rgb(doc.levels, doc.palette))
+    assert "Copied the picture (64×48" in window.statusBar().currentMessage()

@@ -5,7 +5,7 @@ on the document, the log and the picture on the canvas."""
 
 import imageio.v3 as iio
 import numpy as np
-from PySide6 import QtCore, QtWidgets
+from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.markov.dpj import DPJ
 from texeditor.markov.levels import load_image
@@ -285,6 +285,12 @@ def test_a_toned_texture_reopened_in_a_fresh_session_shows_its_tone(qtbot, windo
     assert window.photo_model is None and window.act_tone.isEnabled()
     assert np.array_equal(window.canvas.picture, toned)
     assert np.array_equal(toned, rgb(document_tone(window.document)))
+    window.act_copy_picture.trigger()                         # Edit ▸ Copy picture: the tone
+    copied = QtWidgets.QApplication.clipboard().image().convertToFormat(
+        QtGui.QImage.Format.Format_RGB888)
+    h, w = toned.shape[:2]
+    assert np.array_equal(np.frombuffer(copied.constBits(), np.uint8).reshape(
+        h, copied.bytesPerLine())[:, :3 * w].reshape(h, w, 3), toned)
     window.act_tone.trigger()
     palette_shown(window)
     window.act_tone.trigger()
