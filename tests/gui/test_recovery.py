@@ -239,3 +239,44 @@ def test_reading_the_journals_can_be_cancelled_and_keeps_them(window, monkeypatc
     release.set()
     assert window.runner.wait(60_000)
     assert otherwise == [1] and seen == [] and len(orphans()) == 1
+
+
+STARTUP = textwrap.dedent("""
+    import sys
+    from PySide6 import QtWidgets
+    import app.recovery
+    from app import main
+    answer = sys.argv[1]
+    app.recovery.RecoveryDialog.open = (lambda self: self.accept()) if answer == "restore" \\
+        else (lambda self: self.reject())
+    def exec_():                   # the event loop, until the start-up work is done
+        window = [w for w in QtWidgets.QApplication.topLevelWidgets()
+                  if type(w).__name__ == "MainWindow"][0]
+        assert window.runner.wait(120_000)
+        window.runner.wait(120_000)
+        steps = len(window.history.applied) if window.history is not None else -1
+        print("steps", steps, "bank", window.bank_dock.bank is not None,
+              "title", window.windowTitle())
+        window.mark_clean()
+        window.close()
+        return 0
+    QtWidgets.QApplication.exec = staticmethod(exec_)
+    sys.exit(main.run([]))
+""")
+
+
+def test_the_application_offers_the_journal_at_start_up_then_opens_what_was_chosen(tmp_path):
+    """`texeditor` itself: Restore shows the 6 restored steps beside the bank; Not now opens
+    the bank's start-up texture and keeps the journal for the next start."""
+    crash(6)
+    env = {**os.environ, "QT_QPA_PLATFORM": "offscreen"}
+    later = subprocess.run([sys.executable, "-c", STARTUP, "later"], env=env,
+                           capture_output=True, text=True, timeout=300, cwd=ROOT)
+    assert later.returncode == 0, later.stderr[-2000:]
+    assert "bank True" in later.stdout and "steps 6 " not in later.stdout
+    assert "steps -1" not in later.stdout and len(orphans()) == 1      # kept
+    restored = subprocess.run([sys.executable, "-c", STARTUP, "restore"], env=env,
+                              capture_output=True, text=True, timeout=300, cwd=ROOT)
+    assert restored.returncode == 0, restored.stderr[-2000:]
+    assert "steps 6 bank True" in restored.stdout and "*" in restored.stdout
+    assert orphans() == []
