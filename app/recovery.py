@@ -223,7 +223,7 @@ class RecoveryDialog(QtWidgets.QDialog):
         layout.addWidget(intro)
         layout.addWidget(self.list)
         layout.addWidget(buttons)
-        self.resize(560, 320 if several else 140)
+        self.resize(560, min(480, 160 + 22 * len(found)) if several else 140)
 
     def chosen(self) -> list:
         """The journals ticked for restoring."""

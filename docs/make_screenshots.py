@@ -936,5 +936,29 @@ def shot_tileable_photo(app, window, out: Path) -> None:
 MORE_SHOTS.append(shot_tileable_photo)
 
 
+def shot_recovery(app, window, out: Path) -> None:
+    """Crash recovery: the one dialog that offers every texture a crash left unsaved (three
+    journals, as a crash of three windows leaves), one of them unticked."""
+    import time
+
+    from app.recovery import RecoveryDialog
+    from texeditor.recipe.journal import Recovered
+
+    now = time.time()
+    found = [Recovered(Path(f"{k}.journal"), (None,) * steps, {}, source, now - age, steps)
+             for k, (steps, source, age) in enumerate(
+                 [(58, None, 600), (12, "/home/me/textures/brick wall.texture", 3600),
+                  (4, None, 7200)])]
+    dialog = RecoveryDialog(window, found)
+    dialog.list.item(2).setCheckState(QtCore.Qt.CheckState.Unchecked)
+    dialog.show()
+    settle(app)
+    save(dialog, out / "recovery-dialog.png")
+    dialog.close()
+
+
+MORE_SHOTS.append(shot_recovery)
+
+
 if __name__ == "__main__":
     sys.exit(main())
