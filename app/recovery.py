@@ -51,6 +51,8 @@ def offer_recovery(window, make_window=None, problems: list | None = None, *,
 
     def offer(result):
         found, lines = result
+        if window.closing:
+            return
         if found:
             _ask(window, found, make_window, otherwise)
         else:
@@ -58,6 +60,8 @@ def offer_recovery(window, make_window=None, problems: list | None = None, *,
         report_problems(window, problems + lines)
 
     def later():
+        if window.closing:
+            return
         otherwise()
         report_problems(window, problems)
 
@@ -71,6 +75,8 @@ def _ask(window, found, make_window, otherwise) -> None:
     dialog = RecoveryDialog(window, found)
 
     def answered(code):
+        if window.closing:                   # the window closed under the dialog: keep all
+            return
         chosen = dialog.chosen() if code == QtWidgets.QDialog.DialogCode.Accepted else []
         if code == QtWidgets.QDialog.DialogCode.Accepted:
             for item in found:

@@ -280,3 +280,22 @@ def test_the_application_offers_the_journal_at_start_up_then_opens_what_was_chos
     assert restored.returncode == 0, restored.stderr[-2000:]
     assert "steps 6 bank True" in restored.stdout and "*" in restored.stdout
     assert orphans() == []
+
+
+def test_closing_the_window_under_the_dialog_keeps_every_journal(qtbot, monkeypatch):
+    from app.main_window import MainWindow
+    crash(3)
+    win = MainWindow()
+    win.show()
+    otherwise = []
+
+    def close_it(dialog):
+        dialog.show()
+        win.close()                            # the window goes while the dialog is open,
+        dialog.reject()                        # then the dialog (Esc, or torn down with it)
+    monkeypatch.setattr(RecoveryDialog, "open", close_it)
+    assert offer_recovery(win, otherwise=lambda: otherwise.append(1))
+    assert win.runner.wait(60_000)
+    qtbot.wait(50)
+    assert not win.isVisible() and otherwise == [] and len(orphans()) == 1
+    win.deleteLater()
