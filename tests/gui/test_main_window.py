@@ -377,3 +377,8 @@ def test_copy_picture_puts_what_is_shown_on_the_clipboard_after_each_edit(qtbot,
     doc = window.document
     assert np.array_equal(clipboard_rgb(), to_rgb(doc.levels, doc.palette))
     assert "Copied the picture (64×48" in window.statusBar().currentMessage()
+    edit = window.synthesis_dock.seed.edit                  # a text field keeps Ctrl+C
+    edit.setFocus()
+    edit.selectAll()
+    qtbot.keyClick(edit, QtCore.Qt.Key.Key_C, CTRL)
+    assert QtWidgets.QApplication.clipboard().text() == edit.text() == "7"
