@@ -95,7 +95,6 @@ def _ask(window, found, make_window, otherwise) -> None:
                     fallback=otherwise if k == 0 else None, elsewhere=make_window)
     dialog.finished.connect(answered)
     dialog.finished.connect(dialog.deleteLater)
-    window.recovery_dialog = dialog
     dialog.open()
 
 
