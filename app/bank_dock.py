@@ -519,6 +519,8 @@ class BankDock(QtWidgets.QDockWidget):
 
     def _show_opened(self, entry_id: int, history, *, stored: bool = False) -> None:
         entry = self.bank.get(entry_id)
+        if stored:                            # shown toned before the tone's kernels compile
+            self.main.show_stored_tone(history.document.levels, self.bank.stored_tone(entry))
         self.main.set_history(history, name=f"“{entry.name}” from the bank")
         self.opened = (entry_id, history)
         self.select(entry_id)

@@ -105,6 +105,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self.doubling_dialog = None
         self.photo_model = None    # the photo model acquired or opened last (app.photo_ops)
         self._tone_cache = None    # (model, key, tone.Rendered) of the last tone rendering
+        self._stored_tone = None   # (levels, picture): a bank entry's stored tone (first start)
         self._tone_drawing = False   # a tone is being drawn on a thread (app.photo_ops)
         self._tone_arrival = None    # its ToneArrival, made on first use
         self._step_model = None    # (synthesis step, the photo model its tone names)

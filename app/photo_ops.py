@@ -126,6 +126,12 @@ class PhotoOps:
         return (model is not None and model.tone is not None and doc.levels.size > 0
                 and doc.num_levels <= model.levels)
 
+    def show_stored_tone(self, levels, tone) -> None:
+        """A bank entry's stored tone picture (Bank.stored_tone) stands for the tone of
+        ``levels`` until the tone's kernels draw it, the same pixels (a first start shows the
+        built-in toned at once, not in the palette's greys for the seconds they compile)."""
+        self._stored_tone = None if tone is None else (np.array(levels), tone)
+
     def tone_picture(self, wait: bool = True) -> np.ndarray | None:
         """The document's levels drawn with the photo's tone when tone is on and available
         (seeded by the synthesis that made the texture, so a picture is the same each time it is
@@ -188,12 +194,16 @@ class PhotoOps:
         if self.history is not None and self.history.document.levels.size:
             self._show_document(self.history.document, None)     # the tone, or the next one
 
-    @staticmethod
-    def _tone_meanwhile(before, doc) -> np.ndarray | None:
-        """The last tone with the points whose level changed since in their palette colours
-        (None, the palette, when there is no tone of this shape yet)."""
+    def _tone_meanwhile(self, before, doc) -> np.ndarray | None:
+        """The last tone with the points whose level changed since in their palette colours;
+        before any, a bank entry's stored tone picture of these very levels (a first start,
+        see show_stored_tone); else None, the palette."""
         if before is None or before.levels.shape != doc.shape:
-            return None
+            stored = self._stored_tone
+            if stored is None or not np.array_equal(stored[0], doc.levels):
+                return None
+            picture = stored[1]
+            return np.repeat(picture[..., None], 3, axis=2) if picture.ndim == 2 else picture
         picture = before.picture
         if picture.ndim == 2:
             picture = np.repeat(picture[..., None], 3, axis=2)

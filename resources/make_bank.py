@@ -6,8 +6,9 @@ photo's tone), DPJs drawn from a seed (§5.2.2), and edited textures whose logs 
 global operators. Each file's stem is the entry's name ("gravel-acquired" → "Gravel
 acquired", a leading "NN-" is the entry's place among the built-ins); its tags and description
 come from the manifest. Logs are saved optimised, as the bank keeps them. Each entry's texture is
-also stored as a picture, bank/pictures/<SHA-256>.npz (``--pictures`` writes only these), so a
-first start shows and indexes the built-ins without waiting for the synthesis kernels.
+also stored as a picture, bank/pictures/<SHA-256>.npz, and one drawn with a photo's tone as its
+tone picture, bank/pictures/tones/<SHA-256>.npz (``--pictures`` writes only these), so a first
+start shows and indexes the built-ins, toned, without waiting for the synthesis kernels.
 
 Run whole, it writes every entry with today's action versions; the committed 01–03 and 07–12 are
 older files (Synthesize version 1), kept byte for byte as the bank's older-format entries — after
@@ -29,11 +30,11 @@ from texeditor.markov.dpj import DPJ  # noqa: E402
 from texeditor.recipe.history import History  # noqa: E402
 from texeditor.recipe.logopt import optimize  # noqa: E402
 from texeditor.regions.actions import Copy, Fill, Identity, Isometry, Similarity  # noqa: E402
-from texeditor.bank.store import write_picture  # noqa: E402
+from texeditor.bank.store import TONES, write_picture, write_tone  # noqa: E402
 from texeditor.recipe.texturefile import (render_texture, save_texture,  # noqa: E402
                                           synthesize_scales_texture)
 from texeditor.markov.levels import load_image  # noqa: E402
-from texeditor.photo import acquire_model  # noqa: E402
+from texeditor.photo import acquire_model, document_tone  # noqa: E402
 
 SIZE = 256
 WARM = [(52, 36, 24), (128, 86, 52), (186, 140, 92), (232, 206, 160)]
@@ -142,12 +143,16 @@ def write_pictures(folder: Path = HERE / "bank") -> None:
     shows and indexes the built-ins from these while the synthesis kernels compile. Each one is
     the file's own replay, checked against its recorded hash."""
     pictures = folder / "pictures"
-    for old in pictures.glob("*.npz"):
+    for old in [*pictures.glob("*.npz"), *(pictures / TONES).glob("*.npz")]:
         old.unlink()
     for path in sorted(folder.glob("*.texture")):
         doc = render_texture(path)                   # replayed, hash checked
         written = write_picture(pictures, doc.levels, doc.palette)
         print(f"{path.name}: picture {written.name[:12]}… ({written.stat().st_size:,} bytes)")
+        tone = document_tone(doc)                    # what the window shows, toned
+        if tone is not None:
+            written = write_tone(pictures, doc.result_hash(), tone)
+            print(f"    its tone {written.stat().st_size:,} bytes")
 
 
 def main() -> None:

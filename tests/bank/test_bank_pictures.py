@@ -319,3 +319,35 @@ def test_three_builtins_show_a_photo_model_in_its_photos_tone(builtin_bank):
         assert document_thumbnail(doc) != flat
         entry = next(e for e in builtin_bank.entries() if e.sha256 == doc.result_hash())
         assert entry.builtin and entry.name == path.stem[3:].replace("-", " ").capitalize()
+
+
+def test_every_toned_builtin_has_a_stored_tone_equal_to_its_drawn_tone(builtin_bank):
+    from texeditor.photo import document_tone
+    toned = 0
+    for entry in builtin_bank.find():
+        entry = builtin_bank.get(entry) if isinstance(entry, int) else entry
+        doc = builtin_bank.render(entry.id)
+        tone, stored = document_tone(doc), builtin_bank.stored_tone(entry)
+        assert (tone is None) == (stored is None), entry.name
+        if tone is not None:
+            toned += 1
+            assert np.array_equal(stored, tone), entry.name
+    assert toned == 3
+
+
+@pytest.mark.parametrize("damage", ["garbage", "two members", "wrong shape", "float", "huge"])
+def test_a_damaged_stored_tone_is_ignored(tmp_path, damage):
+    path = tmp_path / "t.npz"
+    good = np.zeros((8, 6), np.uint8)
+    if damage == "garbage":
+        path.write_bytes(b"PK\x03\x04 not a zip")
+    else:
+        out = io.BytesIO()
+        arrays = {"two members": dict(tone=good, extra=good), "wrong shape": dict(tone=good.T),
+                  "float": dict(tone=good.astype(float)),
+                  "huge": dict(tone=np.zeros((8, 6, 300), np.uint8))}[damage]
+        np.savez_compressed(out, **arrays)
+        path.write_bytes(out.getvalue())
+    assert bk.read_tone(path, (8, 6)) is None
+    np.savez_compressed(path, tone=good)
+    assert np.array_equal(bk.read_tone(path, (8, 6)), good)

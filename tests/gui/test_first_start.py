@@ -101,3 +101,32 @@ def test_a_forged_picture_is_refused_and_the_entry_replayed(window, qtbot, tmp_p
     assert entry.name == "Gravel with tone" and window.document.result_hash() == entry.sha256
     assert dock.bank.pending() == [] and not window.errors        # replayed, not refused
     assert opened == [entry.id] and dock._to_confirm is None
+
+
+def test_the_start_entry_is_toned_at_once_from_its_stored_tone(window, qtbot, slow_compile,
+                                                               monkeypatch):
+    """Before the tone's kernels are ready (its rendering held here), the built-in shows its
+    stored tone picture, not the palette's greys; the tone drawn later is the same pixels."""
+    from texeditor.photo import PhotoModel, document_tone
+    release, rendering = threading.Event(), PhotoModel.rendering
+
+    def held(self, *args, **kwargs):
+        assert release.wait(60)
+        return rendering(self, *args, **kwargs)
+    monkeypatch.setattr(PhotoModel, "rendering", held)
+    window.start_default()
+    dock = window.bank_dock
+    qtbot.waitUntil(lambda: dock.opened is not None, timeout=10_000)
+    stored = dock.bank.stored_tone(dock.bank.get(dock.opened[0]))
+    assert stored is not None and window._tone_cache is None      # nothing rendered yet
+    assert window.canvas.picture is not None
+    assert np.array_equal(window.canvas.picture[..., 0], stored)
+    release.set()
+    slow_compile.set()
+    qtbot.waitUntil(lambda: window._tone_cache is not None, timeout=60_000)
+    assert np.array_equal(window.canvas.picture[..., 0], stored)
+    assert np.array_equal(stored, document_tone(window.document))
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    window.submit(Synthesize(window.history.actions[0].dpjs[0], 40, 30, 5))    # levels of its
+    assert window.runner.wait(60_000) and window.document.shape == (30, 40)   # own: no stored
+    assert window.canvas.picture is None or window.canvas.picture.shape[:2] == (30, 40)

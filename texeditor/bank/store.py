@@ -48,6 +48,7 @@ THUMB = 128                       # thumbnail side in pixels: a central crop sho
 MAX_NAME_CHARS, MAX_TAGS, MAX_TAG_CHARS = 200, 64, 64
 BUILTIN_DIR = RESOURCES / "bank"
 PICTURES_DIR = BUILTIN_DIR / "pictures"   # <SHA-256>.npz: the built-ins' textures, replay-free
+TONES = "tones"                            # ... and <SHA-256>.npz in it: their tone pictures
 MAX_PICTURE_BYTES = 64 * 2**20
 _SHA256 = re.compile(r"^[0-9a-f]{64}$")
 GRAIN_TYPES = ("render_grains",)  # §5.3: grain shape, explosion, compression (texture_actions)
@@ -696,6 +697,15 @@ class Bank:
         return read_picture(self.pictures / f"{entry.sha256}.npz", entry.sha256,
                             (entry.height, entry.width), entry.levels)
 
+    def stored_tone(self, entry: Entry):
+        """The picture a built-in with a photo's tone shows, pictures/tones/<SHA-256>.npz (see
+        read_tone), so a first start shows it toned before the tone's kernels are compiled;
+        None when it has none."""
+        if not _SHA256.match(entry.sha256):
+            return None
+        return read_tone(self.pictures / TONES / f"{entry.sha256}.npz",
+                         (entry.height, entry.width))
+
     def open_stored(self, entry_id: int, **history_options) -> History | None:
         """``open()`` without the synthesis kernels, for a first start while they compile: an
         entry whose log is one synthesis (Synthesize or SynthesizeScales, then palette steps
@@ -1037,6 +1047,40 @@ def write_picture(folder, levels: np.ndarray, palette) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_bytes(path, picture_bytes(levels, palette))
     return path
+
+
+def write_tone(folder, sha256: str, tone: np.ndarray) -> Path:
+    """Store a built-in's tone picture (uint8 (H, W) or (H, W, 3), the photo's greys or colours
+    drawn on its levels) as ``folder``/tones/<its texture's SHA-256>.npz (atomic)."""
+    path = Path(folder) / TONES / f"{sha256}.npz"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    out = io.BytesIO()
+    np.savez_compressed(out, tone=np.ascontiguousarray(tone, dtype=np.uint8))
+    atomic_write_bytes(path, out.getvalue())
+    return path
+
+
+def read_tone(path, shape: tuple):
+    """A stored tone picture of an (H, W) = ``shape`` texture, or None when the file is missing,
+    damaged, too large or not a uint8 (H, W) or (H, W, 3) picture (read without pickle, sizes
+    checked first). It only stands for the tone until the kernels draw it, the same pixels."""
+    h, w = shape
+    try:
+        path = Path(path)
+        if not path.is_file() or path.stat().st_size > MAX_PICTURE_BYTES:
+            return None
+        with zipfile.ZipFile(path) as zf:
+            infos = zf.infolist()
+            if [i.filename for i in infos] != ["tone.npy"] or infos[0].file_size > 3 * h * w + 4096:
+                return None
+            tone = np.load(io.BytesIO(zf.read("tone.npy")), allow_pickle=False)
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zipfile.LargeZipFile,
+            NotImplementedError):
+        return None
+    if tone.dtype != np.uint8 or tone.shape not in ((h, w), (h, w, 3)):
+        return None
+    tone.flags.writeable = False
+    return tone
 
 
 def read_picture(path, sha256: str, shape: tuple, levels: int):
