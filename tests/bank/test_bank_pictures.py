@@ -351,3 +351,18 @@ def test_a_damaged_stored_tone_is_ignored(tmp_path, damage):
     assert bk.read_tone(path, (8, 6)) is None
     np.savez_compressed(path, tone=good)
     assert np.array_equal(bk.read_tone(path, (8, 6)), good)
+
+
+def test_a_builtins_thumbnail_from_its_stored_pictures_is_the_replayed_one(builtin_bank,
+                                                                           no_synthesis):
+    """Toned built-ins are thumbnailed in their tone, as a replayed entry is, without a replay."""
+    bank = builtin_bank
+    assert bank.prepare_pending() == []
+    for entry_id in bank.find():
+        entry = bank.get(entry_id)
+        picture = bank.stored_picture(entry)
+        tone = bank.stored_tone(entry)
+        expected = bk.stored_thumbnail(*picture, tone)
+        assert bank.thumbnails([entry_id])[entry_id] == expected, entry.name
+        if tone is not None:
+            assert expected != bk.thumbnail_png(*picture), entry.name      # not the palette's

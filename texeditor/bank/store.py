@@ -796,13 +796,14 @@ class Bank:
             if cancel is not None and cancel():
                 raise Cancelled("preparing the bank was cancelled")
             try:
-                picture = self.stored_picture(self.get(entry_id))    # a built-in: no replay
+                entry = self.get(entry_id)
+                picture = self.stored_picture(entry)                # a built-in: no replay
                 if picture is None:
                     doc = self.render(entry_id, cancel=cancel)
                     picture = doc.levels, doc.palette
                     thumbnail = document_thumbnail(doc)
                 else:
-                    thumbnail = thumbnail_png(*picture)
+                    thumbnail = stored_thumbnail(*picture, self.stored_tone(entry))
                 self._set_derived(entry_id, thumbnail, attrs.compute(*picture))
             except Cancelled:
                 raise
@@ -1007,6 +1008,14 @@ def thumbnail_png(levels: np.ndarray, palette, size: int = THUMB) -> bytes:
     if np.all(palette == palette[:, :1]):
         palette = palette[:, 0]                    # grey: a third of the bytes
     return _thumbnail(palette[crop], size)
+
+
+def stored_thumbnail(levels: np.ndarray, palette, tone, size: int = THUMB) -> bytes:
+    """A built-in's thumbnail from its stored picture: in its stored tone when it has one (as
+    document_thumbnail draws a replayed one), else its levels in their palette."""
+    if tone is None:
+        return thumbnail_png(levels, palette, size)
+    return _thumbnail(attrs.central_crop(tone, size), size)
 
 
 def document_thumbnail(doc: Document, size: int = THUMB) -> bytes:
