@@ -366,3 +366,20 @@ def test_a_builtins_thumbnail_from_its_stored_pictures_is_the_replayed_one(built
         assert bank.thumbnails([entry_id])[entry_id] == expected, entry.name
         if tone is not None:
             assert expected != bk.thumbnail_png(*picture), entry.name      # not the palette's
+
+
+@pytest.mark.parametrize("kind", ["fifo", "folder", "dangling", "device"])
+def test_a_stored_tone_that_is_no_regular_file_is_ignored_without_blocking(tmp_path, kind):
+    import os
+    path = tmp_path / "t.npz"
+    if kind == "fifo":
+        if not hasattr(os, "mkfifo"):
+            return
+        os.mkfifo(path)
+    elif kind == "folder":
+        path.mkdir()
+    elif kind == "dangling":
+        path.symlink_to(tmp_path / "nowhere")
+    else:
+        path = Path("/dev/zero")
+    assert bk.read_tone(path, (8, 6)) is None
