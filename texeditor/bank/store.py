@@ -1071,33 +1071,22 @@ def write_tone(folder, sha256: str, tone: np.ndarray) -> Path:
 
 def read_tone(path, shape: tuple):
     """A stored tone picture of an (H, W) = ``shape`` texture, or None when the file is missing,
-    damaged, too large or not a uint8 (H, W) or (H, W, 3) picture (read without pickle, sizes
-    checked first). It only stands for the tone until the kernels draw it, the same pixels."""
+    damaged, too large or not a uint8 (H, W) or (H, W, 3) picture (read as _read_npz does). It
+    only stands for the tone until the kernels draw it, the same pixels."""
     h, w = shape
-    try:
-        path = Path(path)
-        if not path.is_file() or path.stat().st_size > MAX_PICTURE_BYTES:
-            return None
-        with zipfile.ZipFile(path) as zf:
-            infos = zf.infolist()
-            if [i.filename for i in infos] != ["tone.npy"] or infos[0].file_size > 3 * h * w + 4096:
-                return None
-            tone = np.load(io.BytesIO(zf.read("tone.npy")), allow_pickle=False)
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zipfile.LargeZipFile,
-            NotImplementedError):
-        return None
-    if tone.dtype != np.uint8 or tone.shape not in ((h, w), (h, w, 3)):
+    arrays = _read_npz(path, {"tone.npy": 3 * h * w + 4096})
+    tone = None if arrays is None else arrays["tone"]
+    if tone is None or tone.dtype != np.uint8 or tone.shape not in ((h, w), (h, w, 3)):
         return None
     tone.flags.writeable = False
     return tone
 
 
-def read_picture(path, sha256: str, shape: tuple, levels: int):
-    """(levels, palette) from a stored picture, or None when the file is missing, damaged,
-    too large, not (H, W) = ``shape`` with G = ``levels``, or not the texture of ``sha256``.
-    Read without pickle, every size checked before anything is allocated."""
-    h, w = shape
-    limits = {"levels.npy": h * w + 4096, "palette.npy": 3 * levels + 4096}
+def _read_npz(path, limits: dict) -> dict | None:
+    """name → array of an .npz that holds exactly the members ``limits`` names, none larger
+    than its limit (bytes); None when the file is missing, not a regular file, larger than
+    MAX_PICTURE_BYTES, damaged or otherwise. Read without pickle, sizes checked before anything
+    is allocated."""
     try:
         path = Path(path)
         if not path.is_file() or path.stat().st_size > MAX_PICTURE_BYTES:
@@ -1106,10 +1095,20 @@ def read_picture(path, sha256: str, shape: tuple, levels: int):
             infos = {i.filename: i for i in zf.infolist()}
             if set(infos) != set(limits) or any(infos[n].file_size > limits[n] for n in limits):
                 return None
-            arrays = {n[:-4]: np.load(io.BytesIO(zf.read(n)), allow_pickle=False)
-                      for n in limits}
+            return {n[:-4]: np.load(io.BytesIO(zf.read(n)), allow_pickle=False)
+                    for n in limits}
     except (OSError, ValueError, EOFError, zipfile.BadZipFile, zipfile.LargeZipFile,
             NotImplementedError):
+        return None
+
+
+def read_picture(path, sha256: str, shape: tuple, levels: int):
+    """(levels, palette) from a stored picture, or None when the file is missing, damaged,
+    too large, not (H, W) = ``shape`` with G = ``levels``, or not the texture of ``sha256``
+    (read as _read_npz does)."""
+    h, w = shape
+    arrays = _read_npz(path, {"levels.npy": h * w + 4096, "palette.npy": 3 * levels + 4096})
+    if arrays is None:
         return None
     grid, palette = arrays["levels"], arrays["palette"]
     if (grid.dtype != np.uint8 or grid.shape != (h, w) or palette.dtype != np.uint8
