@@ -27,7 +27,7 @@ from texeditor.photo import PhotoModel, photo_tone
 
 from .canvas import colourize
 from .dpj_editor.preview import LatestWins
-from .images import photo_rgb, qimage_from_rgb
+from .images import photo_from_qimage, photo_rgb, qimage_from_rgb
 from .widgets import row, scan_combo
 
 PREVIEW = 240
@@ -37,6 +37,7 @@ QUANTISERS = (("Band (thesis: 90 % central band)", "band"), ("Lloyd–Max (least
 DEBOUNCE_MS = 150
 SCALE_STRIP = 2 * PREVIEW + 6      # the scale previews share the width of the two big ones
 SCALE_SIDE = 100                   # ... each at most this square (the dialog fits 800 pixels)
+PASTED = Path("Pasted picture")    # the name a picture from the clipboard goes by
 
 
 @dataclass
@@ -189,6 +190,22 @@ def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, can
     return out
 
 
+def pasted_photo(mime: QtCore.QMimeData | None):
+    """What a clipboard (or a drop) offers to acquire from: a picture as an array (see
+    images.photo_from_qimage), else the first local file it names as a Path, else None.
+    A picture that cannot be used raises ImageError."""
+    if mime is None:
+        return None
+    if mime.hasImage():
+        image = QtGui.QImage(mime.imageData())
+        if not image.isNull():
+            return photo_from_qimage(image)
+    for url in mime.urls() if mime.hasUrls() else ():
+        if url.isLocalFile():
+            return Path(url.toLocalFile())
+    return None
+
+
 def acquisition_notes(dpj) -> list[str]:
     """How a DPJ was acquired beyond window and G: its scan (when not rows), stationarity."""
     notes = []
@@ -201,9 +218,11 @@ def acquisition_notes(dpj) -> list[str]:
 
 class AcquireDialog(QtWidgets.QDialog):
     """Build it, set a photo, adjust the widgets, accept: ``dpj`` is then the acquired DPJ;
-    with several scales ``model`` is the photo model and ``dpj`` its finest scale's DPJ."""
+    with several scales ``model`` is the photo model and ``dpj`` its finest scale's DPJ.
+    ``photo``: the photo to start on (a path, or a pasted picture's array), else the first
+    sample."""
 
-    def __init__(self, samples: list[Path] = (), parent=None):
+    def __init__(self, samples: list[Path] = (), parent=None, photo=None):
         super().__init__(parent)
         self.setWindowTitle("Acquire a DPJ from an image")
         self.image = None                 # the photo at ``path``, once read
@@ -221,9 +240,16 @@ class AcquireDialog(QtWidgets.QDialog):
         self.source.setMinimumContentsLength(24)
         for path in samples:
             self.source.addItem(path.stem.replace("_", " "), str(path))
-        self.source.activated.connect(lambda _i: self.set_image_path(self.source.currentData()))
+        self.source.activated.connect(self._source_chosen)
+        self.pasted = None                # the last picture pasted into the dialog
         self.browse = QtWidgets.QPushButton("Browse…")
         self.browse.clicked.connect(self.choose_file)
+        self.paste = QtWidgets.QPushButton("Paste")
+        self.paste.setToolTip("Acquire from the picture on the clipboard (Ctrl+V), or from the "
+                              "image file copied in a file manager")
+        self.paste.clicked.connect(self.paste_photo)
+        paste_key = QtGui.QShortcut(QtGui.QKeySequence.StandardKey.Paste, self)
+        paste_key.activated.connect(self.paste_photo)
 
         self.u = self._spin(1, MAX_SIDE, 3, "Window width u (columns)")
         self.v = self._spin(1, MAX_SIDE, 3, "Window height v (rows)")
@@ -288,8 +314,10 @@ class AcquireDialog(QtWidgets.QDialog):
         self._layout()
         self._follow_scales()
 
-        if samples:
-            self.set_image_path(samples[0])
+        if isinstance(photo, np.ndarray):
+            self.set_image(photo)
+        elif photo is not None or samples:
+            self.set_image_path(photo if photo is not None else samples[0])
         else:
             self._show_error("Choose a photo with Browse…")
 
@@ -312,7 +340,7 @@ class AcquireDialog(QtWidgets.QDialog):
 
     def _layout(self) -> None:
         form = QtWidgets.QFormLayout()
-        form.addRow("Photo", row(self.source, self.browse, stretch=False))
+        form.addRow("Photo", row(self.source, self.browse, self.paste, stretch=False))
         form.addRow("Window", row(self.u, "columns ×", self.v, "rows"))
         form.addRow("Levels G", self.levels)
         form.addRow("Quantiser", self.method)
@@ -347,6 +375,48 @@ class AcquireDialog(QtWidgets.QDialog):
         open)."""
         self.path, self.image = Path(path), None
         self.recompute()
+
+    def set_image(self, image: np.ndarray) -> None:
+        """Acquire from a picture already in memory (pasted): listed as "Pasted picture" among
+        the photos, so choosing another and coming back finds it again."""
+        self.pasted = image
+        self.path, self.image = PASTED, image
+        self.photo_view.setPixmap(QtGui.QPixmap.fromImage(preview_image(photo_rgb(image))))
+        if self.source.findData(str(PASTED)) < 0:
+            self.source.addItem(str(PASTED), str(PASTED))
+        self.source.setCurrentIndex(self.source.findData(str(PASTED)))
+        self.recompute()
+
+    def paste_photo(self) -> bool:
+        """Paste: the clipboard's picture (or the image file copied in a file manager) becomes
+        the photo; with nothing usable there the dialog says so and keeps its photo."""
+        try:
+            source = pasted_photo(QtWidgets.QApplication.clipboard().mimeData())
+        except TexeditorError as exc:
+            return self._paste_refused(str(exc))
+        if source is None:
+            return self._paste_refused("The clipboard holds no picture: copy one in another "
+                                       "program (or an image file in a file manager), then "
+                                       "paste.")
+        if isinstance(source, Path):
+            self.set_image_path(source)
+        else:
+            self.set_image(source)
+        return True
+
+    def _paste_refused(self, message: str) -> bool:
+        """Say why, in the dialog; the photo on show and its result stay acquirable."""
+        self.info.setStyleSheet("color: #d04040;")
+        self.info.setText(message)
+        QtWidgets.QApplication.beep()
+        return False
+
+    def _source_chosen(self, _index: int) -> None:
+        data = self.source.currentData()
+        if data == str(PASTED) and self.pasted is not None:
+            self.set_image(self.pasted)
+        else:
+            self.set_image_path(data)
 
     def _schedule(self, *_args) -> None:
         self._follow_scales()

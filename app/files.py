@@ -17,6 +17,7 @@ from texeditor.errors import TexeditorError
 from texeditor.recipe.history import History
 from texeditor.recipe.texturefile import load_texture, save_texture
 
+from .acquire_dialog import pasted_photo
 from .images import photo_rgb, qimage_from_rgb
 from .new_dialog import NewDialog
 
@@ -90,6 +91,30 @@ class FileOps:
         self.runner.wait(10_000)
         self.journal_discard()
         ev.accept()
+
+    # -- drops ----------------------------------------------------------------------------------------
+    def dragEnterEvent(self, ev) -> None:
+        """Files and pictures dragged from a file manager or a browser may be dropped."""
+        mime = ev.mimeData()
+        if mime.hasImage() or any(url.isLocalFile() for url in mime.urls()):
+            ev.acceptProposedAction()
+
+    def dropEvent(self, ev) -> None:
+        """A dropped .texture opens, a .dpj is opened as File ▸ Open DPJ does, and any other
+        file or a picture is a photo to acquire from (the acquisition dialog opens on it)."""
+        ev.acceptProposedAction()
+        try:
+            dropped = pasted_photo(ev.mimeData())
+        except TexeditorError as exc:
+            self.show_error("Cannot use the dropped picture", exc)
+            return
+        suffix = dropped.suffix.lower() if isinstance(dropped, Path) else None
+        if suffix == ".texture":
+            self.open_file(dropped)
+        elif suffix == ".dpj":
+            self.open_dpj(dropped)
+        elif dropped is not None:
+            self.acquire(dropped)
 
     # -- new and open -------------------------------------------------------------------------------
     def new_document(self) -> NewDialog:

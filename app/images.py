@@ -9,7 +9,8 @@ import numpy as np
 from PySide6 import QtCore, QtGui
 import skimage as ski
 
-
+from texeditor.errors import ImageError
+from texeditor.markov.levels import MAX_PIXELS
 
 
 def qimage_from_rgb(rgb: np.ndarray) -> QtGui.QImage:
@@ -39,3 +40,28 @@ def pixmap(rgb: np.ndarray, box: int) -> QtGui.QPixmap:
             else QtCore.Qt.TransformationMode.SmoothTransformation)
     return QtGui.QPixmap.fromImage(image.scaled(box, box, QtCore.Qt.AspectRatioMode.KeepAspectRatio,
                                                 mode))
+
+
+def photo_from_qimage(image: QtGui.QImage) -> np.ndarray:
+    """A pasted picture as a photo, as load_image would read it from a file: (H, W) uint8 when
+    it is grey, (H, W, 3) RGB, or (H, W, 4) RGBA when it has alpha. Refused (ImageError) when
+    empty or larger than a file may be."""
+    if image.isNull() or image.width() * image.height() == 0:
+        raise ImageError("The clipboard's picture has no pixels")
+    w, h = image.width(), image.height()
+    if w * h > MAX_PIXELS:
+        raise ImageError(f"The clipboard's picture is {w}x{h}, more than "
+                         f"{MAX_PIXELS // 2**20} megapixels: reduce it first")
+    alpha = image.hasAlphaChannel()
+    fmt = QtGui.QImage.Format.Format_RGBA8888 if alpha else QtGui.QImage.Format.Format_RGB888
+    channels = 4 if alpha else 3
+    converted = image.convertToFormat(fmt)
+    rows = np.frombuffer(converted.constBits(), np.uint8, converted.bytesPerLine() * h)
+    pixels = rows.reshape(h, converted.bytesPerLine())[:, :w * channels]
+    pixels = pixels.reshape(h, w, channels).copy()
+    if alpha and (pixels[..., 3] == 255).all():
+        pixels = pixels[..., :3]                 # an alpha channel that hides nothing
+    rgb = pixels[..., :3]
+    if pixels.shape[2] == 3 and (rgb == rgb[..., :1]).all():
+        return np.ascontiguousarray(rgb[..., 0])
+    return pixels

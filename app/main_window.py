@@ -24,7 +24,7 @@ from texeditor.errors import TexeditorError
 from texeditor.recipe.history import EVERYTHING, History
 
 from . import dpj_editor, resources
-from .acquire_dialog import AcquireDialog
+from .acquire_dialog import AcquireDialog, pasted_photo
 from .bank_dock import BankDock
 from .brush_dock import BrushDock
 from .canvas import CanvasView
@@ -112,7 +112,9 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self.tone_seconds = 0.0    # how long the last tone rendering took
 
         self.canvas = CanvasView()
+        self.canvas.setAcceptDrops(False)      # files dropped on it go to the window (dropEvent)
         self.setCentralWidget(self.canvas)
+        self.setAcceptDrops(True)
         self.tools = [cls(self) for cls in tool_classes()]     # before the docks that show them
         self._build_docks()
         self._docks_sized = False
@@ -239,6 +241,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
                           "asking about unsaved work")
         self.act_copy_picture = a("&Copy picture", self.copy_picture, K.Copy,
                                   "Copy the picture on show to the clipboard")
+        self.act_paste_photo = a("&Paste as photo…", self.paste_photo, "Ctrl+Shift+V",
+                                 "Acquire a DPJ from the picture on the clipboard")
         self.act_undo = a("&Undo", self.undo, "Ctrl+Z")
         self.act_redo = a("&Redo", self.redo, ["Ctrl+Shift+Z", "Ctrl+Y"])
         self.act_synth = a("&Synthesise", self.synthesise_from_dock, "Ctrl+R",
@@ -305,7 +309,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         menu = self.menu("EditMenu")
         menu.addActions([self.act_undo, self.act_redo])
         menu.addSeparator()
-        menu.addAction(self.act_copy_picture)
+        menu.addActions([self.act_copy_picture, self.act_paste_photo])
         menu = self.menu("ImageMenu")
         menu.addActions([self.act_synth, self.act_cancel])
         menu.addSeparator()
@@ -803,16 +807,32 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         QtWidgets.QApplication.beep()
         return True
 
-    def acquire(self) -> AcquireDialog | None:
-        """Open the acquisition dialog (window-modal, without a nested event loop)."""
+    def acquire(self, photo=None) -> AcquireDialog | None:
+        """Open the acquisition dialog (window-modal, without a nested event loop), on ``photo``
+        (a path, or a pasted picture's array) or else the first bundled photo."""
         if self.edits_locked():       # its DPJ would be added to a document about to be replaced
             return None
-        dialog = AcquireDialog(resources.sample_images(), self)
+        dialog = AcquireDialog(resources.sample_images(), self, photo)
         dialog.accepted.connect(lambda: self.use_acquired(dialog))
         dialog.finished.connect(dialog.deleteLater)
         self.acquire_dialog = dialog
         dialog.open()
         return dialog
+
+    def paste_photo(self) -> AcquireDialog | None:
+        """Edit ▸ Paste as photo: acquire from the clipboard's picture (a screenshot, a picture
+        copied in a painting program or a browser) or the image file copied in a file manager,
+        as GIMP's File ▸ Create ▸ From Clipboard."""
+        try:
+            photo = pasted_photo(QtWidgets.QApplication.clipboard().mimeData())
+        except TexeditorError as exc:
+            self.show_error("Cannot paste this picture", exc)
+            return None
+        if photo is None:
+            self.statusBar().showMessage("The clipboard holds no picture to acquire from.", 5000)
+            QtWidgets.QApplication.beep()
+            return None
+        return self.acquire(photo)
 
     def use_acquired(self, dialog: AcquireDialog) -> None:
         """The acquired DPJ becomes the current one (and is synthesised if asked); a photo
