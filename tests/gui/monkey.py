@@ -3,7 +3,7 @@
 Hundreds of random user events — every tool by its shortcut or its button, drags and clicks on
 the canvas (inside and off its edges), the wheel, the view keys, Space-drag, palette swatches,
 the Synthesise button, clicks in the History list, undo and redo, the Extract panel, the spot
-modes, and the non-modal dialogs (global operators, composition, DPJ editor) opened, used and
+modes, the picture copied and pasted as a photo to acquire from, and the non-modal dialogs (global operators, composition, DPJ editor) opened, used and
 closed; with ``models``, the Models menu's dialogs too; with ``photo``, a photo model attached
 first, so Synthesise draws its scales and tone, tileable or not at random (and every edit draws
 the tone again). It fails on an exception that reaches Qt, on a crash (the parent sees the signal), or
@@ -194,6 +194,25 @@ class Walk:
         QtTest.QTest.qWait(20)
         return f"model {entry.objectName()}: {'OK' if ok else 'Cancel'}"
 
+    def paste_photo(self):
+        """Ctrl+C (the picture on show), Ctrl+Shift+V: the acquisition dialog on it, its result
+        waited for, then Acquire (a new DPJ, synthesised) or Cancel."""
+        before = getattr(self.win, "acquire_dialog", None)     # deleted once it was closed
+        self.hand.shortcut("Ctrl+C")
+        self.hand.shortcut("Ctrl+Shift+V")
+        dialog = getattr(self.win, "acquire_dialog", None)
+        QtTest.QTest.qWait(20)
+        if dialog is before:                              # a replay running: refused, said so
+            return "Ctrl+C, Ctrl+Shift+V: no dialog"
+        assert dialog.wait(120_000), "the pasted picture was not acquired in 120 s"
+        ok = dialog.ok_button.isEnabled() and self.rng.random() < 0.5
+        if ok:
+            self.hand.button(dialog.ok_button)
+        else:
+            dialog.reject()
+        QtTest.QTest.qWait(20)
+        return f"Ctrl+C, Ctrl+Shift+V: {'Acquire' if ok else 'Cancel'}"
+
     def slider(self):
         dock = self.win.palette_dock
         slider = self.rng.choice([dock.darkest, dock.lightest, dock.contrast])
@@ -218,6 +237,7 @@ EVENT_WEIGHTS = {
     Walk.wheel: 4, Walk.view_key: 6, Walk.swatch: 6, Walk.undo: 5, Walk.redo: 3,
     Walk.history_row: 2, Walk.synthesise: 1, Walk.panel: 6, Walk.spot_mode: 2,
     Walk.global_dialog: 2, Walk.composition: 1, Walk.dpj_editor: 1, Walk.slider: 2,
+    Walk.paste_photo: 1,
 }
 EVENTS, WEIGHTS = list(EVENT_WEIGHTS), list(EVENT_WEIGHTS.values())
 MODEL_WEIGHT = 3            # --models walks: the Models dialogs too (other seeds' walks unchanged)
@@ -303,5 +323,6 @@ def run_monkey(seed: int, events: int, models: bool = False, photo: bool = False
            dialogs=[text for _kind, text in recorder.dialogs],
            tileable=sum(line.startswith("Synthesise") and "tileable" in line for line in walk.log),
            plain=sum(line.startswith("Synthesise") and "tileable" not in line
-                     for line in walk.log))
+                     for line in walk.log),
+           pasted=[line.split(": ")[-1] for line in walk.log if "Ctrl+Shift+V" in line])
     return 0
