@@ -173,3 +173,25 @@ def test_dropping_a_texture_a_dpj_a_photo_and_a_picture(qtbot, window, tmp_path,
     text.setText("brick")
     assert not drop(window, text)
     assert window.path == texture and not window.errors
+
+
+def test_dropped_files_that_are_not_what_they_say_leave_the_texture_alone(qtbot, window,
+                                                                          tmp_path):
+    levels = window.history.document.levels.copy()
+    damaged = tmp_path / "damaged.texture"
+    damaged.write_bytes(b"PK\x03\x04 not a zip at all")
+    assert drop(window, urls(damaged))
+    assert window.runner.wait(60_000)
+    assert window.errors and "damaged.texture" in window.errors[-1][0]
+    bad_dpj = tmp_path / "bad.dpj"
+    bad_dpj.write_bytes(b"\x00" * 100)
+    assert drop(window, urls(bad_dpj))
+    assert "bad.dpj" in window.errors[-1][0]
+    folder = tmp_path / "a folder.png"
+    folder.mkdir()
+    assert drop(window, urls(folder))                      # read in the dialog, refused there
+    dialog = window.acquire_dialog
+    assert dialog.wait() and dialog.dpj is None and not dialog.ok_button.isEnabled()
+    assert "a folder.png" in dialog.info.text()
+    dialog.reject()
+    assert np.array_equal(window.history.document.levels, levels) and window.path is None
