@@ -153,9 +153,10 @@ def acquire_scales(out: Acquired, scales, window, levels: int, method: str, tone
 
 def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, cancel,
             scales: int | None = 1, tone: bool = True, scan: str = ROWS,
-            stationary: bool = False) -> Acquired:
-    """Read the photo (unless ``image`` is given), quantise it and count its windows: all the
-    slow part of the dialog, for the worker. Stops between stages when ``cancel()``.
+            stationary: bool = False, show: bool = False) -> Acquired:
+    """Read the photo (unless ``image`` is given; ``show``: make its preview all the same),
+    quantise it and count its windows: all the slow part of the dialog, for the worker. Stops
+    between stages when ``cancel()``.
     ``scales``: 1 for one DPJ, more for a photo model (``tone``: with the photo's tone), None
     for as many as the photo's size suggests (markov.multiscale.default_scales). One DPJ is
     counted in the ``scan`` asked for, and made ``stationary`` if asked (§5.2.2)."""
@@ -163,6 +164,7 @@ def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, can
     try:
         if image is None:
             out.image = load_image(path)
+        if image is None or show:
             out.photo = preview_image(photo_rgb(out.image))
     except TexeditorError as exc:
         out.error = str(exc)
@@ -242,6 +244,7 @@ class AcquireDialog(QtWidgets.QDialog):
             self.source.addItem(path.stem.replace("_", " "), str(path))
         self.source.activated.connect(self._source_chosen)
         self.pasted = None                # the last picture pasted into the dialog
+        self._show_pasted = False         # ... whose preview the worker is to make
         self.browse = QtWidgets.QPushButton("Browse…")
         self.browse.clicked.connect(self.choose_file)
         self.paste = QtWidgets.QPushButton("Paste")
@@ -381,7 +384,8 @@ class AcquireDialog(QtWidgets.QDialog):
         the photos, so choosing another and coming back finds it again."""
         self.pasted = image
         self.path, self.image = PASTED, image
-        self.photo_view.setPixmap(QtGui.QPixmap.fromImage(preview_image(photo_rgb(image))))
+        self._show_pasted = True          # its preview is made in the worker (a large one takes
+        self.photo_view.clear()           # a second)
         if self.source.findData(str(PASTED)) < 0:
             self.source.addItem(str(PASTED), str(PASTED))
         self.source.setCurrentIndex(self.source.findData(str(PASTED)))
@@ -449,11 +453,13 @@ class AcquireDialog(QtWidgets.QDialog):
         method, wrap = self.method.currentData(), self.wrap.isChecked()
         scales, tone = self.requested_scales(), self.tone.isChecked()
         scan, stationary = self.scan.currentData(), self.stationary.isChecked()
+        show = self._show_pasted
         self.dpj, self.model = None, None
         self.ok_button.setEnabled(False)
         self.busy.show()
         self.worker.request(lambda _progress, cancel: acquire(
-            path, image, window, levels, method, wrap, cancel, scales, tone, scan, stationary))
+            path, image, window, levels, method, wrap, cancel, scales, tone, scan, stationary,
+            show))
 
     def wait(self, timeout_ms: int = 30_000) -> bool:
         """Block until the current settings' result is shown (tests and scripts only)."""
@@ -466,7 +472,7 @@ class AcquireDialog(QtWidgets.QDialog):
             self._unreadable(out.error)
             return
         if out.photo is not None:
-            self.image = out.image
+            self.image, self._show_pasted = out.image, False
             self.photo_view.setPixmap(QtGui.QPixmap.fromImage(out.photo))
             if self.source.findData(str(out.path)) < 0:
                 self.source.addItem(out.path.name, str(out.path))

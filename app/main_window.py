@@ -227,7 +227,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self.act_save_as = a("Save &As…", self.save_as, K.SaveAs)
         self.act_export = a("&PNG picture…", self.export_png, "Ctrl+E",
                             "Write the texture as an image, optionally enlarged")
-        self.act_acquire = a("&Acquire DPJ from image…", self.acquire, "Ctrl+I",
+        self.act_acquire = a("&Acquire DPJ from image…", lambda: self.acquire(), "Ctrl+I",
                              "Estimate a DPJ from a photo (thesis §5.2)")
         self.act_open_dpj = a("Open DPJ or photo &model…", lambda: self.open_dpj(),
                               "Ctrl+Shift+O", "Open a .dpj file: a DPJ, or a photo model whose "
