@@ -6,7 +6,7 @@ the Synthesise button, clicks in the History list, undo and redo, the Extract pa
 modes, the picture copied and pasted as a photo to acquire from, and the non-modal dialogs (global operators, composition, DPJ editor) opened, used and
 closed; with ``models``, the Models menu's dialogs too; with ``photo``, a photo model attached
 first, so Synthesise draws its scales and tone, tileable or not at random (and every edit draws
-the tone again). It fails on an exception that reaches Qt, on a crash (the parent sees the signal), or
+the tone again); with ``menus``, the menu bar's entries too (menu_entries). It fails on an exception that reaches Qt, on a crash (the parent sees the signal), or
 when Ctrl+Z back to step 1 does not give back the synthesised texture and its palette (and
 Ctrl+Shift+Z the document the walk ended on).
 """
@@ -20,6 +20,7 @@ import traceback
 from PySide6 import QtCore, QtTest
 
 from app.tools.regions import ExtractTool
+from app.main_window import MENUS
 from app.tools.spot import SpotTool
 
 from .session_runner import Hand, Recorder, close_window, open_window, report, same_document, state
@@ -32,8 +33,10 @@ VIEW_KEYS = {"0": Key.Key_0, "1": Key.Key_1, "W": Key.Key_W, "+": Key.Key_Plus,
 class Walk:
     """The random walk: each event is one user gesture, logged so a failure can be read."""
 
-    def __init__(self, hand: Hand, seed: int, models: bool = False, photo: bool = False):
+    def __init__(self, hand: Hand, seed: int, models: bool = False, photo: bool = False,
+                 menus: bool = False):
         self.hand, self.win, self.models, self.photo = hand, hand.win, models, photo
+        self.menus = menus
         self.rng = random.Random(seed)
         self.log: list[str] = []
         self.made = 0              # events that added a step
@@ -213,6 +216,36 @@ class Walk:
         QtTest.QTest.qWait(20)
         return f"Ctrl+C, Ctrl+Shift+V: {'Acquire' if ok else 'Cancel'}"
 
+    def menu(self):
+        """An entry of the menu bar (but the Models menu, the --models walks', and those that
+        end the document: New, Open Recent, Quit), then every window it opened closed (or a
+        dialog's OK pressed) and every dock shown again (a View entry may hide one)."""
+        from PySide6 import QtWidgets
+        entries = [a for a in menu_entries(self.win) if a.isEnabled()]
+        entry = self.rng.choice(entries)
+        before = set(QtWidgets.QApplication.topLevelWidgets())
+        entry.trigger()
+        self.hand.wait_idle()
+        QtTest.QTest.qWait(20)
+        opened = [w for w in QtWidgets.QApplication.topLevelWidgets()
+                  if w not in before and w.isVisible() and w is not self.win]
+        how = []
+        for w in opened:
+            ok = isinstance(w, QtWidgets.QDialog) and self.rng.random() < 0.3
+            if ok and hasattr(w, "wait"):            # its result computed in a worker first
+                assert w.wait(120_000), f"{type(w).__name__} computed nothing in 120 s"
+            if ok:
+                w.accept()                           # refused while it has nothing to give
+                ok = not w.isVisible()
+            how.append(f"{type(w).__name__} {'accepted' if ok else 'closed'}")
+            if not ok:
+                w.close()
+            self.hand.wait_idle()
+        for dock in self.win.docks():
+            dock.show()
+        text = entry.text().replace("&", "")
+        return f"menu {text}" + (f" ({', '.join(how)})" if how else "")
+
     def slider(self):
         dock = self.win.palette_dock
         slider = self.rng.choice([dock.darkest, dock.lightest, dock.contrast])
@@ -225,6 +258,8 @@ class Walk:
             else (EVENTS, WEIGHTS)
         if self.photo:
             events, weights = events + [Walk.synthesise], weights + [PHOTO_SYNTHESIS_WEIGHT]
+        if self.menus:
+            events, weights = events + [Walk.menu], weights + [MENU_WEIGHT]
         event = self.rng.choices(events, weights)[0]
         before = self.win.history.index
         self.log.append(event(self))
@@ -242,6 +277,26 @@ EVENT_WEIGHTS = {
 EVENTS, WEIGHTS = list(EVENT_WEIGHTS), list(EVENT_WEIGHTS.values())
 MODEL_WEIGHT = 3            # --models walks: the Models dialogs too (other seeds' walks unchanged)
 PHOTO_SYNTHESIS_WEIGHT = 5  # --photo walks: Synthesise more often (a photo model's textures)
+MENU_WEIGHT = 12            # --menus walks: the menu bar's entries too
+NOT_WALKED = {"New…", "Quit", "Open Recent"}   # they end the document the walk checks
+
+
+def menu_entries(win) -> list:
+    """The menu bar's entries, submenus included, but the Models menu's and NOT_WALKED."""
+    found = []
+
+    def walk(menu):
+        for action in menu.actions():
+            if action.menu() is not None:
+                if action.menu().title().replace("&", "") not in NOT_WALKED:
+                    walk(action.menu())
+            elif not action.isSeparator() \
+                    and action.text().replace("&", "") not in NOT_WALKED:
+                found.append(action)
+    for name, _title in MENUS:
+        if name != "ModelsMenu":
+            walk(win.menu(name))
+    return found
 
 
 def attach_photo_model(win) -> None:
@@ -288,14 +343,15 @@ def undo_all_redo_all(hand: Hand, start: dict) -> str | None:
     return None
 
 
-def run_monkey(seed: int, events: int, models: bool = False, photo: bool = False) -> int:
+def run_monkey(seed: int, events: int, models: bool = False, photo: bool = False,
+               menus: bool = False) -> int:
     recorder = Recorder()
     win = open_window(recorder)
     hand = Hand(win)
     if photo:
         attach_photo_model(win)
     start = state(win)
-    walk = Walk(hand, seed, models, photo)
+    walk = Walk(hand, seed, models, photo, menus)
     problem = None
     try:
         for _ in range(events):
@@ -310,8 +366,8 @@ def run_monkey(seed: int, events: int, models: bool = False, photo: bool = False
         if not problem and not recorder.exceptions:
             problem = undo_all_redo_all(hand, start)
         close_window(win)
-    except AssertionError as exc:
-        problem = f"{exc}\n{traceback.format_exc()}"
+    except Exception as exc:              # an assertion, or an error raised in the walk itself
+        problem = f"{exc!r}\n{traceback.format_exc()}"
     if recorder.exceptions or problem:
         print(f"monkey seed {seed}: {problem or 'an exception reached Qt'}", file=sys.stderr)
         for text in recorder.exceptions:
@@ -324,5 +380,6 @@ def run_monkey(seed: int, events: int, models: bool = False, photo: bool = False
            tileable=sum(line.startswith("Synthesise") and "tileable" in line for line in walk.log),
            plain=sum(line.startswith("Synthesise") and "tileable" not in line
                      for line in walk.log),
-           pasted=[line.split(": ")[-1] for line in walk.log if "Ctrl+Shift+V" in line])
+           pasted=[line.split(": ")[-1] for line in walk.log if "Ctrl+Shift+V" in line],
+           menus=sorted({line[5:] for line in walk.log if line.startswith("menu ")}))
     return 0

@@ -11,7 +11,7 @@ and modal message boxes are recorded instead of blocking. The child prints one J
 (prefixed ``REPORT ``) and exits 0, or exits 1 with what went wrong on stderr.
 
     python -m tests.gui.session_runner session paint
-    python -m tests.gui.session_runner monkey 7 [--events 320] [--models] [--photo]
+    python -m tests.gui.session_runner monkey 7 [--events 320] [--models] [--photo] [--menus]
 """
 
 from __future__ import annotations
@@ -298,7 +298,7 @@ def main(argv: list[str]) -> int:
         rest = argv[2:]
         models, photo = "--models" in rest, "--photo" in rest
         events = int(rest[rest.index("--events") + 1]) if "--events" in rest else 320
-        return run_monkey(int(argv[1]), events, models, photo)
+        return run_monkey(int(argv[1]), events, models, photo, "--menus" in rest)
     if kind == "crash":                  # for the runner's own test: a segfault, as Qt's was
         import faulthandler
         faulthandler._sigsegv()

@@ -62,3 +62,17 @@ def test_a_walk_with_a_photo_model_shows_its_tone_and_undoes_to_the_start(seed, 
     assert report["seed"] == seed and report["events"] >= 300 and report["made"] >= 20
     assert report["tileable"] >= 1 and report["plain"] >= 1
     assert report["dialogs"] == []
+
+
+MENU_SEEDS = (7,)                # walks through the menu bar's entries too (--menus)
+
+
+@pytest.mark.parametrize("seed", MENU_SEEDS)
+def test_a_walk_through_the_menus_raises_nothing_and_undoes_to_the_start(seed, tmp_path):
+    """Every menu bar entry but New, Open Recent, Quit and the Models menu may be chosen; the
+    windows it opens are closed, or their OK pressed once they have a result."""
+    report = run_child(["monkey", str(seed), "--menus"], tmp_path)
+    assert report["seed"] == seed and report["events"] >= 300 and report["made"] >= 20
+    assert len(report["menus"]) >= 15               # many entries, not one again and again
+    assert any("accepted" in entry for entry in report["menus"])
+    assert report["dialogs"] == []
