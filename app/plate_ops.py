@@ -14,7 +14,6 @@ from pathlib import Path
 import numpy as np
 from PySide6 import QtCore, QtWidgets
 
-from texeditor.errors import TexeditorError
 from texeditor.markov.levels import load_image
 from texeditor.texture.plate_actions import AddPlates, OnPlates, PlatesFromPhoto, RemovePlates
 from texeditor.texture.plates import grid_text, laid_on_plates, levels_on_plates, photo_grid
@@ -69,20 +68,27 @@ class PlateOps:
         return self.submit(RemovePlates())
 
     def plates_from_photo(self, count: int, blur: float, path=None) -> bool:
-        """Ask for a photo (unless ``path``), blur and reduce it, and submit the plates."""
+        """Ask for a photo (unless ``path``); it is read, blurred and reduced in the worker (a
+        large photo takes a second or two to decode), then the plates are submitted. False
+        when nothing was started."""
+        if self.busy_note():
+            return False
         if path is None:
             path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Plates from a photo",
                                                             self._folder(), IMAGE_FILTER)
             if not path:
                 return False
-        path = Path(path)
-        try:
-            grid = grid_text(photo_grid(load_image(path), blur))
-            action = PlatesFromPhoto(grid, plates=count, name=path.name[:128])
-        except (TexeditorError, OSError) as exc:
-            self.show_error(f"Cannot take plates from {path.name}", exc)
+        if self.busy_note():
             return False
-        return self.submit(action)
+        path = Path(path)
+
+        def read(_progress, _cancel) -> PlatesFromPhoto:
+            grid = grid_text(photo_grid(load_image(path), blur))
+            return PlatesFromPhoto(grid, plates=count, name=path.name[:128])
+        self.runner.run(f"Reading {path.name} for plates…", read, self.submit,
+                        on_error=lambda exc: self.show_error(f"Cannot take plates from "
+                                                             f"{path.name}", exc))
+        return True
 
     # -- painting on the plates ---------------------------------------------------------------------
     def painting_plates(self) -> bool:

@@ -169,6 +169,7 @@ def test_plates_from_a_photo_through_the_dock(qtbot, window, tmp_path, monkeypat
     dock = window.plates_dock
     dock.count.setValue(2)
     qtbot.mouseClick(dock.photo_button, LEFT)
+    assert window.runner.wait(60_000)              # read in the worker, the window live
     step = window.history.applied[-1]
     assert isinstance(step, PlatesFromPhoto) and step.name == "halves.png" and step.plates == 2
     plates = window.document.plates
@@ -179,6 +180,22 @@ def test_plates_from_a_photo_through_the_dock(qtbot, window, tmp_path, monkeypat
     qtbot.keyClick(window, Key.Key_Z, CTRL)
     np.testing.assert_array_equal(window.document.plates, plates)
     assert not window.errors
+
+
+def test_plates_from_a_photo_that_cannot_be_read_say_why_and_change_nothing(qtbot, window,
+                                                                           tmp_path):
+    bad = tmp_path / "torn.png"
+    bad.write_bytes(b"\x89PNG\r\n\x1a\n torn off")
+    levels = window.document.levels.copy()
+    steps = len(window.history.applied)
+    assert window.plates_from_photo(3, 0.02, bad)
+    assert window.runner.wait(60_000)
+    assert window.errors and "torn.png" in window.errors[-1][0]
+    assert len(window.history.applied) == steps and window.document.plates is None
+    assert np.array_equal(window.document.levels, levels)
+    window.synthesis_dock.seed.set_value(3)                 # the window goes on working
+    window.synthesise_from_dock()
+    assert window.runner.wait(60_000) and len(window.history.applied) == steps + 1
 
 
 def test_acquire_with_colour_classes_synthesises_in_the_photo_colours(qtbot, window, tmp_path,
