@@ -3,7 +3,9 @@ given its 8 neighbours, then turn the G-level texture into a 2G-level one — on
 
 The photo defaults to the one the current DPJ was acquired from (and its quantiser), so the step
 reads "acquire, synthesise with few levels, double". The table is a DPJ kept in the document's
-store and saved with it; learning takes milliseconds, so it runs here on the GUI thread.
+store and saved with it. Learning it takes milliseconds on a small photo but seconds on a
+12-megapixel one, so it runs in a worker, the latest setting winning (as the acquisition
+dialog's), each photo and quantiser learnt once: a new seed only draws the preview again.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from texeditor.texture.actions import DoubleLevels
 
 from . import resources
 from .acquire_dialog import IMAGE_FILTER, QUANTISERS
+from .dpj_editor.preview import LatestWins
 from .images import pixmap
 from .params_form import SeedEdit
 from .widgets import select_path
@@ -33,6 +36,11 @@ class DoublingDialog(QtWidgets.QDialog):
         self.main_window = window
         self.setWindowTitle("Double the grey levels")
         self.table = None
+        self.learnt = {}       # (path, quantiser, G) → (photo at 2G levels as RGB, table)
+        self.worker = LatestWins(self)
+        self.worker.done.connect(self._shown)
+        self.worker.failed.connect(lambda exc: self._say(f"Cannot learn from this photo: {exc}"))
+        self.finished.connect(lambda _result: self.worker.stop())
         self.paths: list[Path] = list(resources.sample_images())
         self.photo = QtWidgets.QComboBox()
         for path in self.paths:
@@ -112,24 +120,49 @@ class DoublingDialog(QtWidgets.QDialog):
         select_path(self.photo, path)
 
     def recompute(self) -> None:
-        """Learn the table from the photo and preview the doubled texture."""
+        """Learn the table from the photo and preview the doubled texture, in the worker;
+        until it answers, Double is disabled."""
         self.table = None
         self.apply_button.setEnabled(False)
         doc = self.main_window.document
-        g = doc.num_levels
-        try:
-            path = self.photo.currentData()
-            if path is None:
-                raise TexeditorError("choose a photo with Browse…")
-            image = load_image(path)
-            refined = doubling.refine(image, g, self.method.currentData())
-            table = doubling.learn(image, g, self.method.currentData(), name=Path(path).stem)
-            crop = doc.levels[:PREVIEW, :PREVIEW]
-            result = doubling.double_levels(crop, table, self.seed.value())
-        except TexeditorError as exc:
-            self.info.setText(f"<span style='color:#b00020'>{exc}</span>")
+        path = self.photo.currentData()
+        if path is None:
+            self._say("choose a photo with Browse…")
             return
-        self.photo_view.setPixmap(pixmap(np.asarray(refined.palette)[refined.children], PREVIEW))
+        self.info.setText("Learning from the photo…")
+        key = (path, self.method.currentData(), doc.num_levels)
+        crop, seed = doc.levels[:PREVIEW, :PREVIEW].copy(), self.seed.value()
+        self.worker.request(lambda _progress, _cancel: self._learn(key, crop, seed))
+
+    def _learn(self, key, crop, seed):
+        """The worker's part: the photo's table (learnt once a photo, quantiser and G) and the
+        preview doubled with it."""
+        if key not in self.learnt:
+            path, method, g = key
+            try:
+                image = load_image(path)
+                refined = doubling.refine(image, g, method)
+                table = doubling.learn(image, g, method, name=Path(path).stem)
+            except TexeditorError as exc:
+                return key, str(exc), crop, None
+            self.learnt[key] = (np.asarray(refined.palette)[refined.children], table)
+        return key, None, crop, doubling.double_levels(crop, self.learnt[key][1], seed)
+
+    def wait(self, timeout_ms: int = 30_000) -> bool:
+        """Block until the current settings' preview is shown (tests and scripts only)."""
+        return self.worker.wait(timeout_ms)
+
+    def _say(self, message: str) -> None:
+        self.info.setText(f"<span style='color:#b00020'>{message}</span>")
+
+    def _shown(self, outcome) -> None:
+        key, error, crop, result = outcome
+        if error is not None:
+            self._say(error)
+            return
+        picture, table = self.learnt[key]
+        doc, g = self.main_window.document, key[2]
+        self.photo_view.setPixmap(pixmap(picture, PREVIEW))
         self.before_view.setPixmap(pixmap(np.asarray(doc.palette)[crop], PREVIEW))
         self.result_view.setPixmap(pixmap(np.asarray(table.palette)[result.levels], PREVIEW))
         eight, four, own, none = result.contexts

@@ -308,14 +308,34 @@ def test_double_the_levels_from_the_photo(window, qtbot):
     window.act_double.trigger()
     dialog = window.doubling_dialog
     qtbot.waitExposed(dialog)
+    assert dialog.wait()                            # learnt in the worker, the window live
     assert dialog.apply_button.isEnabled(), dialog.info.text()
     assert "neighbours" in dialog.info.text()
+    first = dialog.result_view.pixmap().toImage()
+    dialog.seed.set_value(2)                        # a new seed: the preview only, not relearnt
+    assert not dialog.apply_button.isEnabled()
+    assert dialog.wait() and dialog.apply_button.isEnabled()
+    assert len(dialog.learnt) == 1 and dialog.result_view.pixmap().toImage() != first
     dialog.apply_button.click()
     doc = window.document
     assert isinstance(window.history.actions[-1], DoubleLevels)
     assert doc.num_levels == 2 * g and np.array_equal(doc.levels // 2, before)
+    assert window.history.actions[-1].seed == 2
     window.act_undo.trigger()
     assert doc.num_levels == g and np.array_equal(doc.levels, before)
+
+
+def test_double_the_levels_from_a_photo_that_cannot_be_read(window, qtbot, tmp_path):
+    bad = tmp_path / "torn.jpg"
+    bad.write_bytes(b"\xff\xd8\xff torn")
+    window.act_double.trigger()
+    dialog = window.doubling_dialog
+    dialog.set_photo(bad)
+    assert dialog.wait()
+    assert "torn.jpg" in dialog.info.text() and not dialog.apply_button.isEnabled()
+    dialog.photo.setCurrentIndex(0)                 # back to a good photo: Double again
+    assert dialog.wait() and dialog.apply_button.isEnabled()
+    dialog.reject()
 
 
 # -- the output size, said before rendering; slow renders in the worker (issue 16) ----------------
