@@ -36,12 +36,12 @@ def exemplar_from(image: np.ndarray) -> tuple[np.ndarray, str]:
     """A photo as an exemplar: uint8 grey or RGB (alpha laid on white), its middle 1024² at
     most (a crop, not a reduction: a micro-texture's grain keeps its scale); and a note."""
     colour = has_colour(image)
-    unit = to_rgb(image) if colour else to_grey(image)
-    h, w = unit.shape[:2]
+    h, w = np.shape(image)[:2]
     top, left = max((h - MAX_SIDE) // 2, 0), max((w - MAX_SIDE) // 2, 0)
-    crop = unit[top:top + MAX_SIDE, left:left + MAX_SIDE]
+    crop = np.asarray(image)[top:top + MAX_SIDE, left:left + MAX_SIDE]   # before converting:
+    unit = to_rgb(crop) if colour else to_grey(crop)     # per pixel, and a 12-megapixel photo
     note = f" (its middle {crop.shape[1]}×{crop.shape[0]})" if crop.shape[:2] != (h, w) else ""
-    return np.round(crop * 255).astype(np.uint8), note
+    return np.round(unit * 255).astype(np.uint8), note                    # took a second whole
 
 
 def photo_box() -> tuple[QtWidgets.QComboBox, QtWidgets.QPushButton]:
