@@ -4,8 +4,9 @@ A 10 ms timer ticks on the GUI thread while the window's TaskRunner runs, one af
 a 2048² synthesis, a verify of the bank (every entry replayed), and a 1,000-action replay. The
 longest gap between ticks is how long the window froze (target ≤ 100 ms). The same is measured
 through the window's own paths: an edit of step 1 of that log at 512² (click the step, new seed,
-Apply & replay, until the new document is in), and File ▸ Acquire on a 3000×2000 photo (read,
-quantise, count, until the result is shown). Then Cancel: a 4096² synthesis is cancelled after
+Apply & replay, until the new document is in), File ▸ Acquire on a 3000×2000 photo (read,
+quantise, count, until the result is shown), the same photo pasted (Edit ▸ Paste as photo),
+learnt by Image ▸ Double the levels… and taken as colour plates. Then Cancel: a 4096² synthesis is cancelled after
 0.3 s, and the time until the runner reports it stopped is measured (target ≤ 200 ms). Last,
 fills on a 2048² texture shown with a photo's tone (gravel, plain and tileable): the stall with
 the tone drawn on a thread (the default for a million points or more) and drawn on the GUI
@@ -126,6 +127,41 @@ def acquisition(app, window, path: Path) -> tuple[float, float]:
     return seconds, gap
 
 
+def doubling(app, window, path: Path) -> tuple[float, float]:
+    """Image ▸ Double the levels… learning from a large photo: choose it, until Double is
+    enabled."""
+    from app.doubling_dialog import DoublingDialog
+
+    dialog = DoublingDialog(window)
+    dialog.show()
+    dialog.wait()                                   # the bundled photo's first
+    seconds, gap = stall(app, lambda: dialog.set_photo(path),
+                         lambda: dialog.apply_button.isEnabled())
+    dialog.reject()
+    return seconds, gap
+
+
+def plates(app, window, path: Path) -> tuple[float, float]:
+    """Colour plates from a large photo, until the step is in."""
+    steps = len(window.history.applied)
+    seconds, gap = stall(app, lambda: window.plates_from_photo(4, 0.02, path),
+                         lambda: not window.runner.busy and len(window.history.applied) > steps)
+    window.act_undo.trigger()
+    return seconds, gap
+
+
+def paste(app, window, path: Path) -> tuple[float, float]:
+    """Edit ▸ Paste as photo of the large photo on the clipboard, until its DPJ is shown."""
+    from PySide6 import QtGui, QtWidgets
+
+    QtWidgets.QApplication.clipboard().setImage(QtGui.QImage(str(path)))
+    dialogs = []
+    seconds, gap = stall(app, lambda: dialogs.append(window.paste_photo()),
+                         lambda: dialogs and dialogs[0].dpj is not None)
+    dialogs[0].reject()
+    return seconds, gap
+
+
 def cancel_latency(app, window) -> float:
     from PySide6 import QtCore
 
@@ -221,6 +257,12 @@ def main() -> int:
         for label, run in (("edit step 1 of 1,000 and replay", lambda: edit_step_one(
                                 app, window, actions, dpjs)),
                            ("acquire a 3000×2000 photo", lambda: acquisition(
+                                app, window, photo(Path(folder)))),
+                           ("paste a 3000×2000 photo", lambda: paste(
+                                app, window, photo(Path(folder)))),
+                           ("double levels from 3000×2000", lambda: doubling(
+                                app, window, photo(Path(folder)))),
+                           ("plates from a 3000×2000 photo", lambda: plates(
                                 app, window, photo(Path(folder))))):
             seconds, gap = run()
             print(f"{label:32s} {seconds:6.2f} s until done;   longest GUI stall "
