@@ -13,7 +13,7 @@ from PySide6 import QtCore, QtWidgets
 from texeditor.export import to_rgb, write_picture, write_png
 from texeditor.wording import counted
 from texeditor.recipe.actions import NewCanvas
-from texeditor.errors import TexeditorError
+from texeditor.errors import Cancelled, TexeditorError
 from texeditor.recipe.history import History
 from texeditor.recipe.texturefile import load_texture, save_texture
 
@@ -22,6 +22,7 @@ from .images import photo_rgb, qimage_from_rgb
 from .new_dialog import NewDialog
 
 TEXTURE_FILTER = "Textures (*.texture);;All files (*)"
+BACKGROUND_EXPORT = 2**20     # output pixels from which an export is written in the worker
 PNG_FILTER = "PNG images (*.png)"
 MAX_RECENT = 8
 
@@ -228,21 +229,53 @@ class FileOps:
             self.export_to(path, scale)
 
     def export_to(self, path, scale: int = 1) -> bool:
+        """Write the picture on show (tone, plates, if they are; else the levels in their
+        palette), each point as scale×scale pixels. False when it was refused or failed."""
         path = Path(path)
         if path.suffix.lower() != ".png":
             path = path.with_name(path.name + ".png")
         doc = self.history.document
         picture = self.display_picture()     # the picture on show: tone, plates, if they are
-        try:
-            if picture is not None:
-                write_picture(path, picture, scale)
-            else:
-                write_png(path, doc.levels, doc.palette, scale)   # atomic: no half-written file
-        except (TexeditorError, OSError) as exc:
-            self.show_error("Cannot export", exc)
-            return False
         h, w = doc.shape
-        self.statusBar().showMessage(f"Exported {path} ({w * scale}×{h * scale} pixels).", 8000)
+        if picture is not None:
+            write = lambda: write_picture(path, picture, scale)             # noqa: E731
+        else:
+            levels, palette = doc.levels.copy(), doc.palette.copy()        # edits may follow
+            write = lambda: write_png(path, levels, palette, scale)         # noqa: E731
+        return self.write_export(h * w * scale * scale, path, write, "Cannot export",
+                                 f"Exported {path} ({w * scale}×{h * scale} pixels).")
+
+    def write_export(self, pixels: int, path: Path, write, error_title: str, done: str) -> bool:
+        """``write()`` a file (atomically: no half-written file), saying ``done`` in the status
+        bar or the error in a dialog. From BACKGROUND_EXPORT output pixels on (a 2048² export
+        takes a second or more) it is written in the worker, the window live, with progress
+        and Esc, which stops it before the write begins (once begun, it ends; the status bar
+        says which). False when it failed, or could not start while other work runs."""
+        if pixels < BACKGROUND_EXPORT:
+            try:
+                write()
+            except (TexeditorError, OSError) as exc:
+                self.show_error(error_title, exc)
+                return False
+            self.statusBar().showMessage(done, 8000)
+            return True
+        if self.busy_note():
+            return False
+        written = []
+
+        def work(_progress, cancel):
+            if cancel():
+                raise Cancelled("export cancelled")
+            write()
+            written.append(path)
+
+        def cancelled():
+            self.statusBar().showMessage(done if written else f"Export cancelled: {path.name} "
+                                         "was not written.", 8000)
+        self.runner.run(f"Writing {path.name}…", work,
+                        lambda _r: self.statusBar().showMessage(done, 8000),
+                        on_cancel=cancelled,
+                        on_error=lambda exc: self.show_error(error_title, exc))
         return True
 
     def copy_picture(self) -> bool:

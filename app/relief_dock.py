@@ -16,7 +16,6 @@ from pathlib import Path
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from texeditor.errors import TexeditorError
 from texeditor.relief import (light_direction, plane_preview, sphere_preview, write_height_map,
                               write_normal_map)
 from texeditor.relief.shading import MAX_STRENGTH, lambert
@@ -375,12 +374,8 @@ class ReliefDock(QtWidgets.QDockWidget):
         if path.suffix.lower() != ".png":
             path = path.with_name(path.name + ".png")
         doc = self.main_window.history.document
-        try:
-            write(path, doc.levels, doc.palette)
-        except (TexeditorError, OSError) as exc:
-            self.main_window.show_error(f"Cannot export the {what}", exc)
-            return False
+        levels, palette = doc.levels.copy(), doc.palette.copy()     # edits may follow
         h, w = doc.shape
-        self.main_window.statusBar().showMessage(f"Exported the {what}{detail} {path} "
-                                                 f"({w}×{h}).", 8000)
-        return True
+        return self.main_window.write_export(h * w, path, lambda: write(path, levels, palette),
+                                             f"Cannot export the {what}",
+                                             f"Exported the {what}{detail} {path} ({w}×{h}).")

@@ -110,6 +110,54 @@ def test_export_png_with_upscale(qtbot, window, tmp_path, monkeypatch):
         assert (colour.red(), colour.green(), colour.blue()) == expected
 
 
+def test_a_large_export_is_written_in_the_worker_and_an_edit_meanwhile_is_not_in_it(
+        qtbot, window, tmp_path, monkeypatch):
+    import threading
+
+    import app.files
+    from texeditor.recipe.actions import SetLevels
+    monkeypatch.setattr(app.files, "BACKGROUND_EXPORT", 1000)     # the 64×48 texture, ×3
+    gate, writing = threading.Event(), threading.Event()
+    real = app.files.write_png
+
+    def held(*args, **kwargs):
+        writing.set()
+        gate.wait(30)
+        return real(*args, **kwargs)
+    monkeypatch.setattr(app.files, "write_png", held)
+    doc = window.history.document
+    expected = doc.palette[doc.levels].repeat(3, 0).repeat(3, 1)
+    out = tmp_path / "large.png"
+    assert window.export_to(out, 3)
+    assert writing.wait(30) and window.runner.busy and "Writing large.png" in \
+        window.task_label.text()
+    level = (int(doc.levels[0, 0]) + 1) % doc.num_levels
+    assert window.submit(SetLevels(0, 0, 48, 64, level))          # an edit while it writes
+    assert (window.history.document.levels == level).all()
+    assert not window.export_to(tmp_path / "second.png", 3)       # one at a time, said so
+    assert "Busy" in window.statusBar().currentMessage()
+    window.runner.cancel()                                       # Esc once the write began:
+    gate.set()                                                   # it ends, and says so
+    assert window.runner.wait(30_000)
+    image = QtGui.QImage(str(out)).convertToFormat(QtGui.QImage.Format.Format_RGB888)
+    pixels = np.frombuffer(image.constBits(), np.uint8).reshape(
+        image.height(), image.bytesPerLine())[:, :3 * image.width()].reshape(
+        image.height(), image.width(), 3)
+    assert np.array_equal(pixels, expected)                      # the texture when asked
+    assert f"Exported {out}" in window.statusBar().currentMessage()
+    assert not (tmp_path / "second.png").exists() and not window.errors
+
+
+def test_a_large_export_that_fails_says_why(qtbot, window, tmp_path, monkeypatch):
+    import app.files
+    monkeypatch.setattr(app.files, "BACKGROUND_EXPORT", 1000)
+    missing = tmp_path / "no such folder" / "out.png"
+    assert window.export_to(missing, 3)                          # started; fails in the worker
+    assert window.runner.wait(30_000)
+    assert window.errors and window.errors[-1][0] == "Cannot export"
+    assert not missing.exists()
+
+
 def test_swatch_click_selects_and_double_click_edits_the_colour(qtbot, window, monkeypatch):
     dock = window.palette_dock
     bar = dock.swatches
