@@ -13,6 +13,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import shiboken6
 from PySide6 import QtCore, QtWidgets
 
 from texeditor.markov import doubling
@@ -36,6 +37,7 @@ class DoublingDialog(QtWidgets.QDialog):
         self.main_window = window
         self.setWindowTitle("Double the grey levels")
         self.table = None
+        self.doubling = False  # Double pressed: the levels are being doubled in the worker
         self.learnt = {}       # (path, quantiser, G) → (photo at 2G levels as RGB, table)
         self.worker = LatestWins(self)
         self.worker.done.connect(self._shown)
@@ -175,11 +177,36 @@ class DoublingDialog(QtWidgets.QDialog):
         self.apply_button.setEnabled(True)
 
     def apply(self) -> None:
-        if self.table is None:
+        """Double: the texture's levels are doubled in the worker (a second for a 2048²
+        texture; status bar, Esc), then the step is applied and the dialog closes."""
+        window = self.main_window
+        if self.table is None or window.busy_note():
             return
-        ref = self.main_window.document.store_dpj(self.table)
-        if self.main_window.submit(DoubleLevels(ref, self.seed.value())):
-            self.accept()
+        doc = window.document           # nothing edits it meanwhile: this dialog is modal
+        action = DoubleLevels(doc.store_dpj(self.table), self.seed.value())
+        self.apply_button.setEnabled(False)
+        self.doubling = True
+
+        def ended(levels=None) -> None:
+            if not shiboken6.isValid(self) or not self.doubling:
+                return                   # Cancel closed the dialog meanwhile: nothing applied
+            self.doubling = False
+            if levels is not None and window.submit(action, prepared=levels):
+                self.accept()
+            else:
+                self.apply_button.setEnabled(self.table is not None)
+        window.runner.run("Doubling the levels…",
+                          lambda progress, cancel: action.prepare(doc, progress, cancel),
+                          ended, on_cancel=ended,
+                          on_error=lambda exc: (window.show_error("Cannot double the levels", exc),
+                                                ended()))
+
+    def reject(self) -> None:
+        """Cancel, also while the levels are being doubled: that work is stopped, no step."""
+        if self.doubling:
+            self.doubling = False
+            self.main_window.runner.cancel()
+        super().reject()
 
 
 def open_doubling(window) -> DoublingDialog | None:

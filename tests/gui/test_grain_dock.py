@@ -316,13 +316,47 @@ def test_double_the_levels_from_the_photo(window, qtbot):
     assert not dialog.apply_button.isEnabled()
     assert dialog.wait() and dialog.apply_button.isEnabled()
     assert len(dialog.learnt) == 1 and dialog.result_view.pixmap().toImage() != first
-    dialog.apply_button.click()
+    dialog.apply_button.click()                     # doubled in the worker, then applied
+    assert window.runner.wait(60_000)
     doc = window.document
     assert isinstance(window.history.actions[-1], DoubleLevels)
     assert doc.num_levels == 2 * g and np.array_equal(doc.levels // 2, before)
     assert window.history.actions[-1].seed == 2
     window.act_undo.trigger()
     assert doc.num_levels == g and np.array_equal(doc.levels, before)
+
+
+def test_cancel_while_the_levels_are_doubled_adds_no_step(window, qtbot, monkeypatch):
+    import threading
+
+    import shiboken6
+    gate, started = threading.Event(), threading.Event()
+    real = DoubleLevels.prepare
+
+    def held(self, doc, progress=None, cancel=None):
+        started.set()
+        gate.wait(30)
+        return real(self, doc, progress, cancel)
+    monkeypatch.setattr(DoubleLevels, "prepare", held)
+    before, steps = window.document.levels.copy(), len(window.history.actions)
+    window.act_double.trigger()
+    dialog = window.doubling_dialog
+    assert dialog.wait()
+    dialog.apply_button.click()
+    assert started.wait(30) and window.runner.busy and not dialog.apply_button.isEnabled()
+    dialog.reject()                                 # Cancel while it works
+    gate.set()
+    assert window.runner.wait(60_000)
+    assert len(window.history.actions) == steps
+    assert np.array_equal(window.document.levels, before) and not window.errors
+    window.act_double.trigger()                     # and again, to the end this time
+    dialog = window.doubling_dialog
+    assert dialog.wait()
+    dialog.apply_button.click()
+    assert window.runner.wait(60_000)
+    assert not shiboken6.isValid(dialog) or not dialog.isVisible()     # closed once applied
+    assert isinstance(window.history.actions[-1], DoubleLevels)
+    assert np.array_equal(window.document.levels // 2, before)
 
 
 def test_double_the_levels_from_a_photo_that_cannot_be_read(window, qtbot, tmp_path):

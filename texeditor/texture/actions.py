@@ -350,7 +350,22 @@ class DoubleLevels(Action):
     table: str = param("ref", doc="the doubling table (a 3×3 DPJ of the photo at 2G levels)")
     seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
 
+    def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
+        """The doubled levels (a second for a 2048² texture: done in the worker)."""
+        return doubling.double_levels(doc.levels, self._table(doc), self.seed).levels
+
     def apply(self, doc, prepared=None) -> None:
+        table = self._table(doc)
+        if prepared is None:
+            doc.set_levels(self.prepare(doc), table.palette, copy=False)
+            return
+        levels = np.asarray(prepared)        # kept by the caller (a replay's cache): copied
+        if levels.dtype != np.uint8 or levels.shape != doc.shape:
+            raise InputError(f"doubled levels must be a {doc.shape[1]}x{doc.shape[0]} uint8 "
+                             f"matrix, got {levels.shape} {levels.dtype}")
+        doc.set_levels(levels, table.palette)
+
+    def _table(self, doc):
         table = doc.dpjs.get(self.table)
         if table is None:
             raise InputError(f"doubling table {self.table} is not part of this document")
@@ -358,8 +373,7 @@ class DoubleLevels(Action):
         if doc.num_levels != g:
             raise InputError(f"this table doubles textures of G = {g} levels; the document has "
                              f"G = {doc.num_levels}")
-        result = doubling.double_levels(doc.levels, table, self.seed)
-        doc.set_levels(result.levels, table.palette, copy=False)
+        return table
 
     def label(self) -> str:
         return f"Double the levels, seed {self.seed}"
