@@ -196,7 +196,7 @@ class DoublingDialog(QtWidgets.QDialog):
             else:
                 self.apply_button.setEnabled(self.table is not None)
         window.runner.run("Doubling the levels…",
-                          lambda progress, cancel: action.prepare(doc, progress, cancel),
+                          lambda _progress, _cancel: action.doubled(doc),
                           ended, on_cancel=ended,
                           on_error=lambda exc: (window.show_error("Cannot double the levels", exc),
                                                 ended()))

@@ -25,6 +25,8 @@ OPERATORS = [
     ("Scatter every region (random)", "scatter"),
 ]
 ROTATIONS = [("None", "none"), ("Quarter turns", "quarter"), ("Any angle", "any")]
+IN_WORKER = 2**18      # points from which a scatter is drawn in the worker (a 2048² texture's
+                       # every region takes 4–5 s; a 512² one's a quarter of a second)
 FIELDS = {"isometry": {"angle"}, "similarity": {"factor"}, "affinity": {"shear"},
           "identity": {"dx", "dy", "copies"},
           "scatter": {"radius", "rotation", "scale_min", "scale_max", "level", "fill", "seed"}}
@@ -169,9 +171,14 @@ class GlobalOperatorsDialog(QtWidgets.QDialog):
         return ra.Affinity(m00=1.0, m01=0.0, m10=self.shear.value(), m11=1.0, **centre, **common)
 
     def apply(self) -> None:
+        """Submit the operator; a scatter of a large texture (seconds) is drawn in the worker."""
+        window = self.main_window
         try:
             action = self.action()
         except TexeditorError as exc:
-            self.main_window.show_error("Cannot apply the operator", exc)
+            window.show_error("Cannot apply the operator", exc)
             return
-        self.main_window.submit(action)
+        if isinstance(action, ra.ScatterRegions) and window.document.levels.size >= IN_WORKER:
+            window.submit_computed(action, action.scattered, "Scattering the regions…")
+        else:
+            window.submit(action)

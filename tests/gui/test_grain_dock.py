@@ -331,13 +331,13 @@ def test_cancel_while_the_levels_are_doubled_adds_no_step(window, qtbot, monkeyp
 
     import shiboken6
     gate, started = threading.Event(), threading.Event()
-    real = DoubleLevels.prepare
+    real = DoubleLevels.doubled
 
-    def held(self, doc, progress=None, cancel=None):
+    def held(self, doc):
         started.set()
         gate.wait(30)
-        return real(self, doc, progress, cancel)
-    monkeypatch.setattr(DoubleLevels, "prepare", held)
+        return real(self, doc)
+    monkeypatch.setattr(DoubleLevels, "doubled", held)
     before, steps = window.document.levels.copy(), len(window.history.actions)
     window.act_double.trigger()
     dialog = window.doubling_dialog

@@ -299,3 +299,52 @@ def test_a_scatter_step_edited_in_the_history_draws_again_with_its_new_seed(boar
     assert board.history.actions[step].seed == 2
     assert np.array_equal(board.document.levels,
                           scatter_regions(start, 2, radius=5, rotation="quarter", wrap=True))
+
+
+def test_a_large_scatter_is_drawn_in_the_worker_and_not_applied_over_an_edit(board, qtbot,
+                                                                             monkeypatch):
+    """A scatter of a large texture runs in the worker (here every texture is large): the
+    window stays live, the step is the same; a texture edited meanwhile is not overwritten."""
+    import threading
+
+    import app.global_dialog
+    from texeditor.regions.actions import ScatterRegions
+    from texeditor.regions.scatter import scatter_regions
+    monkeypatch.setattr(app.global_dialog, "IN_WORKER", 1)
+    start, steps = board.document.levels.copy(), len(board.history.actions)
+    qtbot.keyClick(board, QtCore.Qt.Key.Key_G, QtCore.Qt.KeyboardModifier.ControlModifier)
+    dialog = board._global_dialog
+    dialog.operator.setCurrentIndex(dialog.operator.findData("scatter"))
+    dialog.radius.setValue(4)
+    dialog.wrap.setChecked(False)
+    dialog.seed.set_value(11)
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    assert board.runner.busy and len(board.history.actions) == steps   # in the worker
+    assert board.runner.wait(30_000)
+    assert isinstance(board.history.actions[-1], ScatterRegions)
+    assert np.array_equal(board.document.levels, scatter_regions(start, 11, radius=4))
+    board.undo()
+    assert np.array_equal(board.document.levels, start)
+
+    gate, started = threading.Event(), threading.Event()
+    real = ScatterRegions.scattered
+
+    def held(self, doc):
+        started.set()
+        gate.wait(30)
+        return real(self, doc)
+    monkeypatch.setattr(ScatterRegions, "scattered", held)
+    qtbot.mouseClick(dialog.apply_button, LEFT)
+    assert started.wait(30) and board.runner.busy
+    board.submit(SetLevels(0, 0, 2, 2, 1))          # an edit while it is drawn
+    edited = board.document.levels.copy()
+    gate.set()
+    assert board.runner.wait(30_000)
+    assert np.array_equal(board.document.levels, edited)            # the edit kept
+    assert len(board.history.actions) == steps + 1                  # no scatter over it
+    assert "changed meanwhile" in board.statusBar().currentMessage()
+    qtbot.mouseClick(dialog.apply_button, LEFT)                     # applied again: in
+    assert board.runner.wait(30_000)
+    assert np.array_equal(board.document.levels, scatter_regions(edited, 11, radius=4))
+    assert not board.errors
+    dialog.close()

@@ -336,6 +336,27 @@ def test_double_levels_action(table, tmp_path):
     assert doc.num_levels == 3 and np.array_equal(doc.levels, base)
 
 
+def test_double_levels_given_its_levels_then_replayed_after_an_earlier_edit(table):
+    """A window doubles in its worker and applies the levels as ``prepared``; an edit of an
+    earlier step then replays the doubling on the new levels (no cache hands back the old)."""
+    base = np.array([[0, 1, 2, 2], [1, 2, 0, 1], [2, 2, 1, 0]], np.uint8)
+    history = history_of(base, 3)
+    ref = history.document.store_dpj(table)
+    action = DoubleLevels(ref, 5)
+    history.apply(action, prepared=action.doubled(history.document))
+    assert np.array_equal(history.document.levels, doubling.double_levels(base, table, 5).levels)
+    other = history_of(base, 3)
+    other.document.store_dpj(table)
+    with pytest.raises(InputError, match="4x3 uint8"):
+        other.apply(action, prepared=np.zeros((2, 2), np.uint8))
+    history.insert(len(history.actions) - 1, SetLevels(0, 0, 1, 4, 0))    # before the doubling
+    edited = base.copy()
+    edited[0] = 0
+    assert np.array_equal(history.document.levels // 2, edited)
+    assert np.array_equal(history.document.levels,
+                          doubling.double_levels(edited, table, 5).levels)
+
+
 def test_double_levels_needs_the_tables_g(table):
     history = history_of(np.ones((3, 3), np.uint8), 4)
     ref = history.document.store_dpj(table)

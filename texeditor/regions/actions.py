@@ -605,12 +605,27 @@ class ScatterRegions(RegionAction):
             return _digest(self.selection(levels))
         return super().picked_region(levels)
 
-    def apply(self, doc, prepared=None) -> None:
+    def scattered(self, doc) -> np.ndarray:
+        """The scattered levels: seconds for every region of a 2048² texture, so a window
+        draws them in its worker (on a copy of the document) and hands them to apply() as
+        ``prepared``. (Not ``prepare``: they depend on the levels before, which a replay's
+        cache of prepared results does not look at.)"""
         self._check_levels(doc, self.fill, *(() if self.level is None else (self.level,)))
-        self._commit(doc, scatter.scatter_regions(
+        return scatter.scatter_regions(
             doc.levels, self.seed, mask=self.selection(doc.levels), radius=self.radius,
             rotation=self.rotation, scale=(self.scale_min, self.scale_max), fill=self.fill,
-            wrap=self.wrap, connectivity=self.connectivity))
+            wrap=self.wrap, connectivity=self.connectivity)
+
+    def apply(self, doc, prepared=None) -> None:
+        if prepared is None:
+            self._commit(doc, self.scattered(doc))
+            return
+        new = np.asarray(prepared)
+        if new.dtype != np.uint8 or new.shape != doc.shape:
+            raise InputError(f"scattered levels must be a {doc.shape[1]}x{doc.shape[0]} uint8 "
+                             f"matrix, got {new.shape} {new.dtype}")
+        self._check_levels(doc, self.fill, *(() if self.level is None else (self.level,)))
+        self._commit(doc, new)
 
     def label(self) -> str:
         what = f"level {self.level}" if self.level is not None else self._what()

@@ -350,16 +350,18 @@ class DoubleLevels(Action):
     table: str = param("ref", doc="the doubling table (a 3×3 DPJ of the photo at 2G levels)")
     seed: int = param("seed", default=0, doc="random seed: same seed, same texture")
 
-    def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
-        """The doubled levels (a second for a 2048² texture: done in the worker)."""
+    def doubled(self, doc) -> np.ndarray:
+        """The doubled levels: a second for a 2048² texture, so a window draws them in its
+        worker and hands them to apply() as ``prepared``. (Not ``prepare``: they depend on the
+        levels before, which a replay's cache of prepared results does not look at.)"""
         return doubling.double_levels(doc.levels, self._table(doc), self.seed).levels
 
     def apply(self, doc, prepared=None) -> None:
         table = self._table(doc)
         if prepared is None:
-            doc.set_levels(self.prepare(doc), table.palette, copy=False)
+            doc.set_levels(self.doubled(doc), table.palette, copy=False)
             return
-        levels = np.asarray(prepared)        # kept by the caller (a replay's cache): copied
+        levels = np.asarray(prepared)        # the caller's: copied
         if levels.dtype != np.uint8 or levels.shape != doc.shape:
             raise InputError(f"doubled levels must be a {doc.shape[1]}x{doc.shape[0]} uint8 "
                              f"matrix, got {levels.shape} {levels.dtype}")
