@@ -315,6 +315,7 @@ class AcquireDialog(QtWidgets.QDialog):
         self.buttons.accepted.connect(self.accept)
         self.buttons.rejected.connect(self.reject)
         self._layout()
+        self._restore_settings()
         self._follow_scales()
 
         if isinstance(photo, np.ndarray):
@@ -576,6 +577,48 @@ class AcquireDialog(QtWidgets.QDialog):
         self.ok_button.setEnabled(False)
 
     def accept(self) -> None:
-        """Only the current settings' result may be acquired (Acquire is disabled until then)."""
+        """Only the current settings' result may be acquired (Acquire is disabled until then).
+        The settings are kept for the next time the dialog opens."""
         if self.dpj is not None:
+            self._keep_settings()
             super().accept()
+
+    # -- the settings kept from one acquisition to the next -----------------------------------------
+    def _kept(self):
+        """(key, widget) of every setting the dialog keeps."""
+        return (("u", self.u), ("v", self.v), ("levels", self.levels), ("scales", self.scales),
+                ("quantiser", self.method), ("scan", self.scan), ("wrap", self.wrap),
+                ("stationary", self.stationary), ("auto", self.auto_scales),
+                ("tone", self.tone), ("synthesise", self.synthesise_now))
+
+    def _keep_settings(self) -> None:
+        from .files import settings
+        store = settings()
+        for key, widget in self._kept():
+            value = (widget.value() if isinstance(widget, QtWidgets.QSpinBox)
+                     else widget.currentData() if isinstance(widget, QtWidgets.QComboBox)
+                     else widget.isChecked())
+            store.setValue(f"acquire/{key}", value)
+
+    def _restore_settings(self) -> None:
+        """The settings of the last acquisition; one missing, of the wrong kind or out of range
+        (a settings file edited by hand) keeps its default."""
+        from .files import settings
+        store = settings()
+        for key, widget in self._kept():
+            raw = store.value(f"acquire/{key}")
+            if raw is None:
+                continue
+            if isinstance(widget, QtWidgets.QSpinBox):
+                try:
+                    value = int(str(raw))
+                except ValueError:
+                    continue
+                if widget.minimum() <= value <= widget.maximum():
+                    widget.setValue(value)
+            elif isinstance(widget, QtWidgets.QComboBox):
+                if widget.findData(str(raw)) >= 0:
+                    widget.setCurrentIndex(widget.findData(str(raw)))
+            elif str(raw).lower() in ("true", "false"):
+                widget.setChecked(str(raw).lower() == "true")
+        self.scales.setEnabled(not self.auto_scales.isChecked())

@@ -230,6 +230,35 @@ def test_acquire_from_a_photo(qtbot, window, photo_path):
     assert "2×2" in window.synthesis_dock.dpj_label.text()
 
 
+def test_the_acquisition_dialog_keeps_its_settings_for_next_time(qtbot, window):
+    from app.files import settings
+    dialog = window.acquire()
+    assert dialog.wait() and dialog.u.value() == 3 and dialog.scales.value() == 1
+    type_into(qtbot, dialog.levels, "3")
+    dialog.method.setCurrentIndex(dialog.method.findData("lloyd"))
+    dialog.auto_scales.setChecked(True)             # a photo model, as many scales as it holds
+    dialog.synthesise_now.setChecked(False)
+    assert dialog.wait()
+    qtbot.mouseClick(dialog.ok_button, LEFT)
+    assert window.history.document.dpj == dialog.dpj
+    again = window.acquire()                        # opened again: as it was left
+    assert again.wait()
+    assert again.levels.value() == 3 and again.method.currentData() == "lloyd"
+    assert again.auto_scales.isChecked() and not again.scales.isEnabled()
+    assert not again.synthesise_now.isChecked() and again.model is not None
+    again.reject()
+    store = settings()                              # a settings file edited by hand
+    for key, junk in (("levels", "99"), ("u", "three"), ("quantiser", "magic"), ("auto", "maybe")):
+        store.setValue(f"acquire/{key}", junk)
+    store.sync()
+    third = window.acquire()
+    assert third.levels.value() == 4 and third.u.value() == 3       # the defaults
+    assert third.method.currentData() == "band"
+    assert not third.auto_scales.isChecked()
+    assert third.wait() and third.dpj is not None
+    third.reject()
+
+
 def test_acquire_refuses_an_unreadable_file_in_place(qtbot, window, tmp_path, monkeypatch):
     bad = tmp_path / "not-a-photo.png"
     bad.write_bytes(b"hello")
