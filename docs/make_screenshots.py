@@ -16,10 +16,17 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-# a fresh texture bank holding only the built-ins, so the pictures never show a user's own entries
+# a fresh texture bank holding only the built-ins, so the pictures never show a user's own entries;
+# and fresh user data and settings, so no dialog opens on the settings a user left (nor a crash
+# journal of theirs is offered)
 os.environ.setdefault("TEXEDITOR_BANK", tempfile.mkdtemp(prefix="texeditor-screenshots-"))
+os.environ.setdefault("TEXEDITOR_DATA", tempfile.mkdtemp(prefix="texeditor-screenshots-data-"))
 
 from PySide6 import QtCore, QtGui, QtWidgets  # noqa: E402
+
+QtCore.QSettings.setDefaultFormat(QtCore.QSettings.Format.IniFormat)
+QtCore.QSettings.setPath(QtCore.QSettings.Format.IniFormat, QtCore.QSettings.Scope.UserScope,
+                         tempfile.mkdtemp(prefix="texeditor-screenshots-settings-"))
 
 SIZE = (1280, 800)
 
