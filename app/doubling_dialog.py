@@ -156,6 +156,7 @@ class DoublingDialog(QtWidgets.QDialog):
 
     def _say(self, message: str) -> None:
         self.info.setText(f"<span style='color:#b00020'>{message}</span>")
+        QtCore.QTimer.singleShot(0, self._make_room)
 
     def _shown(self, outcome) -> None:
         key, error, crop, result = outcome
@@ -175,6 +176,14 @@ class DoublingDialog(QtWidgets.QDialog):
             f"{own + none:,} by their level alone. Works best on fine grains (§4.5).")
         self.table = table
         self.apply_button.setEnabled(True)
+        QtCore.QTimer.singleShot(0, self._make_room)    # once the label has its lines
+
+    def _make_room(self) -> None:
+        """Grow to show the report whole: it arrives after the dialog is laid out, and a
+        word-wrapped label's new lines would otherwise be drawn over the previews."""
+        if shiboken6.isValid(self):
+            self.layout().activate()
+            self.resize(self.size().expandedTo(self.sizeHint()))
 
     def apply(self) -> None:
         """Double: the texture's levels are doubled in the worker (a second for a 2048²

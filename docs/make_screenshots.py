@@ -519,6 +519,7 @@ def shot_grains(app, window, out: Path) -> None:
     dialog.close()
     window.act_double.trigger()
     doubling = window.doubling_dialog
+    doubling.wait()                     # the table is learnt in the background
     settle(app, 300)
     save(doubling, out / "doubling.png")
     doubling.reject()
@@ -789,6 +790,7 @@ def shot_photo_model(app, window, out: Path) -> None:
     model stays attached to the window."""
     dialog = window.acquire()
     dialog.set_image_path(ROOT / "resources" / "images" / "brick.png")
+    dialog.levels.setValue(4)           # the dialog opens on the last acquisition's G (5)
     dialog.v.setValue(2)
     dialog.scales.setValue(3)
     dialog.wait()
@@ -877,6 +879,7 @@ def shot_colour_plates(app, window, out: Path) -> None:
         photo = Path(folder) / "coffee.png"
         io.imsave(photo, data.coffee())
         window.plates_from_photo(6, 0.03, photo)
+        window.runner.wait()            # the photo is read in the background
     window.act_plates_dock.trigger()
     window.act_paint_plates.setChecked(True)
     window.submit(Stroke(points=((200, 20), (150, 120), (190, 230)), level=5, size=14))

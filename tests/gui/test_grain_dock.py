@@ -311,6 +311,8 @@ def test_double_the_levels_from_the_photo(window, qtbot):
     assert dialog.wait()                            # learnt in the worker, the window live
     assert dialog.apply_button.isEnabled(), dialog.info.text()
     assert "neighbours" in dialog.info.text()
+    qtbot.waitUntil(lambda: dialog.info.geometry().top()            # the report, arrived
+                    >= dialog.result_view.geometry().bottom())      # late, not over the views
     first = dialog.result_view.pixmap().toImage()
     dialog.seed.set_value(2)                        # a new seed: the preview only, not relearnt
     assert not dialog.apply_button.isEnabled()
