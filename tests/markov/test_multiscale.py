@@ -130,8 +130,10 @@ def test_bad_scales_are_refused_with_a_reason():
         multiscale.estimate_scales(photo, scales=6)
     with pytest.raises(InputError, match="1..6"):
         multiscale.estimate_scales(photo, scales=0)
-    with pytest.raises(InputError, match="at most 16"):
+    with pytest.raises(InputError, match="at most 16; with 3 scales choose G ≤ 4"):
         multiscale.estimate_scales(photo, scales=3, levels=5)
+    with pytest.raises(InputError, match="with 2 scales choose G ≤ 8"):
+        multiscale.estimate_scales(photo, scales=2, levels=9)
     model, _ = multiscale.estimate_scales(photo, scales=2)
     with pytest.raises(InputError, match="does not sit"):
         multiscale.MultiScaleDPJ((model.dpjs[1], model.dpjs[0]))

@@ -243,9 +243,12 @@ def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
     below = [] if scales == 1 else [coarse_levels] + [levels] * (scales > 2)   # the parents'
     for parents in below:
         if levels * parents > MAX_LEVELS:
+            most = max(g for g in range(1, MAX_LEVELS + 1)
+                       if g * (max(g, coarse_levels) if scales > 2 else coarse_levels)
+                       <= MAX_LEVELS)
             raise InputError(f"G = {levels} on a scale of {parents} levels: a conditional DPJ "
                              f"holds G × its parents' levels ({levels * parents}), at most "
-                             f"{MAX_LEVELS}")
+                             f"{MAX_LEVELS}; with {scales} scales choose G ≤ {most}")
     check_window(coarse_window, coarse_levels)
     check_window(window, levels * max(levels, coarse_levels))
     if colour:
