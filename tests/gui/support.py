@@ -6,6 +6,8 @@ double-click interval, into a double click, which is not what a drag is. Moves a
 because pyqtgraph drops mouse moves faster than its rate limit (as a real mouse never sends).
 """
 
+import threading
+
 import numpy as np
 from PySide6 import QtCore, QtGui, QtTest, QtWidgets
 from PySide6.QtTest import QTest
@@ -198,3 +200,17 @@ def model_ok(dialog, qtbot):
     qtbot.waitUntil(lambda: not dialog.isVisible())
     dialog.main_window.activateWindow()      # the window manager's part, offscreen
     qtbot.waitUntil(lambda: dialog.main_window.isActiveWindow())
+
+
+def hold(monkeypatch, owner, name: str) -> tuple[threading.Event, threading.Event]:
+    """Hold ``owner.name`` (a function a worker calls) until released: (started, release) —
+    ``started`` is set once the worker is inside it, ``release.set()`` lets it go on."""
+    started, release = threading.Event(), threading.Event()
+    real = getattr(owner, name)
+
+    def held(*args, **kwargs):
+        started.set()
+        release.wait(30)
+        return real(*args, **kwargs)
+    monkeypatch.setattr(owner, name, held)
+    return started, release

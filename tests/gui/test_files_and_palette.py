@@ -13,6 +13,8 @@ from app.files import recent_files
 from app.main import run
 from texeditor.recipe.actions import SetPalette
 
+from .support import hold
+
 ROOT = Path(__file__).resolve().parents[2]
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
@@ -112,19 +114,10 @@ def test_export_png_with_upscale(qtbot, window, tmp_path, monkeypatch):
 
 def test_a_large_export_is_written_in_the_worker_and_an_edit_meanwhile_is_not_in_it(
         qtbot, window, tmp_path, monkeypatch):
-    import threading
-
     import app.files
     from texeditor.recipe.actions import SetLevels
     monkeypatch.setattr(app.files, "BACKGROUND_EXPORT", 1000)     # the 64×48 texture, ×3
-    gate, writing = threading.Event(), threading.Event()
-    real = app.files.write_png
-
-    def held(*args, **kwargs):
-        writing.set()
-        gate.wait(30)
-        return real(*args, **kwargs)
-    monkeypatch.setattr(app.files, "write_png", held)
+    writing, gate = hold(monkeypatch, app.files, "write_png")
     doc = window.history.document
     expected = doc.palette[doc.levels].repeat(3, 0).repeat(3, 1)
     out = tmp_path / "large.png"

@@ -12,7 +12,7 @@ from texeditor.regions import extractext as regions
 from texeditor.recipe.replay import replay
 from texeditor.texture.actions import DoubleLevels, Incrust, Mix, RenderGrains
 
-from .support import cell_pos, click, drag, press_key
+from .support import cell_pos, click, drag, hold, press_key
 
 LEFT = QtCore.Qt.MouseButton.LeftButton
 
@@ -329,17 +329,8 @@ def test_double_the_levels_from_the_photo(window, qtbot):
 
 
 def test_cancel_while_the_levels_are_doubled_adds_no_step(window, qtbot, monkeypatch):
-    import threading
-
     import shiboken6
-    gate, started = threading.Event(), threading.Event()
-    real = DoubleLevels.doubled
-
-    def held(self, doc):
-        started.set()
-        gate.wait(30)
-        return real(self, doc)
-    monkeypatch.setattr(DoubleLevels, "doubled", held)
+    started, gate = hold(monkeypatch, DoubleLevels, "doubled")
     before, steps = window.document.levels.copy(), len(window.history.actions)
     window.act_double.trigger()
     dialog = window.doubling_dialog

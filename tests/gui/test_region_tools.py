@@ -7,7 +7,7 @@ from PySide6 import QtCore
 from app.tools.regions import CopyTool, ExtractTool, FillTool, TranslateTool
 from texeditor.recipe.actions import NewCanvas, ResizeCanvas, SetLevels
 
-from .support import cell_pos, click, drag, edit_and_apply, mouse, press_key
+from .support import cell_pos, click, drag, edit_and_apply, hold, mouse, press_key
 
 LEFT = QtCore.Qt.MouseButton.LeftButton
 
@@ -305,8 +305,6 @@ def test_a_large_scatter_is_drawn_in_the_worker_and_not_applied_over_an_edit(boa
                                                                              monkeypatch):
     """A scatter of a large texture runs in the worker (here every texture is large): the
     window stays live, the step is the same; a texture edited meanwhile is not overwritten."""
-    import threading
-
     import app.global_dialog
     from texeditor.regions.actions import ScatterRegions
     from texeditor.regions.scatter import scatter_regions
@@ -326,14 +324,7 @@ def test_a_large_scatter_is_drawn_in_the_worker_and_not_applied_over_an_edit(boa
     board.undo()
     assert np.array_equal(board.document.levels, start)
 
-    gate, started = threading.Event(), threading.Event()
-    real = ScatterRegions.scattered
-
-    def held(self, doc):
-        started.set()
-        gate.wait(30)
-        return real(self, doc)
-    monkeypatch.setattr(ScatterRegions, "scattered", held)
+    started, gate = hold(monkeypatch, ScatterRegions, "scattered")
     qtbot.mouseClick(dialog.apply_button, LEFT)
     assert started.wait(30) and board.runner.busy
     board.submit(SetLevels(0, 0, 2, 2, 1))          # an edit while it is drawn
