@@ -195,3 +195,20 @@ def test_dropped_files_that_are_not_what_they_say_leave_the_texture_alone(qtbot,
     assert "a folder.png" in dialog.info.text()
     dialog.reject()
     assert np.array_equal(window.history.document.levels, levels) and window.path is None
+
+
+def test_ctrl_v_pastes_a_photo_but_a_number_into_a_field_with_the_focus(qtbot, window,
+                                                                       photo_path):
+    dialog = window.acquire()
+    assert dialog.wait() and dialog.path == photo_path
+    QtWidgets.QApplication.clipboard().setText("5")
+    dialog.levels.setFocus()
+    dialog.levels.lineEdit().selectAll()
+    qtbot.keyClick(dialog.levels, QtCore.Qt.Key.Key_V, CTRL)     # the field's own paste
+    assert dialog.levels.value() == 5 and dialog.path == photo_path
+    put_on_clipboard(grey_qimage(GREY))
+    dialog.source.setFocus()
+    qtbot.keyClick(dialog.source, QtCore.Qt.Key.Key_V, CTRL)     # the dialog's: the photo
+    assert dialog.wait() and dialog.path == PASTED and np.array_equal(dialog.image, GREY)
+    assert dialog.dpj.levels == 5
+    dialog.reject()
