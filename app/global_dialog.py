@@ -179,6 +179,7 @@ class GlobalOperatorsDialog(QtWidgets.QDialog):
             window.show_error("Cannot apply the operator", exc)
             return
         if isinstance(action, ra.ScatterRegions) and window.document.levels.size >= IN_WORKER:
-            window.submit_computed(action, action.scattered, "Scattering the regions…")
+            window.submit_computed(lambda doc: (action, action.scattered(doc)),
+                                   "Scattering the regions…")
         else:
             window.submit(action)

@@ -574,25 +574,27 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
                                          "was added.", 5000)
         return True
 
-    def submit_computed(self, action, compute, label: str) -> bool:
-        """Apply ``action`` with its levels ``compute(copy of the document)`` drawn in the
-        worker (status bar, Esc): a step that takes seconds on a large texture. The window
-        stays live; if the texture changes meanwhile the levels are not applied, and the status
-        bar says to apply again. False when it could not start."""
+    def submit_computed(self, compute, label: str, error_title: str = "This change cannot be "
+                        "made") -> bool:
+        """Apply the step ``compute(copy of the document)`` returns as (action, prepared), its
+        slow part done in the worker (status bar, Esc): a step that takes seconds on a large
+        texture. The window stays live; if the texture changes meanwhile the step is not
+        applied, and the status bar says to apply it again. False when it could not start."""
         if self.edits_locked() or self.busy_note():
             return False
         history, log = self.history, self.history.applied
         scratch = history.document.copy()
 
-        def computed(levels) -> None:
+        def computed(result) -> None:
+            action, prepared = result
             if self.history is not history or history.applied != log:
                 self.statusBar().showMessage(f"{action.label()}: the texture changed "
                                              "meanwhile, so it was not applied; apply it "
                                              "again.", 8000)
                 return
-            self.submit(action, prepared=levels)
+            self.submit(action, prepared=prepared)
         self.runner.run(label, lambda _progress, _cancel: compute(scratch), computed,
-                        on_error=lambda exc: self.show_error("This change cannot be made", exc))
+                        on_error=lambda exc: self.show_error(error_title, exc))
         return True
 
     def busy_note(self) -> bool:

@@ -68,9 +68,10 @@ class PlateOps:
         return self.submit(RemovePlates())
 
     def plates_from_photo(self, count: int, blur: float, path=None) -> bool:
-        """Ask for a photo (unless ``path``); it is read, blurred and reduced in the worker (a
-        large photo takes a second or two to decode), then the plates are submitted. False
-        when nothing was started."""
+        """Ask for a photo (unless ``path``); it is read, blurred, reduced and laid on the
+        texture as plates in the worker (a large photo takes a second or two to decode, a
+        2048² texture's plates 2.5 s), then the step is applied. False when nothing was
+        started."""
         if self.busy_note():
             return False
         if path is None:
@@ -78,17 +79,15 @@ class PlateOps:
                                                             self._folder(), IMAGE_FILTER)
             if not path:
                 return False
-        if self.busy_note():
-            return False
         path = Path(path)
 
-        def read(_progress, _cancel) -> PlatesFromPhoto:
+        def read(doc) -> tuple:
+            """The step, and its plates laid on the texture (2.5 s at 2048²)."""
             grid = grid_text(photo_grid(load_image(path), blur))
-            return PlatesFromPhoto(grid, plates=count, name=path.name[:128])
-        self.runner.run(f"Reading {path.name} for plates…", read, self.submit,
-                        on_error=lambda exc: self.show_error(f"Cannot take plates from "
-                                                             f"{path.name}", exc))
-        return True
+            action = PlatesFromPhoto(grid, plates=count, name=path.name[:128])
+            return action, action.prepare(doc)
+        return self.submit_computed(read, f"Reading {path.name} for plates…",
+                                    f"Cannot take plates from {path.name}")
 
     # -- painting on the plates ---------------------------------------------------------------------
     def painting_plates(self) -> bool:
