@@ -281,3 +281,20 @@ def test_every_level_step_paints_on_the_plates_what_it_paints_on_the_levels():
         np.testing.assert_array_equal(plates.plates, levels.levels, err_msg=action.label())
         np.testing.assert_array_equal(plates.plate_colours, levels.palette)
         assert not plates.levels.any()                    # the texture stays blank
+
+
+def test_plates_from_a_photo_follow_an_edit_of_the_canvas_size_before_them():
+    """A replay after the canvas under the plates changed size lays them again: the plates kept
+    from the last replay were for the old size (the history's cache of slow parts is by shape)."""
+    history = History()
+    history.apply(NewCanvas(64, 48, 4))
+    grid = np.zeros((6, 8, 3), np.uint8)
+    grid[:, 4:] = 200
+    step = PlatesFromPhoto(grid_text(grid), plates=2)
+    history.apply(step)
+    assert history.document.plates.shape == (48, 64)
+    history.replace(0, NewCanvas(80, 60, 4), to_end=True)
+    assert history.document.plates.shape == (60, 80)
+    assert np.array_equal(history.document.plates, grid_plates(grid, (60, 80), 2)[0])
+    history.replace(0, NewCanvas(64, 48, 4), to_end=True)            # and back: kept again
+    assert np.array_equal(history.document.plates, grid_plates(grid, (48, 64), 2)[0])

@@ -239,7 +239,9 @@ class Action:
 
     def prepare(self, doc, progress=None, cancel=None):
         """Do the slow part ahead of apply() (in a worker thread, cancellable); optional. What it
-        returns is handed to ``apply(doc, prepared)`` (None: apply does it all)."""
+        returns is handed to ``apply(doc, prepared)`` (None: apply does it all). A History keeps
+        it for the next replay of an equal step on a canvas of the same shape, so it must not
+        depend on the levels before (return None then, or compute them in apply)."""
         return None
 
     def apply(self, doc, prepared=None) -> None:

@@ -335,7 +335,9 @@ class History:
               cancel=None, results: Cache | None = None) -> None:
         """Step k on ``doc``: what it picks, its undo atoms, its cost (a failed step leaves the
         document as it was). ``results`` keeps the slow part of a step for its next replay
-        (Actions are immutable values: an equal action gives the same result)."""
+        (Actions are immutable values: an equal action on a canvas of the same shape gives the
+        same result; a slow part that reads the levels before is not kept, see Action.prepare;
+        one that reads the canvas's shape, as colour plates do, is kept by shape)."""
         atoms: list = []
         target = action.picked_region(doc.levels)
         if target is not None:
@@ -343,12 +345,13 @@ class History:
         start = time.perf_counter()
         if type(action).prepare is Action.prepare:
             results = None                   # no slow part to keep
+        key = (action, doc.shape)
         if prepared is None and results is not None:
-            prepared = results.get(action)
+            prepared = results.get(key)
         prepared = apply_step(doc, action, record=atoms, prepared=prepared, progress=progress,
                               cancel=cancel)
         if prepared is not None and results is not None:
-            results.put(action, prepared)
+            results.put(key, prepared)
         costs[k] = time.perf_counter() - start
         records[k] = atoms
 
