@@ -43,14 +43,14 @@ def pixmap(rgb: np.ndarray, box: int) -> QtGui.QPixmap:
 
 
 def photo_from_qimage(image: QtGui.QImage) -> np.ndarray:
-    """A pasted picture as a photo, as load_image would read it from a file: (H, W) uint8 when
-    it is grey, (H, W, 3) RGB, or (H, W, 4) RGBA when it has alpha. Refused (ImageError) when
-    empty or larger than a file may be."""
+    """A pasted or dropped picture as a photo, as load_image would read it from a file: (H, W)
+    uint8 when it is grey, (H, W, 3) RGB, or (H, W, 4) RGBA when it has alpha. Refused
+    (ImageError) when empty or larger than a file may be."""
     if image.isNull() or image.width() * image.height() == 0:
-        raise ImageError("The clipboard's picture has no pixels")
+        raise ImageError("The picture has no pixels")
     w, h = image.width(), image.height()
     if w * h > MAX_PIXELS:
-        raise ImageError(f"The clipboard's picture is {w}x{h}, more than "
+        raise ImageError(f"The picture is {w}x{h}, more than "
                          f"{MAX_PIXELS // 2**20} megapixels: reduce it first")
     alpha = image.hasAlphaChannel()
     fmt = QtGui.QImage.Format.Format_RGBA8888 if alpha else QtGui.QImage.Format.Format_RGB888
