@@ -9,8 +9,8 @@ walks the hard corners: scikit-image's photos, scenes and drawings as well as te
 small (fewer points at each scale, parents drawn as a few blobs), drawn small and odd-shaped.
 For each crop and size, the worst share error over the seeds and how many seeds miss 0.03, for
 the finest scale's moves bound by its parents only (free_moves off, SynthesizeScales before
-version 14) and with moves free of them after (the default); the rows print only where either
-misses. The last lines count the draws that miss, and the time of all draws.
+version 14), with moves free of them after (forced_moves off, versions 14), and with forced
+moves last (the default, version 15); the rows print only where one misses. The last lines count the draws that miss, and the time of all draws.
 """
 
 from __future__ import annotations
@@ -27,7 +27,9 @@ PHOTOS = ("chelsea", "coffee", "astronaut", "camera", "moon", "gravel", "brick",
           "rocket", "retina", "cell", "immunohistochemistry", "page", "text", "horse",
           "hubble_deep_field", "colorwheel", "logo", "clock", "coins")
 TARGET = 0.03
-WAYS = (("bound by the parents", False), ("then free of them", True))
+WAYS = (("bound by the parents", dict(free_moves=False, forced_moves=False)),   # version 13
+        ("then free of them", dict(free_moves=True, forced_moves=False)),      # version 14
+        ("then forced", dict(free_moves=True, forced_moves=True)))             # version 15
 
 
 def photo(name: str, side: int) -> np.ndarray:
@@ -56,8 +58,8 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=4)
     args = parser.parse_args()
     sizes = [tuple(int(x) for x in s.split("x"))[::-1] for s in args.sizes]   # WxH -> (H, W)
-    missed = {free: 0 for _, free in WAYS}
-    spent = {free: 0.0 for _, free in WAYS}
+    missed = {label: 0 for label, _ in WAYS}
+    spent = {label: 0.0 for label, _ in WAYS}
     draws = 0
     print(f"worst |level share - model's| over {args.seeds} seeds (and seeds beyond {TARGET}): "
           + " | ".join(name for name, _ in WAYS))
@@ -67,24 +69,24 @@ def main() -> None:
             aim = model.frequencies()
             for shape in sizes:
                 cells = []
-                for _, free in WAYS:
+                for label, moves in WAYS:
                     errors = []
                     for seed in range(args.seeds):
                         start = time.perf_counter()
                         levels = model.synthesize(shape, seed=seed, tone=False,
-                                                  free_moves=free).levels
-                        spent[free] += time.perf_counter() - start
+                                                  **moves).levels
+                        spent[label] += time.perf_counter() - start
                         errors.append(share_error(levels, aim))
                     off = sum(e > TARGET for e in errors)
-                    missed[free] += off
+                    missed[label] += off
                     cells.append((max(errors), off))
                 draws += args.seeds
                 if any(off for _, off in cells):
                     print(f"{name:20s} crop {side:3d}, {shape[1]}x{shape[0]:<4d}  " + " | ".join(
                         f"{worst:.3f} ({off}/{args.seeds})" for worst, off in cells), flush=True)
-    for label, free in WAYS:
-        print(f"{label:22s}: {missed[free]} of {draws} draws beyond {TARGET}; "
-              f"all draws {spent[free]:.1f} s")
+    for label, _ in WAYS:
+        print(f"{label:22s}: {missed[label]} of {draws} draws beyond {TARGET}; "
+              f"all draws {spent[label]:.1f} s")
 
 
 if __name__ == "__main__":

@@ -475,12 +475,14 @@ def unticked(qtbot, window, step: int, name: str):
     return done
 
 
-def test_moves_free_of_the_parents_are_unticked_in_the_history_form(qtbot, window):
+def test_moves_free_of_the_parents_and_forced_moves_are_unticked_in_the_history_form(qtbot,
+                                                                                     window):
     """From a small chelsea crop, synthesise twice (the last draw's finest shares 0.11 off until
     moves free of its parents bring them back), untick "Shares: moves free of the parents" in
-    the History form and Apply & replay: the texture as steps before version 14 drew it, off
-    its shares, with its tone; undo gives the version 14 texture back, a fill after it is one
-    more step, and undo to the start the blank canvas."""
+    the History form and Apply & replay: forced moves bring the shares back instead (another
+    texture); untick "Shares: forced moves at last" too: the texture as steps before version
+    14 drew it, off its shares, with its tone; undo twice gives the version 15 texture back, a
+    fill after it is one more step, and undo to the start the blank canvas."""
     import skimage as ski
     model, start, new, last = synthesised_twice(qtbot, window,
                                                 ski.data.chelsea()[100:292, 200:392], 3, (8, 9))
@@ -488,12 +490,20 @@ def test_moves_free_of_the_parents_are_unticked_in_the_history_form(qtbot, windo
     def off(levels):
         return np.abs(np.bincount(levels.ravel(), minlength=4) / levels.size
                       - model.frequencies()).max()
-    assert window.history.actions[-1].free_moves and off(new) <= 0.03
+    step = window.history.actions[-1]
+    assert step.free_moves and step.forced_moves and off(new) <= 0.03
     unticked(qtbot, window, last, "free_moves")
-    bound = model.synthesize((120, 160), seed=9, tone=False, free_moves=False).levels
+    forced = model.synthesize((120, 160), seed=9, tone=False, free_moves=False).levels
+    assert np.array_equal(window.document.levels, forced) and off(forced) <= 0.03
+    assert not np.array_equal(forced, new)
+    unticked(qtbot, window, last, "forced_moves")
+    bound = model.synthesize((120, 160), seed=9, tone=False, free_moves=False,
+                             forced_moves=False).levels
     assert np.array_equal(window.document.levels, bound) and off(bound) > 0.05
     qtbot.waitUntil(lambda: np.array_equal(window.canvas.picture, tone_of(window, 9)),
                     timeout=30_000)
+    qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert np.array_equal(window.document.levels, forced)
     qtbot.keyClick(window, Key.Key_Z, CTRL)
     assert np.array_equal(window.document.levels, new)
     qtbot.waitUntil(lambda: np.array_equal(window.canvas.picture, tone_of(window, 9)),

@@ -8,7 +8,8 @@ import skimage as ski
 from texeditor import estimate_dpj, synthesize
 from texeditor.errors import InputError
 from texeditor.markov import balance, multiscale
-from texeditor.markov.balance import FREE_PASSES, SLACK, THETAS, TRIGGER, rebalance
+from texeditor.markov.balance import (FORCED_PASSES, FORCED_SLACK, FORCED_TRIGGER, FREE_PASSES,
+                                      SLACK, THETAS, TRIGGER, rebalance)
 from texeditor.markov.synthesis import synthesize_given
 from tests.support.torus import off_places, off_the_dpj, photo_dpj
 
@@ -167,3 +168,52 @@ def test_a_scene_photos_finest_scale_comes_out_at_its_shares(tileable, monkeypat
     assert drawn.moved == sum(count for count, _ in seen) and seen[0][0] > 0
     assert all(new == 0 for _, new in seen)
     assert (drawn.levels != kept.levels).mean() < 0.25
+
+
+def spotted_field():
+    """A 3-level DPJ (blobs of 0 and 1, spots of 2 on a tenth of the points) and a field drawn
+    from it with its spots taken out: a level the field lacks, which no border can grow."""
+    image = BLOBS.copy()
+    image[ski.data.binary_blobs(128, blob_size_fraction=0.1, volume_fraction=0.1, rng=5)] = 2
+    dpj = estimate_dpj(image, (3, 2), 3, wrap=True)
+    field = synthesize(dpj, (96, 96), seed=1).levels
+    field[field == 2] = 0
+    return dpj, field, shares(image, 3)
+
+
+def test_forced_moves_grow_a_level_the_field_lacks_as_one_round_region():
+    """Moves that keep every window in the DPJ cannot bring back a level the field lacks;
+    forced ones start it at one point and grow it round (as a disc fills π/4 of its box, not as
+    a square nor in rags) until the shares are within FORCED_SLACK, leaving few windows off."""
+    from scipy import ndimage as ndi
+    dpj, field, aim = spotted_field()
+    kept, forced = field.copy(), field.copy()
+    rebalance(kept, dpj, aim, seed=3, passes=FREE_PASSES)
+    assert not (kept == 2).any() and np.abs(shares(kept, 3) - aim).max() > 0.09
+    assert rebalance(forced, dpj, aim, seed=3, passes=FORCED_PASSES, forced=True) > 0
+    assert np.abs(shares(forced, 3) - aim).max() <= FORCED_SLACK
+    regions, count = ndi.label(forced == 2, structure=np.ones((3, 3)))
+    assert count == 1
+    rows, cols = ndi.find_objects(regions)[0]
+    height, width = rows.stop - rows.start, cols.stop - cols.start
+    assert 0.7 < (regions == 1).sum() / (height * width) < 0.9 and 0.7 < height / width < 1.4
+    assert off_the_dpj(forced, dpj, torus=False) < 0.005
+
+
+def test_forced_moves_wait_for_their_own_trigger_and_keep_to_a_byte_of_passes():
+    dpj, field, aim = spotted_field()
+    near = shares(field, 3) + [FORCED_TRIGGER - 0.005, 0.0, 0.005 - FORCED_TRIGGER]
+    kept = field.copy()
+    assert rebalance(kept, dpj, near, seed=3, passes=FORCED_PASSES, forced=True) == 0
+    assert np.array_equal(kept, field)
+    with pytest.raises(InputError, match="1 to 254"):
+        rebalance(kept, dpj, aim, passes=255, forced=True)
+
+
+@pytest.mark.parametrize("tileable", [False, True])
+def test_forced_moves_follow_the_seed_and_the_torus(tileable):
+    dpj, field, aim = spotted_field()
+    a, b = field.copy(), field.copy()
+    rebalance(a, dpj, aim, seed=3, passes=FORCED_PASSES, forced=True, wrap=tileable)
+    rebalance(b, dpj, aim, seed=3, passes=FORCED_PASSES, forced=True, wrap=tileable)
+    assert np.array_equal(a, b) and np.abs(shares(a, 3) - aim).max() <= FORCED_SLACK

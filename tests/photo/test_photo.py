@@ -178,7 +178,7 @@ def test_textures_of_version_3_replay_with_16_coarse_redraws_as_they_did(name):
                                                     closure=step.closure, tone=False,
                                                     rebalance=False, steer=False,
                                                     more_drafts=False, given_redraws=16,
-                                                    free_moves=False).levels)
+                                                    free_moves=False, forced_moves=False).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -206,7 +206,8 @@ def test_textures_of_version_5_replay_drawing_a_coarse_scale_again_whole(name):
                                                     tileable=step.tileable, tone=False,
                                                     closure=step.closure, rebalance=False,
                                                     steer=False, more_drafts=False,
-                                                    given_redraws=16, free_moves=False).levels)
+                                                    given_redraws=16, free_moves=False,
+                                                    forced_moves=False).levels)
 
 
 def test_a_tileable_texture_of_version_6_replays_with_closure_4():
@@ -232,7 +233,8 @@ def test_a_tileable_texture_of_version_6_replays_with_closure_4():
                                                              rebalance=False, steer=False,
                                                              more_drafts=False,
                                                              given_redraws=16,
-                                                             free_moves=False).levels)
+                                                             free_moves=False,
+                                                             forced_moves=False).levels)
 
 
 def test_a_texture_of_version_7_replays_without_rebalancing():
@@ -262,7 +264,7 @@ def test_a_texture_of_version_7_replays_without_rebalancing():
     shares = np.bincount(redrawn.ravel(), minlength=4) / redrawn.size
     assert np.abs(shares - model.frequencies()).max() <= TRIGGER
     drawn = model.synthesize((100, 140), seed=step.seed, steer=False, more_drafts=False,
-                             given_redraws=16, free_moves=False)
+                             given_redraws=16, free_moves=False, forced_moves=False)
     assert np.array_equal(drawn.levels, redrawn) and drawn.moved >= moved.sum()   # moves
     assert np.array_equal(drawn.image, model.render(redrawn, seed=step.seed))
 
@@ -293,7 +295,7 @@ def test_a_texture_of_version_8_replays_unsteered():
     model = document_model(doc, step)
     assert np.array_equal(redrawn, model.synthesize((100, 140), seed=step.seed, tone=False,
                                                     more_drafts=False, given_redraws=16,
-                                                    free_moves=False).levels)
+                                                    free_moves=False, forced_moves=False).levels)
     assert not np.array_equal(redrawn, doc.levels)
 
 
@@ -319,7 +321,7 @@ def test_textures_of_version_9_replay_as_they_were_written():
         assert new.to_json()["version"] == SynthesizeScales.VERSION and new.to_json()["more_drafts"] is True
         assert np.array_equal(new.prepare(doc), document_model(doc, step).synthesize(
             (100, 140), seed=step.seed, tileable=step.tileable, closure=step.closure,
-            tone=False, given_redraws=16, free_moves=False).levels)
+            tone=False, given_redraws=16, free_moves=False, forced_moves=False).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -342,7 +344,7 @@ def test_textures_of_version_12_replay_as_they_were_written(name):
     assert not np.array_equal(sixteen, doc.levels)
     assert np.array_equal(sixteen, document_model(doc, step).synthesize(
         (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
-        given_redraws=16, free_moves=False).levels)
+        given_redraws=16, free_moves=False, forced_moves=False).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -366,7 +368,7 @@ def test_textures_of_version_13_replay_as_they_were_written(name):
     assert not np.array_equal(free, doc.levels)
     assert np.array_equal(free, document_model(doc, step).synthesize(
         (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
-        coarse_row_redraws=NO_ROW_LIMIT, free_moves=False).levels)
+        coarse_row_redraws=NO_ROW_LIMIT, free_moves=False, forced_moves=False).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -395,11 +397,41 @@ def test_textures_of_version_14_replay_as_they_were_written(name):
     assert off(doc.levels) <= 0.03 < 0.08 < off(bound)
     assert np.array_equal(bound, model.synthesize(
         (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
-        free_moves=False).levels)
+        free_moves=False, forced_moves=False).levels)
+
+
+@pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
+def test_textures_of_version_15_replay_as_they_were_written(name):
+    """Files written by SynthesizeScales version 15 (tests/data/scales-v15: a moon crop, plain
+    and tileable) come out bit-identical, levels and tone, within 0.03 of the model's level
+    shares: forced moves brought back a level the moves free of the parents could not; the
+    same step without them, as steps before it, draws a texture 0.2 off."""
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_model, document_tone
+    expected = json.loads((DATA / "scales-v15" / "expected.json").read_text())[name]
+    doc = render_texture(DATA / "scales-v15" / f"{name}.texture")
+    step = doc.actions[-1]
+    assert expected["version"] == 15 and step.forced_moves and step.seed == expected["seed"]
+    assert step.tileable == expected["tileable"] and step.closure == expected["closure"]
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
+    model = document_model(doc, step)
+
+    def off(levels):
+        return np.abs(np.bincount(levels.ravel(), minlength=model.levels) / levels.size
+                      - model.frequencies()).max()
+    unforced = dataclasses.replace(step, forced_moves=False).prepare(doc)
+    assert off(doc.levels) <= 0.03 < 0.2 < off(unforced)
+    assert np.array_equal(unforced, model.synthesize(
+        (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
+        forced_moves=False).levels)
 
 
 FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10),    # the multiscale step's switches,
-         ("tone_finish", 11), ("free_moves", 14))                # with the version each came with
+         ("tone_finish", 11), ("free_moves", 14),                # with the version each came with
+         ("forced_moves", 15))
 
 
 def flag_cases():
@@ -415,7 +447,7 @@ def flag_cases():
 @pytest.mark.parametrize("name, version, obj, value", list(flag_cases()))
 def test_a_multiscale_step_keeps_its_switches_as_its_version_has_them(name, version, obj, value):
     """Rebalancing (version 8), steering (9), more drafts of small scales (10), the tone's
-    finish (11) and moves free of the parents (14): an older step draws without them and cannot name them; the version that brought
+    finish (11), moves free of the parents (14) and forced moves (15): an older step draws without them and cannot name them; the version that brought
     one names it, default on."""
     if value is None:
         with pytest.raises(FormatError):
@@ -479,7 +511,8 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 12, {"closure": 4}, 4), ("synthesize_scales", 12, {"closure": 6}, None),
     ("synthesize_scales", 13, {}, 5), ("synthesize_scales", 13, {"closure": 6}, None),
     ("synthesize_scales", 14, {}, 5), ("synthesize_scales", 14, {"closure": 6}, None),
-    ("synthesize_scales", 15, {}, None),
+    ("synthesize_scales", 15, {}, 5), ("synthesize_scales", 15, {"closure": 6}, None),
+    ("synthesize_scales", 16, {}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
@@ -553,7 +586,7 @@ def test_a_multiscale_step_keeps_its_coarsest_row_limit(version, obj, limit):
         step = read_scales_step(version, obj)
         assert step.coarse_row_redraws == limit and step.given_redraws == (
             GIVEN_REDRAWS if version >= 12 else 16)
-        assert step.to_json()["version"] == SynthesizeScales.VERSION == 14
+        assert step.to_json()["version"] == SynthesizeScales.VERSION == 15
 
 
 def _rezip(data: bytes, change) -> bytes:

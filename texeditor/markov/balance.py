@@ -24,7 +24,10 @@ drift line measures the shares). When the parents rule the moves out, markov.mul
 again on the finest windows' own law for FREE_PASSES passes (``passes``): small textures from
 photos of a few large regions then come within 0.03 (benchmarks/bench_shares.py: 228 → 105 of
 1280 draws beyond it); a level held by one or two large regions of the photo, absent from the
-texture, has no border to grow from and stays off.
+texture, has no border to grow from and stays off. Forced moves (``forced``, the last resort
+markov.multiscale takes after those) close that gap: a window may then leave the DPJ at a cost,
+and a level the field lacks starts from its most plausible point and grows round from it
+(bench_shares.py: 105 → 0 of 1280 draws beyond 0.03; a photo drawn at 512² never needs them).
 """
 
 from __future__ import annotations
@@ -43,6 +46,17 @@ LEAST = 2           # a point takes a level at least this many of its 8 neighbou
 THETAS = (-1.0, -3.0, -6.0, -12.0, -30.0, -30.0, -30.0)
 FREE_PASSES = 64    # passes of moves free of the parents (markov.multiscale): a region may grow
                     # by tens of points, as a small field far off its shares needs
+FORCED_PASSES = 254  # forced moves (the last resort, markov.multiscale): passes, the first
+                     # len(THETAS) as above, the others taking a wanted move at any cost
+FORCED_TRIGGER = 0.03  # ... made when a share is further off than this (as far as a texture's
+FORCED_SLACK = 0.02    # may stray), until no two neighbouring levels are further apart than this
+FORCED_LEAST = 1    # ... a point takes a level one neighbour has (a level the field lacks: from
+                    # any point, its first one)
+OFF_WINDOW = 10.0   # ... a window left outside the DPJ costs this far below the rarest entry
+FORCED_TAKE = 4     # ... and a move is made in a pass with the chance of the point's neighbours
+                    # of that level over this: a region grows round and smooth (as in Eden's
+                    # model), not as a square nor ragged
+MAX_PASSES = 254    # a point's pass is kept in a byte
 RUNS = 16           # a pass tries the border points in this many runs (see _in_runs)
 MAX_POINTS = 2**21  # a larger field keeps its shares: its moves would take about a second
                     # (chelsea: 0.03 s at 512², 0.15 s at 1024², 0.9 s at 2048²)
@@ -51,24 +65,32 @@ _EMPTY = -1
 
 def rebalance(levels: np.ndarray, dpj: DPJ, aim, *, parents: np.ndarray | None = None,
               parent_levels: int = 1, seed: int = 0, wrap: bool = False,
-              passes: int = len(THETAS)) -> int:
+              passes: int = len(THETAS), forced: bool = False) -> int:
     """Move border points of ``levels`` (H, W) uint8, in place, towards the shares ``aim``
     (one a level) without a window leaving ``dpj`` (composite levels parent · G + level when
     ``parents`` are given, as markov.multiscale draws them). ``wrap``: the field is a torus.
-    ``passes``: the passes over the border points (THETAS, the last one repeated past them).
+    ``passes``: the passes over the border points (THETAS, the last one repeated past them;
+    at most 254). ``forced``: the last resort, made beyond FORCED_TRIGGER and until
+    FORCED_SLACK (it leaves windows off the DPJ) — a window may leave the DPJ (costing
+    OFF_WINDOW below its rarest entry), moves at any cost after the THETAS passes, a point
+    takes a level FORCED_LEAST neighbours have, or any level the field lacks, and the border
+    points are all tried again when a pass leaves none to try.
     Returns how many moves were made (a point may move twice; 0 when no share is off by more
-    than TRIGGER, or the field has more than MAX_POINTS points)."""
+    than TRIGGER, FORCED_TRIGGER when forced, or the field has more than MAX_POINTS points)."""
     aim = np.asarray(aim, float)
     g = len(aim)
     if dpj.levels != g * (parent_levels if parents is not None else 1):
         raise InputError(f"a DPJ of {dpj.levels} levels does not hold {g} levels"
                          + (f" over {parent_levels} parent levels" if parents is not None else ""))
-    if isinstance(passes, bool) or not isinstance(passes, (int, np.integer)) or passes < 1:
-        raise InputError(f"the passes of a rebalance are a whole number from 1, got {passes!r}")
+    if isinstance(passes, bool) or not isinstance(passes, (int, np.integer)) \
+            or not 1 <= passes <= MAX_PASSES:
+        raise InputError(f"the passes of a rebalance are a whole number from 1 to {MAX_PASSES}, "
+                         f"got {passes!r}")
     h, w = levels.shape
     target = np.round(aim * h * w).astype(np.int64)
     counts = np.bincount(levels.ravel(), minlength=g)[:g]
-    if np.abs(counts - target).max() <= TRIGGER * h * w or h * w > MAX_POINTS:
+    trigger, slack = (FORCED_TRIGGER, FORCED_SLACK) if forced else (TRIGGER, SLACK)
+    if np.abs(counts - target).max() <= trigger * h * w or h * w > MAX_POINTS:
         return 0
     composite = levels.astype(np.uint8, copy=True)
     if parents is not None:
@@ -76,13 +98,23 @@ def rebalance(levels: np.ndarray, dpj: DPJ, aim, *, parents: np.ndarray | None =
     keys, table, bits = derived(dpj, "window log-probabilities", _window_table)
     state = np.random.SeedSequence([int(seed), 0xBA1]).generate_state(1, np.uint64)
     return int(_rebalance(composite, levels, g, dpj.window[0], dpj.window[1], dpj.levels, keys,
-                          table, bits, target, counts.astype(np.int64), int(SLACK * h * w),
-                          state, _thetas(int(passes)), LEAST, bool(wrap)))
+                          table, bits, target, counts.astype(np.int64), int(slack * h * w),
+                          state, _thetas(int(passes), forced), FORCED_LEAST if forced else LEAST,
+                          _off_window(dpj) if forced else -np.inf, bool(wrap)))
 
 
-def _thetas(passes: int) -> np.ndarray:
-    """The log-probability each of ``passes`` passes lets a move cost (THETAS, then its last)."""
-    return np.array(THETAS[:passes] + THETAS[-1:] * max(0, passes - len(THETAS)))
+def _thetas(passes: int, forced: bool = False) -> np.ndarray:
+    """The log-probability each of ``passes`` passes lets a move cost (THETAS, then its last;
+    ``forced``: any cost in the last passes)."""
+    thetas = np.array(THETAS[:passes] + THETAS[-1:] * max(0, passes - len(THETAS)))
+    if forced:
+        thetas[len(THETAS):] = -np.inf
+    return thetas
+
+
+def _off_window(dpj: DPJ) -> float:
+    """What a window outside the DPJ costs a forced move: OFF_WINDOW below the rarest entry."""
+    return float(np.log(dpj.probs[dpj.probs > 0].min())) - OFF_WINDOW
 
 
 def _window_table(dpj: DPJ):
@@ -152,14 +184,17 @@ def _windows_through(comp, y, x, u, v, g, wrap, codes, powers):
 
 
 @njit(cache=True, nogil=True)
-def _log_p_sum(keys, table, bits, codes, powers, n, change):
+def _log_p_sum(keys, table, bits, codes, powers, n, change, off):
     """The sum of the windows' log-probabilities once the point's digit changes by
-    ``change``; -inf when one is not a DPJ entry."""
+    ``change``, a window that is not a DPJ entry counted as ``off`` (-inf: the move is
+    ruled out)."""
     total = 0.0
     for k in range(n):
         p = _log_p(keys, table, bits, codes[k] + change * powers[k])
         if p == -np.inf:
-            return p
+            if off == -np.inf:
+                return p
+            p = off
         total += p
     return total
 
@@ -241,7 +276,7 @@ def _listed(listed, k, items):
 
 @njit(cache=True, nogil=True)
 def _best_move(comp, own, y, x, g, u, v, big_g, wrap, keys, table, bits, counts, target,
-               slack, least, tally, codes, powers):
+               slack, least, off, tally, codes, powers):
     """(level, log-probability change) of the most plausible wanted move of (y, x), or
     (-1, -inf)."""
     a = own[y, x]
@@ -251,12 +286,13 @@ def _best_move(comp, own, y, x, g, u, v, big_g, wrap, keys, table, bits, counts,
     _neighbours(own, y, x, wrap, tally)
     n, before = -1, 0.0
     for b in range(g):
-        if b == a or tally[b] < least or not _wanted(counts, target, a, b, slack):
+        if b == a or (tally[b] < least and (counts[b] > 0 or off == -np.inf)) \
+                or not _wanted(counts, target, a, b, slack):
             continue
         if n < 0:
             n = _windows_through(comp, y, x, u, v, big_g, wrap, codes, powers)
-            before = _log_p_sum(keys, table, bits, codes, powers, n, 0)
-        after = _log_p_sum(keys, table, bits, codes, powers, n, b - a)
+            before = _log_p_sum(keys, table, bits, codes, powers, n, 0, off)
+        after = _log_p_sum(keys, table, bits, codes, powers, n, b - a, off)
         if after - before > gain:
             best, gain = b, after - before
     return best, gain
@@ -264,8 +300,9 @@ def _best_move(comp, own, y, x, g, u, v, big_g, wrap, keys, table, bits, counts,
 
 @njit(cache=True, nogil=True)
 def _rebalance(comp, own, g, u, v, big_g, keys, table, bits, target, counts, slack, state,
-               thetas, least, wrap):
+               thetas, least, off, wrap):
     h, w = own.shape
+    forced = off != -np.inf
     listed = np.zeros(h * w, np.uint8)      # the pass (+1) a point is listed for
     todo = np.empty(h * w, np.int32)        # points as int32: h · w ≤ MAX_POINTS
     order = np.empty(h * w, np.int32)
@@ -281,10 +318,10 @@ def _rebalance(comp, own, g, u, v, big_g, keys, table, bits, target, counts, sla
             p = order[i]
             y, x = p // w, p % w
             b, gain = _best_move(comp, own, y, x, g, u, v, big_g, wrap, keys, table, bits,
-                                 counts, target, slack, least, tally, codes, powers)
+                                 counts, target, slack, least, off, tally, codes, powers)
             if b < 0:
                 continue                       # nothing wanted here now
-            if gain < thetas[k]:
+            if gain < thetas[k] or (forced and uniform(state) * FORCED_TAKE >= max(tally[b], 1)):
                 listed[p] = k + 1              # perhaps in a later pass
                 continue
             counts[own[y, x]] -= 1
@@ -296,6 +333,8 @@ def _rebalance(comp, own, g, u, v, big_g, keys, table, bits, target, counts, sla
                 for dx in range(-1, 2):
                     listed[_on_torus(y + dy, h) * w + _on_torus(x + dx, w)] = k + 1
         n = _listed(listed, k, todo)
+        if n == 0 and forced:                  # every border again: the shares have moved
+            n = _borders(own, todo)
     return moved
 
 

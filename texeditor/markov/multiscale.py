@@ -24,7 +24,8 @@ import skimage as ski
 
 from ..errors import Cancelled, InputError
 from ..wording import counted
-from .balance import FREE_PASSES, MAX_POINTS, TRIGGER, rebalance
+from .balance import (FORCED_PASSES, FORCED_TRIGGER, FREE_PASSES, MAX_POINTS, TRIGGER,
+                      rebalance)
 from .dpj import DPJ, MAX_LEVELS, check_window, encode
 from .estimation import estimate_dpj
 from .levels import check_levels, has_colour, quantize, to_grey
@@ -292,7 +293,7 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
                       steer: bool = True, more_drafts: bool = True,
                       given_redraws: int = GIVEN_REDRAWS,
                       coarse_row_redraws: float = COARSE_ROW_REDRAWS,
-                      free_moves: bool = True) -> SynthesisResult:
+                      free_moves: bool = True, forced_moves: bool = True) -> SynthesisResult:
     """Draw the coarsest scale, then each finer one given the one under it; the finest levels
     (``rows_final`` follows the finest scale's rows as they are drawn, see synthesize).
     ``tileable``: every scale is drawn on the torus (``closure``: which seam closure, 1 to
@@ -314,7 +315,8 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     moves, made after rows_final was told of all rows but the last band, and the last call,
     all rows final, is not made then; False, as recipes before it); ``free_moves``: when the
     moves its parents allow leave a share off, more moves follow, free of them (False, as
-    recipes before it). ``steer``: every plain draw of a scale is steered towards its level
+    recipes before it); ``forced_moves``: when a share is off even then, forced moves follow,
+    which may leave windows outside the DPJ (False, as recipes before it). ``steer``: every plain draw of a scale is steered towards its level
     shares as its rows are drawn (markov.steering; False, as recipes before it), so drafts
     and moves are seldom needed.
     ``more_drafts``: a small scale is drafted as more particles (particles.drafts_for; False,
@@ -357,7 +359,8 @@ def synthesize_scales(model: MultiScaleDPJ, shape, *, seed: int = 0,
     if rebalance:
         if cancel is not None and cancel():
             raise Cancelled("synthesis cancelled")
-        levels, moved = _rebalanced(model, levels, parents, seed, tileable, free_moves)
+        levels, moved = _rebalanced(model, levels, parents, seed, tileable, free_moves,
+                                    forced_moves)
         if held and not moved:
             rows_final(*held[-1])
     return SynthesisResult(levels, repairs, redraws, int(seed), moved)
@@ -375,12 +378,16 @@ def _holding_the_last(rows_final, height: int, held: list):
 
 
 def _rebalanced(model: MultiScaleDPJ, levels, parents, seed: int, tileable: bool,
-                free_moves: bool = False):
+                free_moves: bool = False, forced_moves: bool = False):
     """The finest levels with their shares brought back (a copy, when points moved): first by
     moves its parents allow; then, if ``free_moves`` and a share is still off (a small field
     from a photo of a few large regions: its parents were drawn as few blobs), by moves on the
-    law of the finest windows alone (own_law), over FREE_PASSES passes. The finest scale has
-    no scale drawn given it, so its parents only say where its levels may go."""
+    law of the finest windows alone (own_law), over FREE_PASSES passes; then, if
+    ``forced_moves`` and a share is still beyond FORCED_TRIGGER (a level held by one large region of the photo,
+    which the texture lacks or holds too little of), by forced moves (balance.rebalance's
+    ``forced``: a window may leave the DPJ, at a cost; a lacking level starts from one point)
+    over FORCED_PASSES passes. The finest scale has no scale drawn given it, so its parents
+    only say where its levels may go."""
     k = model.scales - 1
     if levels.size > MAX_POINTS:          # rebalance would leave it: skip its set-up (0.1 s)
         return levels, 0
@@ -396,6 +403,10 @@ def _rebalanced(model: MultiScaleDPJ, levels, parents, seed: int, tileable: bool
     if free_moves and _frequency_error(moved_levels, aim) > TRIGGER:
         moved += rebalance(moved_levels, own_law(model.dpjs[k], g), aim,
                            seed=scale_seed(seed, k), wrap=bool(tileable), passes=FREE_PASSES)
+    if forced_moves and _frequency_error(moved_levels, aim) > FORCED_TRIGGER:
+        moved += rebalance(moved_levels, own_law(model.dpjs[k], g), aim,
+                           seed=scale_seed(seed, k), wrap=bool(tileable), passes=FORCED_PASSES,
+                           forced=True)
     return (moved_levels, moved) if moved else (levels, 0)
 
 

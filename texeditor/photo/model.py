@@ -91,6 +91,7 @@ class PhotoModel:
                    rebalance: bool = True, steer: bool = True, more_drafts: bool = True,
                    given_redraws: int = GIVEN_REDRAWS,
                    coarse_row_redraws: float = COARSE_ROW_REDRAWS, free_moves: bool = True,
+                   forced_moves: bool = True,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
@@ -99,14 +100,14 @@ class PhotoModel:
         about half the time on two cores). ``tileable``: the levels and the picture repeat
         without a seam (``closure``, ``coarse_redraws``, ``particles``, ``rebalance``,
         ``steer``, ``more_drafts``, ``given_redraws``, ``coarse_row_redraws``,
-        ``free_moves``: see markov.multiscale.synthesize_scales;
+        ``free_moves``, ``forced_moves``: see markov.multiscale.synthesize_scales;
         ``tone_balance``: each level's greys keep the photo's histogram, tone.BALANCED;
         ``tone_finish``: its pixel-scale power is the photo's, tone.FINISHED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
                     closure=closure, coarse_redraws=coarse_redraws, particles=particles,
                     rebalance=rebalance, steer=steer, more_drafts=more_drafts,
                     given_redraws=given_redraws, coarse_row_redraws=coarse_row_redraws,
-                    free_moves=free_moves)
+                    free_moves=free_moves, forced_moves=forced_moves)
         if not tone or self.tone is None:
             result = synthesize_scales(self.scales, shape, **draw)
             image = self.render(result.levels, seed=seed, tone=False)

@@ -471,6 +471,7 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 # the parameters SynthesizeScales gained, newest first: the version each came with, and the value
 # a step of an older version reads (it cannot name the parameter)
 _SCALES_GAINED = (
+    (15, "forced_moves", False),                # shares left off after the free moves
     (14, "free_moves", False),                  # moves free of the parents after the bound ones
     (13, "coarse_row_redraws", NO_ROW_LIMIT),   # a coarsest row redrew without limit
     (12, "given_redraws", OLD_REDRAWS),         # 16 tries at a dead end of a finer scale
@@ -573,7 +574,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 14
+    VERSION: ClassVar[int] = 15
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -629,6 +630,11 @@ class SynthesizeScales(Action):
                              doc="when the moves its parents allow leave a level's share of the "
                                  "finest scale off, more moves follow, free of them (current; "
                                  "recipes before version 14 stopped there)")
+    forced_moves: bool = param("bool", default=True,
+                               doc="when a level's share is off even then (a level the "
+                                   "texture lacks), forced moves follow, which may leave "
+                                   "windows outside the DPJ (current; recipes before version "
+                                   "15 stopped there)")
 
     upgrade = classmethod(_scales_of_version)
 
@@ -650,7 +656,8 @@ class SynthesizeScales(Action):
                                  more_drafts=self.more_drafts,
                                  given_redraws=self.given_redraws,
                                  coarse_row_redraws=self.coarse_row_redraws,
-                                 free_moves=self.free_moves)
+                                 free_moves=self.free_moves,
+                                 forced_moves=self.forced_moves)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
