@@ -65,7 +65,8 @@ class LogModel(QtCore.QAbstractListModel):
         return None
 
 
-MIN_ROWS = 8          # the list keeps this many steps in view however tall the step's form is
+MIN_ROWS = 5          # the list keeps this many steps in view however tall the step's form is
+                      # (more would squeeze the Synthesis and Palette docks above it at 1280×800)
 
 
 class OptimiseDialog(QtWidgets.QDialog):

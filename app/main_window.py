@@ -447,17 +447,20 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         super().closeEvent(ev)
 
     def _size_docks(self) -> None:
-        """Synthesis (and the Plates dock, its tab: the taller, and their tab bar) and palette
-        at their natural height; the history takes the rest."""
+        """Synthesis (and the Plates dock, its tab, when open: the taller, and their tab bar)
+        and palette at their natural height; the history takes the rest."""
         docks = [self.synthesis_dock, self.palette_dock, self.history_dock]
 
-        def natural(d):
-            return d.widget().widget().sizeHint().height() + d.height() - d.widget().height() + 2
+        def natural(d):     # the content, its scroll area's frame and the dock's title bar
+            area = d.widget()
+            return (area.widget().sizeHint().height() + 2 * area.frameWidth()
+                    + d.sizeHint().height() - area.sizeHint().height())
+        plates = not self.plates_dock.isHidden()     # closed, it has no tab nor a size to read
         tabs = [bar.sizeHint().height() for bar in self.findChildren(QtWidgets.QTabBar)
-                if bar.isVisible() and self.plates_dock.windowTitle() in
+                if plates and bar.isVisible() and self.plates_dock.windowTitle() in
                 [bar.tabText(i) for i in range(bar.count())]]
-        heights = [max(natural(self.synthesis_dock), natural(self.plates_dock)) + sum(tabs[:1]),
-                   natural(self.palette_dock)]
+        heights = [max([natural(self.synthesis_dock)] + [natural(self.plates_dock)] * plates)
+                   + sum(tabs[:1]), natural(self.palette_dock)]
         rest = max(200, sum(d.height() for d in docks) - sum(heights))
         self.resizeDocks(docks, heights + [rest], QtCore.Qt.Orientation.Vertical)
         self.resizeDocks([self.history_dock, self.tool_dock], [340, 190],

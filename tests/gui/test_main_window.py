@@ -411,3 +411,37 @@ def test_copy_picture_puts_what_is_shown_on_the_clipboard_after_each_edit(qtbot,
     edit.selectAll()
     qtbot.keyClick(edit, QtCore.Qt.Key.Key_C, CTRL)
     assert QtWidgets.QApplication.clipboard().text() == edit.text() == "7"
+
+
+def test_at_1280_by_800_the_synthesis_and_palette_docks_show_every_control(qtbot, small_dpj):
+    """A first start's window at 1280×800: the Synthesis and Palette docks at their natural
+    height, so Synthesise and the grey scale's Reset show without scrolling (the closed Plates
+    dock, tabbed with Synthesis, once made Synthesis taller and the history's 8 rows squeezed
+    Palette); the history takes the rest. Then a synthesis, Plates shown and closed: still so."""
+    from app.main_window import MainWindow
+    from texeditor.recipe.history import History
+    win = MainWindow()
+    qtbot.addWidget(win)
+    win.resize(1280, 800)
+    history = History()
+    history.add_dpj(small_dpj)
+    win.set_history(history)
+    win.show()
+    qtbot.waitExposed(win)
+
+    def whole(dock):
+        area = dock.widget()
+        return (not area.verticalScrollBar().isVisible()
+                and area.viewport().height() >= area.widget().sizeHint().height())
+    qtbot.waitUntil(lambda: whole(win.synthesis_dock) and whole(win.palette_dock))
+    assert win.history_dock.height() >= win.history_dock.minimumSizeHint().height()
+    button = win.synthesis_dock.button
+    assert win.synthesis_dock.widget().viewport().rect().contains(
+        button.mapTo(win.synthesis_dock.widget().viewport(), button.rect().bottomRight()))
+    win.synthesise_from_dock()
+    assert win.runner.wait(60_000)
+    win.plates_dock.show()
+    win.plates_dock.close()
+    qtbot.wait(50)
+    assert whole(win.synthesis_dock) and whole(win.palette_dock)
+    win.mark_clean()
