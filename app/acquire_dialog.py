@@ -490,7 +490,7 @@ class AcquireDialog(QtWidgets.QDialog):
             self._show_model(out.model)
         else:
             self._show_report(out.report)
-        QtCore.QTimer.singleShot(0, self._make_room)    # once the new widgets have their sizes
+        QtCore.QTimer.singleShot(0, self, self._make_room)   # once new widgets have their sizes
 
     def _make_room(self) -> None:
         """Grow to show the scales' strip and the wrapped report whole: the layout's minimum

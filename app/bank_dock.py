@@ -227,7 +227,8 @@ class BankDock(QtWidgets.QDockWidget):
         super().showEvent(ev)
         if not self._sized:
             self._sized = True          # after the window has sized its own docks
-            QtCore.QTimer.singleShot(0, lambda: QtCore.QTimer.singleShot(0, self._take_height))
+            QtCore.QTimer.singleShot(0, self, lambda: QtCore.QTimer.singleShot(
+                0, self, self._take_height))
 
     def _take_height(self) -> None:
         """The tool options above keep their natural height; the browser takes the rest."""

@@ -350,7 +350,7 @@ class CompositionDialog(QtWidgets.QDialog):
         self.radius.valueChanged.connect(lambda r: setattr(self.preview, "radius", r))
         self.clear_paint.clicked.connect(self.reset_painting)
         self._mask_form = form
-        QtCore.QTimer.singleShot(0, self._mask_kind_changed)
+        QtCore.QTimer.singleShot(0, self, self._mask_kind_changed)
         return page
 
     def _mix_page(self) -> QtWidgets.QWidget:
@@ -575,7 +575,7 @@ class CompositionDialog(QtWidgets.QDialog):
 
     def showEvent(self, ev) -> None:
         super().showEvent(ev)
-        QtCore.QTimer.singleShot(0, self._document_changed)   # catch up with the document
+        QtCore.QTimer.singleShot(0, self, self._document_changed)   # catch up with the document
 
     def _document_changed(self, change=None) -> None:
         if self.main_window.history is not self._history or not self.isVisible():

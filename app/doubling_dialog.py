@@ -156,7 +156,7 @@ class DoublingDialog(QtWidgets.QDialog):
 
     def _say(self, message: str) -> None:
         self.info.setText(f"<span style='color:#b00020'>{message}</span>")
-        QtCore.QTimer.singleShot(0, self._make_room)
+        QtCore.QTimer.singleShot(0, self, self._make_room)
 
     def _shown(self, outcome) -> None:
         key, error, crop, result = outcome
@@ -176,7 +176,7 @@ class DoublingDialog(QtWidgets.QDialog):
             f"{own + none:,} by their level alone. Works best on fine grains (§4.5).")
         self.table = table
         self.apply_button.setEnabled(True)
-        QtCore.QTimer.singleShot(0, self._make_room)    # once the label has its lines
+        QtCore.QTimer.singleShot(0, self, self._make_room)    # once the label has its lines
 
     def _make_room(self) -> None:
         """Grow to show the report whole: it arrives after the dialog is laid out, and a

@@ -146,7 +146,7 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         self.visibilityChanged.connect(lambda shown: shown and self.refresh())
         # a task that ends without changing the history (a cancelled replay of the grain step)
         # must still put the controls back on the document; after the task's own callback
-        window.runner.finished.connect(lambda: QtCore.QTimer.singleShot(0, self.refresh))
+        window.runner.finished.connect(self._refresh_soon)
 
     # -- construction ------------------------------------------------------------------------------
     def _build(self) -> None:
@@ -456,6 +456,11 @@ class GrainRenderingDock(QtWidgets.QDockWidget):
         step clicked): committed after it, they would drop the steps just undone (as Krita
         drops a stroke in progress on undo)."""
         self._commit_timer.stop()
+
+    def _refresh_soon(self) -> None:
+        """After a task: once the event loop is back (never on a dock deleted meanwhile, as a
+        window closed while its task ended is)."""
+        QtCore.QTimer.singleShot(0, self, self.refresh)
 
     def refresh(self) -> None:
         """After any change of the history (and after a task ends, a cancelled one included):

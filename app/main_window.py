@@ -427,7 +427,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         super().showEvent(ev)
         if not self._docks_sized:
             self._docks_sized = True
-            QtCore.QTimer.singleShot(0, self._size_docks)   # once the layout has settled
+            QtCore.QTimer.singleShot(0, self, self._size_docks)   # once the layout has settled
 
     def childEvent(self, ev) -> None:
         """The tab bars Qt makes for tabbed docks show whole titles and scroll, as Krita's do:

@@ -59,7 +59,7 @@ class PlateOps:
         """Image ▸ Colour plates…: the Plates dock, in front of the Synthesis dock it shares."""
         self.plates_dock.show()
         self.plates_dock.raise_()
-        QtCore.QTimer.singleShot(0, self._size_docks)      # its tab bar takes some height
+        QtCore.QTimer.singleShot(0, self, self._size_docks)      # its tab bar takes some height
 
     def add_plates(self, count: int) -> bool:
         return self.submit(AddPlates(plate_colours(count)))

@@ -62,7 +62,7 @@ class ToolOptionsDock(QtWidgets.QDockWidget):
         self.stack.currentWidget().setToolTip(tool.TIP)
         self.title.setToolTip(tool.TIP)
         self.stack.updateGeometry()
-        QtCore.QTimer.singleShot(0, self.fit_height)
+        QtCore.QTimer.singleShot(0, self, self.fit_height)
 
     def fit_height(self) -> None:
         """Take the current tool's natural height from the dock below (the bank, brushes…),

@@ -284,7 +284,7 @@ class DPJEditor(QtWidgets.QMainWindow):
         super().showEvent(ev)
         if not self._docks_sized:
             self._docks_sized = True
-            QtCore.QTimer.singleShot(0, self._size_docks)     # once the layout has settled
+            QtCore.QTimer.singleShot(0, self, self._size_docks)     # once the layout has settled
 
     def _size_docks(self) -> None:
         """Painter, checks and preview at their natural height; generators and charts the rest."""

@@ -266,7 +266,7 @@ class SpotTool(Tool):
         self._ensure_dock().show()
         self.dock.raise_()
         if not self.dock.isFloating():
-            QtCore.QTimer.singleShot(0, self._size_dock)
+            QtCore.QTimer.singleShot(0, self.dock, self._size_dock)
 
     def _size_dock(self) -> None:
         """A third of the window under the canvas (once the layout has taken the new dock)."""

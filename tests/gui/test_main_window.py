@@ -445,3 +445,37 @@ def test_at_1280_by_800_the_synthesis_and_palette_docks_show_every_control(qtbot
     qtbot.wait(50)
     assert whole(win.synthesis_dock) and whole(win.palette_dock)
     win.mark_clean()
+
+
+def test_a_window_deleted_just_as_its_task_ends_is_deleted_without_an_error(qtbot, small_dpj):
+    """A window closed and deleted as its task ends (Quit, or a second window closed): what
+    the task's end schedules must not reach its deleted docks — the Grain rendering dock
+    refreshed on a timer (QTimer.singleShot with a bound method, which PySide does not cancel
+    when the object goes) and met its deleted labels ("Internal C++ object already deleted",
+    an exception in the event loop, which fails this test). Twice, then a window that stays
+    and synthesises."""
+    from app.main_window import MainWindow
+    from texeditor.recipe.history import History
+
+    def new_window():
+        win = MainWindow()
+        history = History()
+        history.add_dpj(small_dpj)
+        win.set_history(history)
+        win.show()
+        qtbot.waitExposed(win)
+        return win
+    for _ in range(2):
+        win = new_window()
+        win.mark_clean()
+        assert win.close()
+        win.runner.finished.emit()           # the task's end, as the window goes
+        win.deleteLater()
+        QtCore.QCoreApplication.sendPostedEvents(None, QtCore.QEvent.Type.DeferredDelete)
+        qtbot.wait(100)                      # any timer after the deletion
+    win = new_window()
+    qtbot.addWidget(win)
+    win.synthesise_from_dock()
+    done = win.runner.wait(60_000)
+    win.mark_clean()                     # closed at the end without a question
+    assert done and win.document.levels.size and len(win.history.actions) == 1
