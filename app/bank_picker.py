@@ -137,8 +137,8 @@ def load_bank_source(window, bank: Bank, entry_id: int,
     choice."""
     runner = window.runner
     if runner.busy:
-        QtCore.QTimer.singleShot(RETRY_MS, lambda: load_bank_source(window, bank, entry_id,
-                                                                    on_loaded, on_failed))
+        QtCore.QTimer.singleShot(RETRY_MS, window, lambda: load_bank_source(   # not once the
+            window, bank, entry_id, on_loaded, on_failed))                       # window is gone
         return
     failed = on_failed or (lambda: None)
     try:
