@@ -37,6 +37,8 @@ QUANTISERS = (("Band (thesis: 90 % central band)", "band"), ("Lloyd–Max (least
 DEBOUNCE_MS = 150
 SCALE_STRIP = 2 * PREVIEW + 6      # the scale previews share the width of the two big ones
 SCALE_SIDE = 100                   # ... each at most this square (the dialog fits 800 pixels)
+SMALLEST_PREVIEW = 120             # on a screen too short for the dialog, the two big previews
+                                   # shrink down to this side, so its buttons stay on screen
 PASTED = Path("Pasted picture")    # the name a picture from the clipboard goes by
 
 
@@ -386,7 +388,7 @@ class AcquireDialog(QtWidgets.QDialog):
         self.pasted = image
         self.path, self.image = PASTED, image
         self._show_pasted = True          # its preview is made in the worker (a large one takes
-        self.photo_view.clear()           # a second)
+        self._show_preview(self.photo_view, None)     # a second)
         if self.source.findData(str(PASTED)) < 0:
             self.source.addItem(str(PASTED), str(PASTED))
         self.source.setCurrentIndex(self.source.findData(str(PASTED)))
@@ -474,7 +476,7 @@ class AcquireDialog(QtWidgets.QDialog):
             return
         if out.photo is not None:
             self.image, self._show_pasted = out.image, False
-            self.photo_view.setPixmap(QtGui.QPixmap.fromImage(out.photo))
+            self._show_preview(self.photo_view, out.photo)
             if self.source.findData(str(out.path)) < 0:
                 self.source.addItem(out.path.name, str(out.path))
             self.source.setCurrentIndex(self.source.findData(str(out.path)))
@@ -484,7 +486,7 @@ class AcquireDialog(QtWidgets.QDialog):
             return
         self.quantization, self.dpj, self.model = out.quantization, out.dpj, out.model
         self.scale_levels = out.scale_levels
-        self.levels_view.setPixmap(QtGui.QPixmap.fromImage(out.levels))
+        self._show_preview(self.levels_view, out.levels)
         self._show_scales(out.scale_views)
         if out.model is not None:
             self._show_model(out.model)
@@ -493,10 +495,41 @@ class AcquireDialog(QtWidgets.QDialog):
         QtCore.QTimer.singleShot(0, self, self._make_room)   # once new widgets have their sizes
 
     def _make_room(self) -> None:
-        """Grow to show the scales' strip and the wrapped report whole: the layout's minimum
-        does not count a word-wrapped label's lines, and the previews would overlap."""
+        """Grow to show the scales' strip and the wrapped report whole (the layout's minimum
+        does not count a word-wrapped label's lines, and the previews would overlap), then stay
+        on the screen: moved up, and on a screen too short, the big previews made smaller —
+        grown down past a 1280×800 screen's bottom, Acquire and Cancel could not be reached."""
         self.layout().activate()
         self.resize(self.size().expandedTo(self.sizeHint()))
+        screen = self.screen()
+        if screen is None:
+            return
+        room = screen.availableGeometry()
+        over = self.frameGeometry().height() - room.height()
+        if over > 0 and self.photo_view.width() > SMALLEST_PREVIEW:
+            side = max(SMALLEST_PREVIEW, self.photo_view.width() - over)
+            for view in (self.photo_view, self.levels_view):
+                view.setFixedSize(side, side)
+                self._show_preview(view, view.property("image"))
+            self.layout().activate()
+            self.resize(self.width(), self.sizeHint().height())
+        frame = self.frameGeometry()
+        top = max(room.top(), min(frame.top(), room.bottom() + 1 - frame.height()))
+        if top != frame.top():
+            self.move(self.x(), self.y() + top - frame.top())
+
+    @staticmethod
+    def _show_preview(view: QtWidgets.QLabel, image) -> None:
+        """A big preview: its PREVIEW-square image, smaller when the preview is (_make_room)."""
+        view.setProperty("image", image)
+        if image is None:
+            view.clear()
+            return
+        if view.width() < PREVIEW:
+            image = image.scaled(view.width(), view.height(),
+                                 QtCore.Qt.AspectRatioMode.KeepAspectRatio,
+                                 QtCore.Qt.TransformationMode.SmoothTransformation)
+        view.setPixmap(QtGui.QPixmap.fromImage(image))
 
     def _show_scales(self, views) -> None:
         """Each scale's levels, small and side by side, captioned with its reduction; the
@@ -552,8 +585,8 @@ class AcquireDialog(QtWidgets.QDialog):
     def _unreadable(self, message: str) -> None:
         self.path, self.image, self.dpj, self.model = None, None, None, None
         self._show_scales(())
-        self.photo_view.clear()
-        self.levels_view.clear()
+        self._show_preview(self.photo_view, None)
+        self._show_preview(self.levels_view, None)
         self.photo_view.setText("cannot read this file")
         self._show_error(message)
 

@@ -65,8 +65,7 @@ class LogModel(QtCore.QAbstractListModel):
         return None
 
 
-MIN_ROWS = 5          # the list keeps this many steps in view however tall the step's form is
-                      # (more would squeeze the Synthesis and Palette docks above it at 1280×800)
+MIN_ROWS = 8          # the list keeps this many steps in view however tall the step's form is
 
 
 class OptimiseDialog(QtWidgets.QDialog):

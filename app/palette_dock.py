@@ -14,7 +14,7 @@ import colorsys
 import numpy as np
 from PySide6 import QtCore, QtGui, QtWidgets
 
-from .widgets import scrolled
+from .widgets import scrolled, tight_vertically
 
 SWATCH = 34        # pixels per swatch side
 COLUMNS = 8        # swatches per row (G ≤ 16: at most two rows)
@@ -153,6 +153,7 @@ class PaletteDock(QtWidgets.QDockWidget):
         self._contrast_of: dict[bytes, int] = {}
         body = QtWidgets.QWidget()
         layout = QtWidgets.QVBoxLayout(body)
+        tight_vertically(layout)
         self.swatches = SwatchBar()
         self.swatches.levelClicked.connect(self._level_clicked)
         self.swatches.levelDoubleClicked.connect(self.edit_colour)
@@ -180,12 +181,13 @@ class PaletteDock(QtWidgets.QDockWidget):
         self.lightest = self._slider(0, 255, 255, "Grey of the highest level")
         self.contrast = self._slider(-100, 100, 0, "Spread of the middle levels: "
                                                   "+ towards the extremes, − towards mid-grey")
+        self.reset_button = QtWidgets.QPushButton("Reset")
+        self.reset_button.setToolTip("Reset to a full grey ramp: black to white, contrast 0")
+        self.reset_button.clicked.connect(self.reset_grey_scale)
         form.addRow("Darkest", self._with_value(self.darkest))
         form.addRow("Lightest", self._with_value(self.lightest))
-        form.addRow("Contrast", self._with_value(self.contrast))
-        self.reset_button = QtWidgets.QPushButton("Reset to a full grey ramp")
-        self.reset_button.clicked.connect(self.reset_grey_scale)
-        form.addRow(self.reset_button)
+        form.addRow("Contrast", self._with_value(self.contrast, self.reset_button))  # a row less:
+        #                                  the dock keeps its height beside the History's rows
         layout.addWidget(group)
         layout.addStretch(1)
         body.setSizePolicy(QtWidgets.QSizePolicy.Policy.Preferred,
@@ -220,7 +222,8 @@ class PaletteDock(QtWidgets.QDockWidget):
         row.addWidget(spin, 1)
         return spin
 
-    def _with_value(self, slider) -> QtWidgets.QWidget:
+    def _with_value(self, slider, *after) -> QtWidgets.QWidget:
+        """The slider, its value, and ``after`` (widgets) on one row."""
         box = QtWidgets.QWidget()
         row = QtWidgets.QHBoxLayout(box)
         row.setContentsMargins(0, 0, 0, 0)
@@ -231,6 +234,8 @@ class PaletteDock(QtWidgets.QDockWidget):
         self._value_labels[slider] = label
         row.addWidget(slider, 1)
         row.addWidget(label)
+        for widget in after:
+            row.addWidget(widget)
         return box
 
     # -- state from the document --------------------------------------------------------------------

@@ -14,7 +14,7 @@ from texeditor.markov.scan import ROWS, SCANS
 from texeditor.recipe.actions import MAX_CANVAS_SIDE
 
 from .params_form import SeedEdit, dpj_summary
-from .widgets import scan_combo, scrolled
+from .widgets import scan_combo, scrolled, tight_vertically
 
 DEFAULT_SIZE = 256
 DEFAULT_SEED = 1984
@@ -50,6 +50,7 @@ class SynthesisDock(QtWidgets.QDockWidget):
         self.setObjectName("SynthesisDock")
         body = QtWidgets.QWidget()
         form = QtWidgets.QFormLayout(body)
+        tight_vertically(form)
         self.dpj_label = QtWidgets.QLabel()
         self.width_box = self._side()
         self.height_box = self._side()

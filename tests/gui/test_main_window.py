@@ -416,8 +416,9 @@ def test_copy_picture_puts_what_is_shown_on_the_clipboard_after_each_edit(qtbot,
 def test_at_1280_by_800_the_synthesis_and_palette_docks_show_every_control(qtbot, small_dpj):
     """A first start's window at 1280×800: the Synthesis and Palette docks at their natural
     height, so Synthesise and the grey scale's Reset show without scrolling (the closed Plates
-    dock, tabbed with Synthesis, once made Synthesis taller and the history's 8 rows squeezed
-    Palette); the history takes the rest. Then a synthesis, Plates shown and closed: still so."""
+    dock, tabbed with Synthesis, once made Synthesis taller, and the History list's eight rows
+    squeezed Palette); the history, its eight rows kept, takes the rest. Then a synthesis,
+    Plates shown and closed: still so."""
     from app.main_window import MainWindow
     from texeditor.recipe.history import History
     win = MainWindow()
@@ -435,6 +436,8 @@ def test_at_1280_by_800_the_synthesis_and_palette_docks_show_every_control(qtbot
                 and area.viewport().height() >= area.widget().sizeHint().height())
     qtbot.waitUntil(lambda: whole(win.synthesis_dock) and whole(win.palette_dock))
     assert win.history_dock.height() >= win.history_dock.minimumSizeHint().height()
+    rows = win.history_dock.view.fontMetrics().lineSpacing() + 2
+    assert win.history_dock.view.viewport().height() >= 8 * rows
     button = win.synthesis_dock.button
     assert win.synthesis_dock.widget().viewport().rect().contains(
         button.mapTo(win.synthesis_dock.widget().viewport(), button.rect().bottomRight()))
