@@ -514,9 +514,10 @@ class AcquireDialog(QtWidgets.QDialog):
             self.layout().activate()
             self.resize(self.width(), self.sizeHint().height())
         frame = self.frameGeometry()
+        left = max(room.left(), min(frame.left(), room.right() + 1 - frame.width()))
         top = max(room.top(), min(frame.top(), room.bottom() + 1 - frame.height()))
-        if top != frame.top():
-            self.move(self.x(), self.y() + top - frame.top())
+        if (left, top) != (frame.left(), frame.top()):
+            self.move(self.x() + left - frame.left(), self.y() + top - frame.top())
 
     @staticmethod
     def _show_preview(view: QtWidgets.QLabel, image) -> None:

@@ -183,3 +183,26 @@ def test_the_acquire_dialog_explains_the_chain_with_a_remedy(laptop, qtbot):
     assert "non-zero configurations" in text and "transient" not in text
     assert "closed class" in dialog.info.toolTip()
     dialog.reject()
+
+
+def test_the_acquire_dialog_grown_for_a_photo_models_scales_stays_on_the_screen(laptop, qtbot):
+    """Ticking "auto" scales grows the acquisition dialog by the scales' previews and the
+    model's report; grown downwards, its Acquire and Cancel went below a 1280×800 screen's
+    bottom. It moves up to stay on the screen; on a screen shorter than it, its big previews
+    shrink. Then Acquire: a texture drawn from the photo model."""
+    dialog = laptop.acquire()
+    qtbot.waitExposed(dialog)
+    assert dialog.wait()
+    dialog.move(dialog.x(), 300)                     # where a window manager may have put it
+    dialog.auto_scales.setChecked(True)
+    assert dialog.wait()
+    qtbot.waitUntil(lambda: dialog.scale_strip.isVisible())
+    room = dialog.screen().availableGeometry()
+    qtbot.waitUntil(lambda: room.contains(dialog.frameGeometry()), timeout=3000)
+    ok = dialog.findChild(QtWidgets.QDialogButtonBox) or dialog
+    assert room.contains(ok.mapToGlobal(ok.rect().bottomRight()))
+    dialog.accept()
+    qtbot.waitUntil(lambda: type(laptop.history.actions[-1]).__name__ == "SynthesizeScales",
+                    timeout=60_000)
+    assert laptop.runner.wait(60_000) and len(laptop.synthesis_dock.scale_dpjs) > 1
+    laptop.mark_clean()
