@@ -20,6 +20,8 @@ from texeditor.markov.dpj import DPJ, MAX_SIDE
 from texeditor.errors import Cancelled, TexeditorError
 from texeditor.markov.estimation import estimate_dpj
 from texeditor.markov.levels import load_image, quantize
+from texeditor.markov.multiscale import LEVELS as MODEL_LEVELS
+from texeditor.markov.multiscale import WINDOW as MODEL_WINDOW
 from texeditor.markov.multiscale import (MAX_SCALES, MultiScaleDPJ, default_scales, estimate_scales,
                                          scales_phrase)
 from texeditor.markov.scan import ROWS, SCAN_NAMES
@@ -34,6 +36,7 @@ PREVIEW = 240
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.gif *.webp);;All files (*)"
 QUANTISERS = (("Band (thesis: 90 % central band)", "band"), ("Lloyd–Max (least squares)", "lloyd"),
               ("Colour classes (CIELAB)", "lab"))
+MODEL_QUANTISER = "lab"            # acquire_model's (colour classes; a grey photo: Lloyd–Max)
 DEBOUNCE_MS = 150
 SCALE_STRIP = 2 * PREVIEW + 6      # the scale previews share the width of the two big ones
 SCALE_SIDE = 100                   # ... each at most this square (the dialog fits 800 pixels)
@@ -256,12 +259,16 @@ class AcquireDialog(QtWidgets.QDialog):
         paste_key = QtGui.QShortcut(QtGui.QKeySequence.StandardKey.Paste, self)
         paste_key.activated.connect(self.paste_photo)
 
-        self.u = self._spin(1, MAX_SIDE, 3, "Window width u (columns)")
-        self.v = self._spin(1, MAX_SIDE, 3, "Window height v (rows)")
-        self.levels = self._spin(2, 16, 4, "Number of levels G (3..8 is usually enough)")
+        # first defaults: a photo model as `texeditor resynth` acquires it (the texture an artist
+        # expects from a photo); "auto" unticked and 1 scale give the thesis's single DPJ
+        self.u = self._spin(1, MAX_SIDE, MODEL_WINDOW[0], "Window width u (columns)")
+        self.v = self._spin(1, MAX_SIDE, MODEL_WINDOW[1], "Window height v (rows)")
+        self.levels = self._spin(2, 16, MODEL_LEVELS, "Number of levels G (3..8 is usually "
+                                 "enough)")
         self.method = QtWidgets.QComboBox()
         for text, key in QUANTISERS:
             self.method.addItem(text, key)
+        self.method.setCurrentIndex(self.method.findData(MODEL_QUANTISER))
         self.method.currentIndexChanged.connect(self._schedule)
         self.wrap = QtWidgets.QCheckBox("Wrap around the edges (the photo is periodic)")
         self.wrap.toggled.connect(self._schedule)
@@ -283,6 +290,8 @@ class AcquireDialog(QtWidgets.QDialog):
         self.auto_scales = QtWidgets.QCheckBox("auto")
         self.auto_scales.setToolTip("As many scales as bring the photo's shorter side to about "
                                     "64 points at the coarsest")
+        self.auto_scales.setChecked(True)
+        self.scales.setEnabled(False)
         self.auto_scales.toggled.connect(self._auto_toggled)
         self.tone = QtWidgets.QCheckBox("Photographic tone")
         self.tone.setToolTip("Keep the photo's greys and colours with the model: its textures "

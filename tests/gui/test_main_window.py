@@ -208,11 +208,14 @@ def test_acquire_from_a_photo(qtbot, window, photo_path):
     qtbot.waitExposed(dialog)
     assert dialog.wait()                    # read, quantised and counted in the worker
     assert dialog.path == photo_path and dialog.dpj is not None
+    assert dialog.model is not None                 # first a photo model, as `resynth` makes
+    qtbot.mouseClick(dialog.auto_scales, LEFT)      # unticked, and 1 scale: one DPJ, the
+    type_into(qtbot, dialog.scales, "1")            # thesis's
     type_into(qtbot, dialog.u, "2")
     type_into(qtbot, dialog.v, "2")
     type_into(qtbot, dialog.levels, "5")
     dialog.method.setFocus()
-    qtbot.keyClick(dialog.method, QtCore.Qt.Key.Key_Down)   # Lloyd–Max
+    qtbot.keyClick(dialog.method, QtCore.Qt.Key.Key_Up)     # Lloyd–Max, above colour classes
     qtbot.mouseClick(dialog.wrap, LEFT)
     assert dialog.wait()
     assert dialog.dpj.window == (2, 2) and dialog.dpj.levels == 5
@@ -232,20 +235,23 @@ def test_acquire_from_a_photo(qtbot, window, photo_path):
 
 def test_the_acquisition_dialog_keeps_its_settings_for_next_time(qtbot, window):
     from app.files import settings
-    dialog = window.acquire()
-    assert dialog.wait() and dialog.u.value() == 3 and dialog.scales.value() == 1
+    dialog = window.acquire()                       # first: a photo model, as `resynth` makes
+    assert dialog.wait() and (dialog.u.value(), dialog.v.value()) == (3, 2)
+    assert dialog.method.currentData() == "lab" and dialog.auto_scales.isChecked()
+    assert dialog.model is not None and not dialog.scales.isEnabled()
     type_into(qtbot, dialog.levels, "3")
     dialog.method.setCurrentIndex(dialog.method.findData("lloyd"))
-    dialog.auto_scales.setChecked(True)             # a photo model, as many scales as it holds
+    dialog.auto_scales.setChecked(False)            # one DPJ, the thesis's
+    dialog.scales.setValue(1)
     dialog.synthesise_now.setChecked(False)
-    assert dialog.wait()
+    assert dialog.wait() and dialog.model is None
     qtbot.mouseClick(dialog.ok_button, LEFT)
     assert window.history.document.dpj == dialog.dpj
     again = window.acquire()                        # opened again: as it was left
     assert again.wait()
     assert again.levels.value() == 3 and again.method.currentData() == "lloyd"
-    assert again.auto_scales.isChecked() and not again.scales.isEnabled()
-    assert not again.synthesise_now.isChecked() and again.model is not None
+    assert not again.auto_scales.isChecked() and again.scales.isEnabled()
+    assert not again.synthesise_now.isChecked() and again.model is None
     again.reject()
     store = settings()                              # a settings file edited by hand
     for key, junk in (("levels", "99"), ("u", "three"), ("quantiser", "magic"), ("auto", "maybe")):
@@ -253,9 +259,9 @@ def test_the_acquisition_dialog_keeps_its_settings_for_next_time(qtbot, window):
     store.sync()
     third = window.acquire()
     assert third.levels.value() == 4 and third.u.value() == 3       # the defaults
-    assert third.method.currentData() == "band"
-    assert not third.auto_scales.isChecked()
-    assert third.wait() and third.dpj is not None
+    assert third.method.currentData() == "lab"
+    assert third.auto_scales.isChecked() and not third.scales.isEnabled()
+    assert third.wait() and third.dpj is not None and third.model is not None
     third.reject()
 
 

@@ -54,7 +54,10 @@ def test_acquire_scales_synthesise_tone_undo_edit_save_reopen(qtbot, window, tmp
     # File ▸ Acquire with 3 scales, a 3×2 window, tone on
     qtbot.keyClick(window, Key.Key_I, CTRL)
     dialog = window.acquire_dialog
-    assert dialog.wait() and dialog.model is None          # 1 scale: a DPJ, as before
+    assert dialog.wait() and dialog.model is not None      # first a photo model, auto scales
+    qtbot.mouseClick(dialog.auto_scales, LEFT)             # unticked, and 1 scale: a DPJ
+    type_into(qtbot, dialog.scales, "1")
+    assert dialog.wait() and dialog.model is None
     assert not dialog.tone.isEnabled() and dialog.scale_strip.isHidden()
     type_into(qtbot, dialog.v, "2")
     type_into(qtbot, dialog.scales, "3")

@@ -134,17 +134,21 @@ def test_edits_meanwhile_are_refused_politely(qtbot, window, long_log):
 
 @pytest.fixture
 def slow_quantize(monkeypatch):
-    """Quantisation as slow as on a large photo; returns the (start, end) time of each call."""
+    """Quantisation (of one DPJ, or of a photo model's scales) as slow as on a large photo;
+    returns the (start, end) time of each call."""
     import app.acquire_dialog as module
-    calls, original = [], module.quantize
+    calls = []
 
-    def slow(*args, **kwargs):
-        start = time.perf_counter()
-        time.sleep(0.4)
-        result = original(*args, **kwargs)
-        calls.append((start, time.perf_counter()))
-        return result
-    monkeypatch.setattr(module, "quantize", slow)
+    def slowed(original):
+        def slow(*args, **kwargs):
+            start = time.perf_counter()
+            time.sleep(0.4)
+            result = original(*args, **kwargs)
+            calls.append((start, time.perf_counter()))
+            return result
+        return slow
+    for name in ("quantize", "estimate_scales"):
+        monkeypatch.setattr(module, name, slowed(getattr(module, name)))
     return calls
 
 
@@ -168,6 +172,9 @@ def test_acquisition_computes_in_the_background(qtbot, window, slow_quantize):
 def test_changing_g_twice_quickly_gives_the_last_setting(qtbot, window, slow_quantize):
     dialog = window.acquire()
     assert dialog.wait()
+    qtbot.mouseClick(dialog.auto_scales, LEFT)           # one DPJ, not a photo model
+    type_into(qtbot, dialog.scales, "1")
+    assert dialog.wait() and dialog.model is None
     shown = []
     dialog.worker.done.connect(lambda out: shown.append(out.dpj.levels))
     type_into(qtbot, dialog.levels, "5")

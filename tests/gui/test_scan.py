@@ -8,7 +8,7 @@ from PySide6 import QtCore, QtWidgets
 from texeditor.markov.estimation import estimate_dpj
 from texeditor.markov.synthesis import synthesize
 
-from .support import synthesise, undo_to_start
+from .support import synthesise, type_into, undo_to_start
 
 CTRL = QtCore.Qt.KeyboardModifier.ControlModifier
 LEFT = QtCore.Qt.MouseButton.LeftButton
@@ -27,6 +27,10 @@ def test_acquire_by_columns_synthesise_switch_to_rows_and_undo(qtbot, window):
     qtbot.keyClick(window, Key.Key_I, CTRL)                 # File ▸ Acquire DPJ from image…
     dialog = window.acquire_dialog
     assert dialog.wait() and dialog.scan.currentData() == "rows"
+    assert not dialog.scan.isEnabled()                       # a photo model first: rows only
+    qtbot.mouseClick(dialog.auto_scales, LEFT)               # one DPJ: unticked, 1 scale, 3×3
+    type_into(qtbot, dialog.scales, "1")
+    type_into(qtbot, dialog.v, "3")
     choose(dialog.scan, "columns")
     qtbot.mouseClick(dialog.stationary, LEFT)
     assert dialog.wait() and dialog.stationary.isChecked()

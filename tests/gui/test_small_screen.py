@@ -179,6 +179,9 @@ def test_the_acquire_dialog_explains_the_chain_with_a_remedy(laptop, qtbot):
 
     dialog = laptop.acquire()
     assert dialog.wait()
+    dialog.auto_scales.setChecked(False)              # one DPJ: its chain is explained
+    dialog.scales.setValue(1)
+    assert dialog.wait()
     text = dialog.info.text()
     assert "non-zero configurations" in text and "transient" not in text
     assert "closed class" in dialog.info.toolTip()
@@ -193,6 +196,10 @@ def test_the_acquire_dialog_grown_for_a_photo_models_scales_stays_on_the_screen(
     dialog = laptop.acquire()
     qtbot.waitExposed(dialog)
     assert dialog.wait()
+    dialog.auto_scales.setChecked(False)             # one DPJ: no scales to show
+    dialog.scales.setValue(1)
+    assert dialog.wait()
+    dialog.resize(dialog.width(), dialog.minimumSizeHint().height())
     dialog.move(dialog.x(), 300)                     # where a window manager may have put it
     dialog.auto_scales.setChecked(True)
     assert dialog.wait()
