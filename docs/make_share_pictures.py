@@ -3,7 +3,11 @@
 - steering.png: photo | drawn unsteered | steered (coffee at 2048², seed 1, and logo at 512²,
   seed 0, shown whole at 320²: the level shares are the picture's overall make-up);
 - rebalance.png: photo | its finest shares as drawn | rebalanced (unsteered, as steps before
-  version 9 draw; 512² textures, seed 0, their top-left 320² shown).
+  version 9 draw; 512² textures, seed 0, their top-left 320² shown);
+- forced.png: a small crop | its texture with the moves free of the parents only (as steps
+  before version 15) | with forced moves after them (bench_shares.py's crops: moon 128² drawn
+  at 64², cell 512² at 256², coffee 128² at 64²; shown whole at 320², small ones enlarged
+  without smoothing).
 
 Run: PYTHONPATH=. python3 docs/make_share_pictures.py  (about half a minute)
 """
@@ -20,6 +24,7 @@ import texeditor
 IMG = Path(__file__).resolve().parent / "img"
 PHOTOS = ("chelsea", "rocket", "text")
 STEERED = (("coffee", 2048, 1), ("logo", 512, 0))
+FORCED = (("moon", 128, 64, 2), ("cell", 512, 256, 1), ("coffee", 128, 64, 0))
 SIDE, GAP = 320, 8
 
 
@@ -72,6 +77,31 @@ def steering_row(name: str, side: int, seed: int) -> np.ndarray:
     return panels(photo, whole(plain.image), whole(steered.image))
 
 
+def crop(name: str, side: int) -> np.ndarray:
+    """bench_shares.py's crop: side² (at most the photo), a third down, two thirds across."""
+    a = getattr(data, name)()
+    h, w = a.shape[:2]
+    n = min(side, h, w)
+    top, left = int((h - n) * 0.3), int((w - n) * 0.7)
+    return rgb(a[top:top + n, left:left + n])
+
+
+def enlarged(image: np.ndarray) -> np.ndarray:
+    image = rgb(image)
+    k = SIDE // image.shape[0]
+    return np.kron(image, np.ones((k, k, 1), np.uint8)) if k > 1 else whole(image)
+
+
+def forced_row(name: str, side: int, size: int, seed: int) -> np.ndarray:
+    photo = crop(name, side)
+    model = texeditor.acquire_model(photo)
+    free = model.synthesize((size, size), seed=seed, forced_moves=False)
+    forced = model.synthesize((size, size), seed=seed)
+    print(f"{name} {side}² at {size}²: worst level share off by {share_error(model, free):.3f}"
+          f" with free moves, {share_error(model, forced):.3f} forced")
+    return panels(photo, enlarged(free.image), enlarged(forced.image))
+
+
 def save(rows, name: str) -> None:
     gap = np.full((GAP, rows[0].shape[1], 3), 255, np.uint8)
     picture = np.concatenate([part for r in rows for part in (r, gap)][:-1])
@@ -82,6 +112,7 @@ def save(rows, name: str) -> None:
 def main() -> None:
     save([steering_row(*case) for case in STEERED], "steering.png")
     save([rebalance_row(name) for name in PHOTOS], "rebalance.png")
+    save([forced_row(*case) for case in FORCED], "forced.png")
 
 
 if __name__ == "__main__":
