@@ -88,6 +88,12 @@ def main(argv=None) -> int:
     window.start_default()
     window.runner.wait()
     settle(app)
+    for _ in range(600):                # the entry shown from its stored picture is checked
+        if window.bank_dock._to_confirm is None and not window.runner.busy:   # once the
+            break                                                   # kernels are ready
+        settle(app, 100)
+    window.runner.wait()
+    settle(app)
 
     # 1. the window as it opens: the built-in "Gravel with tone", in its photo's greys
     save(window, out / "main-window.png")
@@ -119,8 +125,12 @@ def main(argv=None) -> int:
     save(window, out / "zoom-grid.png")
     canvas.fit()
 
-    # 4. the acquisition dialog on a sample photo
+    # 4. the acquisition dialog on a sample photo, set for the thesis's one DPJ (it opens set
+    #    for a photo model: auto unticked, 1 scale, a 3×3 window)
     dialog = window.acquire()
+    dialog.auto_scales.setChecked(False)
+    dialog.scales.setValue(1)
+    dialog.v.setValue(3)
     dialog.levels.setValue(5)
     dialog.recompute()
     dialog.wait()                       # the photo is quantised and counted in the background
