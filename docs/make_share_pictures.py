@@ -14,12 +14,16 @@ Run: PYTHONPATH=. python3 docs/make_share_pictures.py  (about half a minute)
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
 from skimage import data, io, transform, util
 
 import texeditor
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+from bench_shares import photo as crop  # noqa: E402  (bench_shares.py's crops)
 
 IMG = Path(__file__).resolve().parent / "img"
 PHOTOS = ("chelsea", "rocket", "text")
@@ -67,23 +71,20 @@ def rebalance_row(name: str) -> np.ndarray:
     return panels(photo, rgb(kept.image)[:SIDE, :SIDE], rgb(moved.image)[:SIDE, :SIDE])
 
 
+def two_draws(photo: np.ndarray, size: int, seed: int, what: str, **before):
+    """The photo's model and two size² draws: with ``before``'s switches, and as today."""
+    model = texeditor.acquire_model(photo)
+    old = model.synthesize((size, size), seed=seed, **before)
+    new = model.synthesize((size, size), seed=seed)
+    print(f"{what}: worst level share off by {share_error(model, old):.3f} "
+          f"with {before}, {share_error(model, new):.3f} as today")
+    return old, new
+
+
 def steering_row(name: str, side: int, seed: int) -> np.ndarray:
     photo = getattr(data, name)()
-    model = texeditor.acquire_model(photo)
-    plain = model.synthesize((side, side), seed=seed, steer=False)
-    steered = model.synthesize((side, side), seed=seed)
-    print(f"{name} {side}²: worst level share off by {share_error(model, plain):.3f} "
-          f"unsteered, {share_error(model, steered):.3f} steered")
+    plain, steered = two_draws(photo, side, seed, f"{name} {side}²", steer=False)
     return panels(photo, whole(plain.image), whole(steered.image))
-
-
-def crop(name: str, side: int) -> np.ndarray:
-    """bench_shares.py's crop: side² (at most the photo), a third down, two thirds across."""
-    a = getattr(data, name)()
-    h, w = a.shape[:2]
-    n = min(side, h, w)
-    top, left = int((h - n) * 0.3), int((w - n) * 0.7)
-    return rgb(a[top:top + n, left:left + n])
 
 
 def enlarged(image: np.ndarray) -> np.ndarray:
@@ -93,12 +94,9 @@ def enlarged(image: np.ndarray) -> np.ndarray:
 
 
 def forced_row(name: str, side: int, size: int, seed: int) -> np.ndarray:
-    photo = crop(name, side)
-    model = texeditor.acquire_model(photo)
-    free = model.synthesize((size, size), seed=seed, forced_moves=False)
-    forced = model.synthesize((size, size), seed=seed)
-    print(f"{name} {side}² at {size}²: worst level share off by {share_error(model, free):.3f}"
-          f" with free moves, {share_error(model, forced):.3f} forced")
+    photo = rgb(crop(name, side))
+    free, forced = two_draws(photo, size, seed, f"{name} {side}² at {size}²",
+                             forced_moves=False)
     return panels(photo, enlarged(free.image), enlarged(forced.image))
 
 
