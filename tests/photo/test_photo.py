@@ -371,49 +371,30 @@ def test_textures_of_version_13_replay_as_they_were_written(name):
         coarse_row_redraws=NO_ROW_LIMIT, free_moves=False, forced_moves=False).levels)
 
 
+SHARE_SWITCHES = (   # a version, the switch it brought, how far off its fixtures are without it
+    (14, "free_moves", 0.08), (15, "forced_moves", 0.2))
+
+
+@pytest.mark.parametrize("version, switch, without", SHARE_SWITCHES)
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
-def test_textures_of_version_14_replay_as_they_were_written(name):
+def test_textures_of_versions_14_and_15_replay_as_they_were_written(name, version, switch,
+                                                                      without):
     """Files written by SynthesizeScales version 14 (tests/data/scales-v14: chelsea plain, coffee
-    tileable in colour) come out bit-identical, levels and tone, within 0.03 of the model's
-    level shares: the moves free of the parents brought them back; the same step without them,
-    as steps before it, draws a texture 0.08 off."""
+    tileable in colour) and 15 (scales-v15: a moon crop, plain and tileable) come out
+    bit-identical, levels and tone, within 0.03 of the model's level shares: the moves free of
+    the parents (14) and forced moves (15, a level the free moves could not bring back)
+    brought them back; the same step without them, as steps before it, draws a texture
+    0.08 (14) and 0.2 (15) off."""
     import hashlib
     import json
     from tests.support import DATA
     from texeditor.photo import document_model, document_tone
-    expected = json.loads((DATA / "scales-v14" / "expected.json").read_text())[name]
-    doc = render_texture(DATA / "scales-v14" / f"{name}.texture")
+    folder = DATA / f"scales-v{version}"
+    expected = json.loads((folder / "expected.json").read_text())[name]
+    doc = render_texture(folder / f"{name}.texture")
     step = doc.actions[-1]
-    assert expected["version"] == 14 and step.free_moves and step.seed == expected["seed"]
-    assert step.tileable == expected["tileable"] and step.closure == expected["closure"]
-    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
-    assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
-    model = document_model(doc, step)
-
-    def off(levels):
-        return np.abs(np.bincount(levels.ravel(), minlength=4) / levels.size
-                      - model.frequencies()).max()
-    bound = dataclasses.replace(step, free_moves=False).prepare(doc)
-    assert off(doc.levels) <= 0.03 < 0.08 < off(bound)
-    assert np.array_equal(bound, model.synthesize(
-        (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
-        free_moves=False, forced_moves=False).levels)
-
-
-@pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
-def test_textures_of_version_15_replay_as_they_were_written(name):
-    """Files written by SynthesizeScales version 15 (tests/data/scales-v15: a moon crop, plain
-    and tileable) come out bit-identical, levels and tone, within 0.03 of the model's level
-    shares: forced moves brought back a level the moves free of the parents could not; the
-    same step without them, as steps before it, draws a texture 0.2 off."""
-    import hashlib
-    import json
-    from tests.support import DATA
-    from texeditor.photo import document_model, document_tone
-    expected = json.loads((DATA / "scales-v15" / "expected.json").read_text())[name]
-    doc = render_texture(DATA / "scales-v15" / f"{name}.texture")
-    step = doc.actions[-1]
-    assert expected["version"] == 15 and step.forced_moves and step.seed == expected["seed"]
+    assert expected["version"] == version and getattr(step, switch)
+    assert step.seed == expected["seed"] and step.forced_moves == (version >= 15)
     assert step.tileable == expected["tileable"] and step.closure == expected["closure"]
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
@@ -422,11 +403,11 @@ def test_textures_of_version_15_replay_as_they_were_written(name):
     def off(levels):
         return np.abs(np.bincount(levels.ravel(), minlength=model.levels) / levels.size
                       - model.frequencies()).max()
-    unforced = dataclasses.replace(step, forced_moves=False).prepare(doc)
-    assert off(doc.levels) <= 0.03 < 0.2 < off(unforced)
-    assert np.array_equal(unforced, model.synthesize(
+    switched = dataclasses.replace(step, **{switch: False}).prepare(doc)
+    assert off(doc.levels) <= 0.03 < without < off(switched)
+    assert np.array_equal(switched, model.synthesize(
         (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
-        forced_moves=False).levels)
+        free_moves=switch != "free_moves", forced_moves=False).levels)
 
 
 FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10),    # the multiscale step's switches,
