@@ -413,6 +413,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self.act_paint_plates.toggled.connect(self.plates_dock.paint_box.setChecked)
         self.plates_dock.add_requested.connect(self.add_plates)
         self.plates_dock.photo_requested.connect(self.plates_from_photo)
+        self.plates_dock.paste_requested.connect(self.plates_from_clipboard)
         self.plates_dock.remove_requested.connect(self.remove_plates)
         self.plates_dock.show_box.toggled.connect(self.act_plates.setChecked)
         self.act_plates.toggled.connect(self.plates_dock.show_box.setChecked)

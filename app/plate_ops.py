@@ -14,11 +14,12 @@ from pathlib import Path
 import numpy as np
 from PySide6 import QtCore, QtWidgets
 
+from texeditor.errors import TexeditorError
 from texeditor.markov.levels import load_image
 from texeditor.texture.plate_actions import AddPlates, OnPlates, PlatesFromPhoto, RemovePlates
 from texeditor.texture.plates import grid_text, laid_on_plates, levels_on_plates, photo_grid
 
-from .acquire_dialog import IMAGE_FILTER
+from .acquire_dialog import IMAGE_FILTER, PASTED, pasted_photo
 
 
 def plate_colours(count: int) -> tuple:
@@ -80,14 +81,38 @@ class PlateOps:
             if not path:
                 return False
         path = Path(path)
+        return self._plates_from(lambda: load_image(path), path.name, count, blur)
 
+    def plates_from_clipboard(self, count: int, blur: float) -> bool:
+        """The Plates dock's Paste: plates from the clipboard's picture, or from the image file
+        copied in a file manager, as from a photo. False when nothing was started (nothing on
+        the clipboard: the status bar says so)."""
+        if self.busy_note():
+            return False
+        try:
+            photo = pasted_photo(QtWidgets.QApplication.clipboard().mimeData())
+        except TexeditorError as exc:
+            self.show_error("Cannot take plates from this picture", exc)
+            return False
+        if photo is None:
+            self.statusBar().showMessage("The clipboard holds no picture to take plates from.",
+                                         5000)
+            QtWidgets.QApplication.beep()
+            return False
+        if isinstance(photo, Path):
+            return self.plates_from_photo(count, blur, photo)
+        return self._plates_from(lambda: photo, str(PASTED), count, blur)
+
+    def _plates_from(self, image, name: str, count: int, blur: float) -> bool:
+        """Plates from the picture ``image()`` gives, read, blurred, reduced and laid on the
+        texture in the worker (a large photo takes a second or two to decode, a 2048²
+        texture's plates 2.5 s), then the step applied."""
         def read(doc) -> tuple:
-            """The step, and its plates laid on the texture (2.5 s at 2048²)."""
-            grid = grid_text(photo_grid(load_image(path), blur))
-            action = PlatesFromPhoto(grid, plates=count, name=path.name[:128])
+            grid = grid_text(photo_grid(image(), blur))
+            action = PlatesFromPhoto(grid, plates=count, name=name[:128])
             return action, action.prepare(doc)
-        return self.submit_computed(read, f"Reading {path.name} for plates…",
-                                    f"Cannot take plates from {path.name}")
+        return self.submit_computed(read, f"Reading {name} for plates…",
+                                    f"Cannot take plates from {name}")
 
     # -- painting on the plates ---------------------------------------------------------------------
     def painting_plates(self) -> bool:

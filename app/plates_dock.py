@@ -18,11 +18,13 @@ DEFAULT_BLUR = 3.0         # % of the photo's width
 
 class PlatesDock(QtWidgets.QDockWidget):
     """``add_requested(P)``, ``photo_requested(P, blur)`` (blur: a fraction of the photo's
-    width), ``remove_requested()``; ``paint_box`` mirrors Tools ▸ Paint on the plates and
-    ``show_box`` View ▸ Show plates."""
+    width), ``paste_requested(P, blur)`` (from the clipboard's picture),
+    ``remove_requested()``; ``paint_box`` mirrors Tools ▸ Paint on the plates and ``show_box``
+    View ▸ Show plates."""
 
     add_requested = QtCore.Signal(int)
     photo_requested = QtCore.Signal(int, float)
+    paste_requested = QtCore.Signal(int, float)
     remove_requested = QtCore.Signal()
 
     def __init__(self, parent=None):
@@ -45,6 +47,13 @@ class PlatesDock(QtWidgets.QDockWidget):
                                      "canvas and cut into P colour classes")
         self.photo_button.clicked.connect(
             lambda: self.photo_requested.emit(self.count.value(), self.blur.value() / 100))
+        self.paste_button = QtWidgets.QPushButton("Paste")
+        self.paste_button.setToolTip("Plates taken from the picture on the clipboard (a "
+                                     "screenshot, a picture copied in a painting program or a "
+                                     "browser, or an image file copied in a file manager), as "
+                                     "from a photo")
+        self.paste_button.clicked.connect(
+            lambda: self.paste_requested.emit(self.count.value(), self.blur.value() / 100))
         self.remove_button = QtWidgets.QPushButton("Remove")
         self.remove_button.setToolTip("Take the plates away (undo brings them back)")
         self.remove_button.clicked.connect(self.remove_requested)
@@ -60,12 +69,14 @@ class PlatesDock(QtWidgets.QDockWidget):
         numbers.addWidget(self.count, 1)
         numbers.addWidget(QtWidgets.QLabel("Photo blur"))
         numbers.addWidget(self.blur, 1)
-        buttons = QtWidgets.QHBoxLayout()
-        for button in (self.add_button, self.photo_button, self.remove_button):
-            buttons.addWidget(button)
         form.addRow(self.info)
         form.addRow("Plates", numbers)
-        form.addRow(buttons)
+        for pair in ((self.add_button, self.remove_button),          # two rows: four buttons
+                     (self.photo_button, self.paste_button)):        # do not fit the dock
+            buttons = QtWidgets.QHBoxLayout()
+            for button in pair:
+                buttons.addWidget(button)
+            form.addRow(buttons)
         checks = QtWidgets.QHBoxLayout()
         checks.addWidget(self.paint_box)
         checks.addWidget(self.show_box)

@@ -182,6 +182,48 @@ def test_plates_from_a_photo_through_the_dock(qtbot, window, tmp_path, monkeypat
     assert not window.errors
 
 
+def test_plates_pasted_from_the_clipboard_through_the_dock(qtbot, window, tmp_path):
+    """The Plates dock's Paste: nothing on the clipboard says so and changes nothing; a picture
+    copied (left red, right blue) gives two plates named "Pasted picture"; an image file copied
+    in a file manager (the picture mirrored) is taken as From a photo takes it: the plates
+    mirrored; Remove, then undo three times to the texture without plates."""
+    from PySide6 import QtGui
+    photo = np.zeros((60, 80, 3), np.uint8)
+    photo[:, :40], photo[:, 40:] = (220, 30, 30), (30, 30, 220)
+    clipboard = QtWidgets.QApplication.clipboard()
+    clipboard.clear()
+    window.act_plates_dock.trigger()
+    dock = window.plates_dock
+    dock.count.setValue(2)
+    steps = len(window.history.applied)
+    qtbot.mouseClick(dock.paste_button, LEFT)
+    assert "no picture" in window.statusBar().currentMessage()
+    assert len(window.history.applied) == steps and window.document.plates is None
+    image = QtGui.QImage(photo.data, 80, 60, 240, QtGui.QImage.Format.Format_RGB888).copy()
+    clipboard.setImage(image)
+    qtbot.mouseClick(dock.paste_button, LEFT)
+    assert window.runner.wait(60_000)
+    step = window.history.applied[-1]
+    assert isinstance(step, PlatesFromPhoto) and step.name == "Pasted picture"
+    pasted = window.document.plates.copy()
+    assert (pasted[:, :24] == 1).all() and (pasted[:, 40:] == 0).all()    # blue the darker
+    path = tmp_path / "halves.png"
+    io.imsave(path, photo[:, ::-1])                         # blue left, red right
+    mime = QtCore.QMimeData()
+    mime.setUrls([QtCore.QUrl.fromLocalFile(str(path))])
+    clipboard.setMimeData(mime)
+    qtbot.mouseClick(dock.paste_button, LEFT)
+    assert window.runner.wait(60_000)
+    step = window.history.applied[-1]
+    assert step.name == "halves.png" and np.array_equal(window.document.plates, pasted[:, ::-1])
+    qtbot.mouseClick(dock.remove_button, LEFT)
+    assert window.document.plates is None
+    for _ in range(3):
+        qtbot.keyClick(window, Key.Key_Z, CTRL)
+    assert len(window.history.applied) == steps and window.document.plates is None
+    assert not window.errors
+
+
 def test_plates_from_a_photo_that_cannot_be_read_say_why_and_change_nothing(qtbot, window,
                                                                            tmp_path):
     bad = tmp_path / "torn.png"
