@@ -214,9 +214,25 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
             action.setStatusTip(tip)
             action.setToolTip(tip)
         action.setCheckable(checkable)
-        action.triggered.connect(slot)
+        action.triggered.connect(slot if checkable else self._once_opened(slot))
         self.addAction(action)    # shortcuts work even with menus hidden (offscreen, full screen)
         return action
+
+    def _once_opened(self, slot):
+        """``slot``, but while the window has no texture yet (its first one still opening in
+        the worker, or a crash's journals being read) the status bar says to wait: Undo,
+        Synthesise, an export… there read a document that is not there yet. New, Open and
+        Quit need none."""
+        def guarded(*_args):
+            if self.history is None and slot not in self._without_texture():
+                self.statusBar().showMessage("The texture is still opening: a moment, please.",
+                                             5000)
+                return
+            slot()
+        return guarded
+
+    def _without_texture(self) -> tuple:
+        return (self.new_document, self.quit_all)
 
     def _build_actions(self) -> None:
         K = QtGui.QKeySequence.StandardKey
@@ -354,13 +370,15 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
 
     def set_tool(self, tool) -> None:
         """Make ``tool`` current: its button checked, its options shown."""
-        if self.canvas.tool is not None and self.canvas.tool is not tool:
+        if self.canvas.tool is not None and self.canvas.tool is not tool and \
+                self.history is not None:       # without a texture no tool was activated
             self.canvas.tool.deactivate()
         self.canvas.tool = tool
         if hasattr(tool, "qaction"):
             tool.qaction.setChecked(True)
         self.tool_dock.show_tool(tool)
-        tool.activate()
+        if self.history is not None:    # else once the first texture is there (set_history):
+            tool.activate()             # a tool may follow the document's history
 
     @property
     def tool(self):
@@ -477,9 +495,12 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         ``name`` titles a document without a file (a bank entry's name)."""
         if self._unsubscribe is not None:
             self._unsubscribe()
+        first = self.history is None
         self.history, self.path, self._name = history, path, name
         self.keep_model_for(history)
         self._unsubscribe = history.subscribe(self._history_changed)
+        if first and self.canvas.tool is not None:
+            self.canvas.tool.activate()         # chosen before the first texture was there
         self.history_dock.set_history(history)
         self.mark_clean()
         self._history_changed()

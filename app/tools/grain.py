@@ -153,8 +153,13 @@ class GrainTool(Tool):
             self.main_window.set_tool(self)
         self.main_window.statusBar().showMessage(describe(grain), 4000)
 
-    def edit(self) -> GrainEditor:
-        """Open the grain editor (one per tool, not modal) on the current grain."""
+    def edit(self) -> GrainEditor | None:
+        """Open the grain editor (one per tool, not modal) on the current grain (not before
+        the window's first texture is there: the editor shows its palette)."""
+        if self.main_window.history is None:
+            self.main_window.statusBar().showMessage(
+                "The texture is still opening: a moment, please.", 5000)
+            return None
         if self.editor is None:
             self.editor = GrainEditor(self.library, self.grain, self.document.palette,
                                       self.main_window.current_level, self.main_window)

@@ -11,6 +11,8 @@ from texeditor import warmup
 from texeditor.recipe.actions import Synthesize
 from texeditor.bank.store import Bank, picture_bytes
 
+from .support import cell_pos, click
+
 
 @pytest.fixture
 def slow_compile(monkeypatch, tmp_path):
@@ -130,3 +132,47 @@ def test_the_start_entry_is_toned_at_once_from_its_stored_tone(window, qtbot, sl
     window.submit(Synthesize(window.history.actions[0].dpjs[0], 40, 30, 5))    # levels of its
     assert window.runner.wait(60_000) and window.document.shape == (30, 40)   # own: no stored
     assert window.canvas.picture is None or window.canvas.picture.shape[:2] == (30, 40)
+
+
+def test_commands_before_the_first_texture_is_there_say_to_wait(qtbot, small_dpj):
+    """A window whose first texture is still opening in the worker (a first start, or a
+    crash's journals being read) has no document yet: Undo, Redo, Synthesise, an export, a
+    model, the grain editor, the relief's height map raised "'NoneType' object has no
+    attribute …" in the event loop (an exception, which fails this test). Now the status bar
+    says to wait and nothing changes; the Extract tool chosen meanwhile works once the texture
+    is there: it follows the document (a synthesis, undo)."""
+    from PySide6 import QtCore
+    from app.main_window import MainWindow
+    from texeditor.recipe.history import History
+    win = MainWindow()
+    qtbot.addWidget(win)
+    win.resize(1280, 800)
+    win.show()
+    qtbot.waitExposed(win)
+    assert win.history is None
+    for action in (win.act_undo, win.act_redo, win.act_synth, win.act_export, win.act_global):
+        win.statusBar().clearMessage()
+        action.trigger()                      # its menu entry, toolbar button or shortcut
+        assert "still opening" in win.statusBar().currentMessage(), action.text()
+        assert win.history is None and not win.runner.busy
+    models = [a for a in win.findChildren(QtCore.QObject) if a.objectName() == "act_texton"]
+    models[0].trigger()
+    assert "still opening" in win.statusBar().currentMessage()
+    assert win.relief_dock.export_height() is False
+    extract = next(t for t in win.tools if t.NAME.startswith("Extract"))
+    win.set_tool(extract)
+    assert win.grain_dock.tool.edit() is None
+    history = History()
+    history.add_dpj(small_dpj)
+    win.set_history(history)
+    win.synthesis_dock.width_box.setValue(48)
+    win.synthesis_dock.height_box.setValue(40)
+    win.act_synth.trigger()
+    assert win.runner.wait(60_000) and win.document.shape == (40, 48)
+    assert win.canvas.tool is extract and "No selection" in extract.status.text()
+    win.canvas.fit()
+    click(win.canvas.viewport(), cell_pos(win.canvas, 10, 10))     # it follows the document
+    qtbot.waitUntil(lambda: "No selection" not in extract.status.text())
+    win.act_undo.trigger()
+    assert not win.runner.busy
+    win.mark_clean()
