@@ -495,12 +495,14 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         ``name`` titles a document without a file (a bank entry's name)."""
         if self._unsubscribe is not None:
             self._unsubscribe()
-        first = self.history is None
-        self.history, self.path, self._name = history, path, name
+        tool, first = self.canvas.tool, self.history is None
+        if tool is not None and not first:
+            tool.deactivate()       # a tool that follows the history (Extract, Spot, Tree)
+        self.history, self.path, self._name = history, path, name     # follows the new one
         self.keep_model_for(history)
         self._unsubscribe = history.subscribe(self._history_changed)
-        if first and self.canvas.tool is not None:
-            self.canvas.tool.activate()         # chosen before the first texture was there
+        if tool is not None:
+            tool.activate()         # (or, chosen before the first texture, now starts to)
         self.history_dock.set_history(history)
         self.mark_clean()
         self._history_changed()

@@ -175,4 +175,13 @@ def test_commands_before_the_first_texture_is_there_say_to_wait(qtbot, small_dpj
     qtbot.waitUntil(lambda: "No selection" not in extract.status.text())
     win.act_undo.trigger()
     assert not win.runner.busy
+    first = win.history                       # another texture opened with the tool chosen:
+    second = History()                        # the tool follows the new document, and
+    second.add_dpj(small_dpj)                 # nothing listens to the old one any more
+    win.set_history(second)
+    win.act_synth.trigger()
+    assert win.runner.wait(60_000) and not first._subscribers
+    assert len(second._subscribers) == 2      # the window's and the tool's
+    click(win.canvas.viewport(), cell_pos(win.canvas, 20, 20))
+    qtbot.waitUntil(lambda: "No selection" not in extract.status.text())
     win.mark_clean()
