@@ -221,8 +221,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
     def _once_opened(self, slot):
         """``slot``, but while the window has no texture yet (its first one still opening in
         the worker, or a crash's journals being read) the status bar says to wait: Undo,
-        Synthesise, an export… there read a document that is not there yet. New, Open and
-        Quit need none."""
+        Synthesise, an export… there read a document that is not there yet. New, Quit and
+        Cancel (Esc: the opening itself may be cancelled) need none."""
         def guarded(*_args):
             if self.history is None and slot not in self._without_texture():
                 self.statusBar().showMessage("The texture is still opening: a moment, please.",
@@ -232,7 +232,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         return guarded
 
     def _without_texture(self) -> tuple:
-        return (self.new_document, self.quit_all)
+        return (self.new_document, self.quit_all, self.runner.cancel)
 
     def _build_actions(self) -> None:
         K = QtGui.QKeySequence.StandardKey
@@ -873,16 +873,22 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         """Edit ▸ Paste as photo: acquire from the clipboard's picture (a screenshot, a picture
         copied in a painting program or a browser) or the image file copied in a file manager,
         as GIMP's File ▸ Create ▸ From Clipboard."""
+        photo = self.clipboard_photo("Cannot paste this picture", "acquire from")
+        return None if photo is None else self.acquire(photo)
+
+    def clipboard_photo(self, error_title: str, purpose: str):
+        """The clipboard's picture (an array) or the image file copied in a file manager (a
+        Path); None once it has said why not (a picture that cannot be used: a dialog; nothing
+        on the clipboard: the status bar, "no picture to ``purpose``")."""
         try:
             photo = pasted_photo(QtWidgets.QApplication.clipboard().mimeData())
         except TexeditorError as exc:
-            self.show_error("Cannot paste this picture", exc)
+            self.show_error(error_title, exc)
             return None
         if photo is None:
-            self.statusBar().showMessage("The clipboard holds no picture to acquire from.", 5000)
+            self.statusBar().showMessage(f"The clipboard holds no picture to {purpose}.", 5000)
             QtWidgets.QApplication.beep()
-            return None
-        return self.acquire(photo)
+        return photo
 
     def use_acquired(self, dialog: AcquireDialog) -> None:
         """The acquired DPJ becomes the current one (and is synthesised if asked); a photo

@@ -14,12 +14,11 @@ from pathlib import Path
 import numpy as np
 from PySide6 import QtCore, QtWidgets
 
-from texeditor.errors import TexeditorError
 from texeditor.markov.levels import load_image
 from texeditor.texture.plate_actions import AddPlates, OnPlates, PlatesFromPhoto, RemovePlates
 from texeditor.texture.plates import grid_text, laid_on_plates, levels_on_plates, photo_grid
 
-from .acquire_dialog import IMAGE_FILTER, PASTED, pasted_photo
+from .acquire_dialog import IMAGE_FILTER, PASTED
 
 
 def plate_colours(count: int) -> tuple:
@@ -53,7 +52,7 @@ class PlatesView:
 
 class PlateOps:
     """Plates from the dock, painting target, pictures (needs history, palette_dock, plates_dock,
-    act_plates, act_paint_plates, canvas, submit, tone_picture)."""
+    act_plates, act_paint_plates, canvas, submit, tone_picture, clipboard_photo)."""
 
     # -- the dock's requests ------------------------------------------------------------------------
     def show_plates_dock(self) -> None:
@@ -89,15 +88,8 @@ class PlateOps:
         the clipboard: the status bar says so)."""
         if self.busy_note():
             return False
-        try:
-            photo = pasted_photo(QtWidgets.QApplication.clipboard().mimeData())
-        except TexeditorError as exc:
-            self.show_error("Cannot take plates from this picture", exc)
-            return False
+        photo = self.clipboard_photo("Cannot take plates from this picture", "take plates from")
         if photo is None:
-            self.statusBar().showMessage("The clipboard holds no picture to take plates from.",
-                                         5000)
-            QtWidgets.QApplication.beep()
             return False
         if isinstance(photo, Path):
             return self.plates_from_photo(count, blur, photo)

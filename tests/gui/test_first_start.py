@@ -150,6 +150,12 @@ def test_commands_before_the_first_texture_is_there_say_to_wait(qtbot, small_dpj
     win.show()
     qtbot.waitExposed(win)
     assert win.history is None
+    started = threading.Event()               # Esc cancels work even before the texture
+    win.runner.run("Opening…", lambda progress, cancel: (started.set(), cancel_wait(cancel)),
+                   lambda _r: None)
+    assert started.wait(10) and win.act_cancel.isEnabled()
+    win.act_cancel.trigger()
+    assert win.runner.wait(10_000) and "still opening" not in win.statusBar().currentMessage()
     for action in (win.act_undo, win.act_redo, win.act_synth, win.act_export, win.act_global):
         win.statusBar().clearMessage()
         action.trigger()                      # its menu entry, toolbar button or shortcut
@@ -185,3 +191,11 @@ def test_commands_before_the_first_texture_is_there_say_to_wait(qtbot, small_dpj
     click(win.canvas.viewport(), cell_pos(win.canvas, 20, 20))
     qtbot.waitUntil(lambda: "No selection" not in extract.status.text())
     win.mark_clean()
+
+
+def cancel_wait(cancel) -> None:
+    """Work that runs until it is cancelled (10 s at most)."""
+    import time
+    deadline = time.monotonic() + 10
+    while not cancel() and time.monotonic() < deadline:
+        time.sleep(0.005)
