@@ -29,7 +29,7 @@ from texeditor.photo import PhotoModel, photo_tone
 
 from .canvas import colourize
 from .dpj_editor.preview import LatestWins
-from .images import photo_from_qimage, photo_rgb, qimage_from_rgb
+from .images import PastedPicture, photo_rgb, qimage_from_rgb
 from .widgets import row, scan_combo
 
 PREVIEW = 240
@@ -159,15 +159,19 @@ def acquire_scales(out: Acquired, scales, window, levels: int, method: str, tone
 def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, cancel,
             scales: int | None = 1, tone: bool = True, scan: str = ROWS,
             stationary: bool = False, show: bool = False) -> Acquired:
-    """Read the photo (unless ``image`` is given; ``show``: make its preview all the same),
+    """Read the photo (unless ``image`` is given — an array, or a PastedPicture read here;
+    ``show``: make its preview all the same),
     quantise it and count its windows: all the slow part of the dialog, for the worker. Stops
     between stages when ``cancel()``.
     ``scales``: 1 for one DPJ, more for a photo model (``tone``: with the photo's tone), None
     for as many as the photo's size suggests (markov.multiscale.default_scales). One DPJ is
     counted in the ``scan`` asked for, and made ``stationary`` if asked (§5.2.2)."""
-    out = Acquired(path, image)
+    pasted = isinstance(image, PastedPicture)
+    out = Acquired(path, None if pasted else image)
     try:
-        if image is None:
+        if pasted:
+            out.image = image.photo()
+        elif image is None:
             out.image = load_image(path)
         if image is None or show:
             out.photo = preview_image(photo_rgb(out.image))
@@ -198,15 +202,15 @@ def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, can
 
 
 def pasted_photo(mime: QtCore.QMimeData | None):
-    """What a clipboard (or a drop) offers to acquire from: a picture as an array (see
-    images.photo_from_qimage), else the first local file it names as a Path, else None.
-    A picture that cannot be used raises ImageError."""
+    """What a clipboard (or a drop) offers to acquire from: a picture (images.PastedPicture,
+    read into an array in the worker), else the first local file it names as a Path, else
+    None. A picture that cannot be used raises ImageError."""
     if mime is None:
         return None
     if mime.hasImage():
         image = QtGui.QImage(mime.imageData())
         if not image.isNull():
-            return photo_from_qimage(image)
+            return PastedPicture(image)
     for url in mime.urls() if mime.hasUrls() else ():
         if url.isLocalFile():
             return Path(url.toLocalFile())
@@ -226,7 +230,7 @@ def acquisition_notes(dpj) -> list[str]:
 class AcquireDialog(QtWidgets.QDialog):
     """Build it, set a photo, adjust the widgets, accept: ``dpj`` is then the acquired DPJ;
     with several scales ``model`` is the photo model and ``dpj`` its finest scale's DPJ.
-    ``photo``: the photo to start on (a path, or a pasted picture's array), else the first
+    ``photo``: the photo to start on (a path, a pasted picture or an array), else the first
     sample."""
 
     def __init__(self, samples: list[Path] = (), parent=None, photo=None):
@@ -329,7 +333,7 @@ class AcquireDialog(QtWidgets.QDialog):
         self._restore_settings()
         self._follow_scales()
 
-        if isinstance(photo, np.ndarray):
+        if isinstance(photo, (np.ndarray, PastedPicture)):
             self.set_image(photo)
         elif photo is not None or samples:
             self.set_image_path(photo if photo is not None else samples[0])
@@ -391,9 +395,10 @@ class AcquireDialog(QtWidgets.QDialog):
         self.path, self.image = Path(path), None
         self.recompute()
 
-    def set_image(self, image: np.ndarray) -> None:
-        """Acquire from a picture already in memory (pasted): listed as "Pasted picture" among
-        the photos, so choosing another and coming back finds it again."""
+    def set_image(self, image) -> None:
+        """Acquire from a picture already in memory (pasted: an array, or a PastedPicture the
+        worker reads): listed as "Pasted picture" among the photos, so choosing another and
+        coming back finds it again."""
         self.pasted = image
         self.path, self.image = PASTED, image
         self._show_pasted = True          # its preview is made in the worker (a large one takes
@@ -485,6 +490,8 @@ class AcquireDialog(QtWidgets.QDialog):
             return
         if out.photo is not None:
             self.image, self._show_pasted = out.image, False
+            if out.path == PASTED:
+                self.pasted = out.image           # read once
             self._show_preview(self.photo_view, out.photo)
             if self.source.findData(str(out.path)) < 0:
                 self.source.addItem(out.path.name, str(out.path))

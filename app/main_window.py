@@ -859,7 +859,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
 
     def acquire(self, photo=None) -> AcquireDialog | None:
         """Open the acquisition dialog (window-modal, without a nested event loop), on ``photo``
-        (a path, or a pasted picture's array) or else the first bundled photo."""
+        (a path, a pasted picture or an array) or else the first bundled photo."""
         if self.edits_locked():       # its DPJ would be added to a document about to be replaced
             return None
         dialog = AcquireDialog(resources.sample_images(), self, photo)
@@ -877,8 +877,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         return None if photo is None else self.acquire(photo)
 
     def clipboard_photo(self, error_title: str, purpose: str):
-        """The clipboard's picture (an array) or the image file copied in a file manager (a
-        Path); None once it has said why not (a picture that cannot be used: a dialog; nothing
+        """The clipboard's picture (an images.PastedPicture, read in the worker) or the image
+        file copied in a file manager (a Path); None once it has said why not (a picture that cannot be used: a dialog; nothing
         on the clipboard: the status bar, "no picture to ``purpose``")."""
         try:
             photo = pasted_photo(QtWidgets.QApplication.clipboard().mimeData())

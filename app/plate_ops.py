@@ -93,7 +93,7 @@ class PlateOps:
             return False
         if isinstance(photo, Path):
             return self.plates_from_photo(count, blur, photo)
-        return self._plates_from(lambda: photo, str(PASTED), count, blur)
+        return self._plates_from(photo.photo, str(PASTED), count, blur)   # read in the worker
 
     def _plates_from(self, image, name: str, count: int, blur: float) -> bool:
         """Plates from the picture ``image()`` gives, read, blurred, reduced and laid on the

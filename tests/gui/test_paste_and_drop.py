@@ -100,6 +100,52 @@ def test_a_pasting_session_from_the_menu_and_in_the_dialog(qtbot, window, photo_
     assert np.array_equal(window.canvas.levels, first)
 
 
+def test_a_pasted_picture_is_read_in_the_worker_not_as_it_is_pasted(qtbot, window,
+                                                                       monkeypatch):
+    """Paste as photo, the dialog's Paste, a dropped picture and the Plates dock's Paste: the
+    picture becomes an array off the GUI thread (a 36-megapixel one takes 0.6 s), and the
+    results are those of the picture."""
+    import threading
+    import app.images
+    read_on_gui_thread = []
+    real = app.images.photo_from_qimage
+
+    def spy(image):
+        read_on_gui_thread.append(threading.current_thread() is threading.main_thread())
+        return real(image)
+
+    monkeypatch.setattr(app.images, "photo_from_qimage", spy)
+    steps = len(window.history.applied)
+    put_on_clipboard(qimage_from_rgb(RGB))
+    dialog = window.paste_photo()
+    assert dialog.wait() and np.array_equal(dialog.image, RGB) and dialog.dpj is not None
+    put_on_clipboard(grey_qimage(GREY))
+    qtbot.mouseClick(dialog.paste, LEFT)
+    assert dialog.wait() and np.array_equal(dialog.image, GREY)
+    dialog.source.setCurrentIndex(0)                      # another photo, then back: not read
+    dialog.source.activated.emit(0)                       # again
+    assert dialog.wait()
+    dialog.source.setCurrentIndex(dialog.source.findData(str(PASTED)))
+    dialog.source.activated.emit(dialog.source.currentIndex())
+    assert dialog.wait() and np.array_equal(dialog.image, GREY)
+    dialog.reject()
+    assert read_on_gui_thread == [False, False]
+
+    mime = QtCore.QMimeData()
+    mime.setImageData(qimage_from_rgb(RGB))
+    assert drop(window, mime)
+    dialog = window.acquire_dialog
+    assert dialog.wait() and np.array_equal(dialog.image, RGB)
+    dialog.reject()
+    window.act_plates_dock.trigger()
+    window.plates_dock.count.setValue(2)
+    put_on_clipboard(qimage_from_rgb(RGB))
+    qtbot.mouseClick(window.plates_dock.paste_button, LEFT)
+    assert window.runner.wait(60_000)
+    assert window.document.plates is not None and len(window.history.applied) == steps + 1
+    assert read_on_gui_thread == [False] * 4 and not window.errors
+
+
 def test_a_file_copied_in_a_file_manager_is_pasted_as_its_path(qtbot, window, photo_path):
     put_on_clipboard(urls=[photo_path])
     dialog = window.paste_photo()
