@@ -8,7 +8,8 @@ closed; with ``models``, the Models menu's dialogs too; with ``photo``, a photo 
 first, so Synthesise draws its scales and tone, tileable or not at random (and every edit draws
 the tone again); with ``menus``, the menu bar's entries too (menu_entries). It fails on an exception that reaches Qt, on a crash (the parent sees the signal), or
 when Ctrl+Z back to step 1 does not give back the synthesised texture and its palette (and
-Ctrl+Shift+Z the document the walk ended on).
+Ctrl+Shift+Z the document the walk ended on). ``run_start_walk``: the application's own start,
+entries of the window chosen while its first texture opens in the worker and after.
 """
 
 from __future__ import annotations
@@ -382,4 +383,64 @@ def run_monkey(seed: int, events: int, models: bool = False, photo: bool = False
                      for line in walk.log),
            pasted=[line.split(": ")[-1] for line in walk.log if "Ctrl+Shift+V" in line],
            menus=sorted({line[5:] for line in walk.log if line.startswith("menu ")}))
+    return 0
+
+
+EARLY_EVENTS = 10      # a start walk's first entries come one after another, without a pause
+
+
+def window_entries(win) -> list:
+    """Every entry of the window a user may choose: the menu bar's (the Models menu too) and
+    the tool bars', but NOT_WALKED."""
+    from PySide6 import QtGui
+    return [a for a in win.findChildren(QtGui.QAction)
+            if a.text() and a.menu() is None and not a.isSeparator()
+            and a.text().replace("&", "") not in NOT_WALKED | {"Export…", "Export..."}]
+
+
+def run_start_walk(seed: int, events: int) -> int:
+    """The application's own start (``texeditor`` alone: the bank's first entry opening in the
+    worker) with ``events`` entries of the window (window_entries) chosen at once and at random
+    short pauses, while the texture opens and after, every window they open closed. Fails on an
+    exception that reaches Qt, or when no texture is open once the worker is done."""
+    from PySide6 import QtWidgets
+
+    from app.main_window import MainWindow
+    QtWidgets.QApplication.instance() or QtWidgets.QApplication(["texeditor-start"])
+    recorder = Recorder()
+    recorder.install()
+    win = MainWindow()
+    win.resize(1280, 800)
+    win.show()
+    win.start_default()
+    rng = random.Random(seed)
+    entries = window_entries(win)
+    log, early = [], 0
+    for _ in range(events):
+        entry = rng.choice(entries)
+        early += win.history is None
+        log.append(entry.text().replace("&", "") + (" (opening)" if win.history is None else ""))
+        entry.trigger()
+        QtWidgets.QApplication.processEvents()
+        if len(log) > EARLY_EVENTS:           # the first ones at once, while it opens
+            QtCore.QThread.msleep(rng.choice((0, 5, 20)))
+        for w in QtWidgets.QApplication.topLevelWidgets():
+            if w is not win and w.isVisible() and w.isWindow():
+                w.close()
+        if recorder.exceptions:
+            break
+    Hand(win).wait_idle()
+    QtTest.QTest.qWait(100)
+    problem = None
+    if not recorder.exceptions and (win.history is None or not win.document.levels.size):
+        problem = "no texture opened"
+    close_window(win)
+    if recorder.exceptions or problem:
+        print(f"start walk seed {seed}: {problem or 'an exception reached Qt'}", file=sys.stderr)
+        for text in recorder.exceptions:
+            print(f"EXCEPTION that reached Qt:\n{text}", file=sys.stderr)
+        print("last entries:\n  " + "\n  ".join(log[-25:]), file=sys.stderr)
+        return 1
+    report(seed=seed, events=len(log), early=early, entries=len(set(log)),
+           dialogs=[text for _kind, text in recorder.dialogs])
     return 0

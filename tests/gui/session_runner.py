@@ -12,6 +12,7 @@ and modal message boxes are recorded instead of blocking. The child prints one J
 
     python -m tests.gui.session_runner session paint
     python -m tests.gui.session_runner monkey 7 [--events 320] [--models] [--photo] [--menus]
+    python -m tests.gui.session_runner start 3 [--events 60]
 """
 
 from __future__ import annotations
@@ -299,6 +300,11 @@ def main(argv: list[str]) -> int:
         models, photo = "--models" in rest, "--photo" in rest
         events = int(rest[rest.index("--events") + 1]) if "--events" in rest else 320
         return run_monkey(int(argv[1]), events, models, photo, "--menus" in rest)
+    if kind == "start" and len(argv) >= 2:
+        from .monkey import run_start_walk
+        rest = argv[2:]
+        return run_start_walk(int(argv[1]),
+                              int(rest[rest.index("--events") + 1]) if "--events" in rest else 60)
     if kind == "crash":                  # for the runner's own test: a segfault, as Qt's was
         import faulthandler
         faulthandler._sigsegv()
