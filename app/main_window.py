@@ -224,12 +224,18 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         Synthesise, an export… there read a document that is not there yet. New, Quit and
         Cancel (Esc: the opening itself may be cancelled) need none."""
         def guarded(*_args):
-            if self.history is None and slot not in self._without_texture():
-                self.statusBar().showMessage("The texture is still opening: a moment, please.",
-                                             5000)
-                return
-            slot()
+            if slot in self._without_texture() or not self.still_opening():
+                slot()
         return guarded
+
+    def still_opening(self) -> bool:
+        """True, and the status bar says to wait, while the window has no texture yet (the
+        one place that says so: the window's actions, the Models entries, the grain editor
+        and the relief's exports ask here)."""
+        if self.history is not None:
+            return False
+        self.statusBar().showMessage("The texture is still opening: a moment, please.", 5000)
+        return True
 
     def _without_texture(self) -> tuple:
         return (self.new_document, self.quit_all, self.runner.cancel)

@@ -145,8 +145,7 @@ def open_model(window, model: str):
     """The dialog of one model, deleted once closed; a model that works on the current texture
     (histogram matching recolours it, a motif is stamped on it) needs one first."""
     needs_texture = {"match_histogram": "Match histogram", "ifs_motif": "IFS motif"}
-    if window.history is None:              # the first texture still opening in the worker
-        window.statusBar().showMessage("The texture is still opening: a moment, please.", 5000)
+    if window.still_opening():               # the first texture, in the worker
         return None
     if model in needs_texture and not window.document.levels.size:
         window.statusBar().showMessage(f"{needs_texture[model]}: make or open a texture first.",

@@ -355,8 +355,9 @@ class ReliefDock(QtWidgets.QDockWidget):
                                directx=value.directx, wrap=value.wrap))
 
     def _has_texture(self) -> bool:
-        history = self.main_window.history       # None: the first texture is still opening
-        if history is not None and history.document.levels.size:
+        if self.main_window.still_opening():
+            return False
+        if self.main_window.history.document.levels.size:
             return True
         self.main_window.statusBar().showMessage("Nothing to export: the canvas is empty.", 5000)
         return False

@@ -156,9 +156,7 @@ class GrainTool(Tool):
     def edit(self) -> GrainEditor | None:
         """Open the grain editor (one per tool, not modal) on the current grain (not before
         the window's first texture is there: the editor shows its palette)."""
-        if self.main_window.history is None:
-            self.main_window.statusBar().showMessage(
-                "The texture is still opening: a moment, please.", 5000)
+        if self.main_window.still_opening():
             return None
         if self.editor is None:
             self.editor = GrainEditor(self.library, self.grain, self.document.palette,
