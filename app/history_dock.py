@@ -146,17 +146,12 @@ class HistoryDock(QtWidgets.QDockWidget):
         self.form_area.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.form_area.setMinimumHeight(60)
         box.addWidget(self.form_area, 1)
-        buttons = QtWidgets.QHBoxLayout()
         self.apply_button = QtWidgets.QPushButton("Apply && replay")
         self.apply_button.setToolTip("Replace this step with the edited parameters and replay "
                                      "the steps after it")
         self.apply_button.clicked.connect(self._apply_edit)
         self.revert_button = QtWidgets.QPushButton("Revert")
         self.revert_button.clicked.connect(self._show_selected)
-        buttons.addStretch(1)
-        buttons.addWidget(self.revert_button)
-        buttons.addWidget(self.apply_button)
-        box.addLayout(buttons)
         self.view.setToolTip("Click a step to go back to it; edit its parameters below")
 
         self.optimise_button = QtWidgets.QPushButton("Optimise log…")
@@ -168,10 +163,6 @@ class HistoryDock(QtWidgets.QDockWidget):
         body = QtWidgets.QWidget()
         layout = QtWidgets.QVBoxLayout(body)
         layout.setContentsMargins(4, 4, 4, 4)
-        top = QtWidgets.QHBoxLayout()
-        top.addStretch(1)
-        top.addWidget(self.optimise_button)
-        layout.addLayout(top)
         rows = self.view.fontMetrics().lineSpacing() + 2
         self.view.setMinimumHeight(MIN_ROWS * rows + 2 * self.view.frameWidth())
         splitter = QtWidgets.QSplitter(QtCore.Qt.Orientation.Vertical)   # the user sets the share
@@ -181,6 +172,12 @@ class HistoryDock(QtWidgets.QDockWidget):
         splitter.setStretchFactor(0, 1)     # the list keeps its rows; the form shows its fields
         splitter.setStretchFactor(1, 2)
         layout.addWidget(splitter)
+        buttons = QtWidgets.QHBoxLayout()   # one row at the foot, as GIMP's and Krita's undo
+        buttons.addWidget(self.optimise_button)     # history docks (a row of its own above the
+        buttons.addStretch(1)                       # list left the docks short at 1280×800)
+        buttons.addWidget(self.revert_button)
+        buttons.addWidget(self.apply_button)
+        layout.addLayout(buttons)
         self.setWidget(body)
         self.selected_step: int | None = None
         self._update_buttons()

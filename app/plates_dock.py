@@ -87,8 +87,10 @@ class PlatesDock(QtWidgets.QDockWidget):
     def refresh(self, colours) -> None:
         """Say whether the document has plates (``colours``: their P colours, or None)."""
         has = colours is not None
-        self.info.setText(f"{len(colours)} plates: the texture's greys are laid on their colours "
-                          "(I = plates + texture)." if has else
-                          "No plates: the texture shows in its palette's colours.")
+        self.info.setText(f"{len(colours)} plates under the texture's greys." if has else
+                          "No plates: the palette's colours show.")     # one line: the dock
+        self.info.setToolTip("The texture's greys are laid on the plates' colours "   # fits
+                             "(I = plates + texture, thesis §1.2.3)" if has else    # 1280×800
+                             "Add plates, take them from a photo or paste them")
         for widget in (self.remove_button, self.paint_box, self.show_box):
             widget.setEnabled(has)
