@@ -35,7 +35,9 @@ def dpj_summary(dpj) -> str:
     parents = dpj.meta.get("parent_levels")
     if isinstance(parents, int) and parents > 1 and dpj.levels % parents == 0:
         # a photo model's finer scale: its levels given the coarser scale's (composite levels)
-        g = f"{dpj.levels // parents} given {parents} ({dpj.levels} composite levels)"
+        given = (f"{parents // 2} and the row's phase" if dpj.meta.get("parent_phase") is True
+                 else str(parents))
+        g = f"{dpj.levels // parents} given {given} ({dpj.levels} composite levels)"
     else:
         g = str(dpj.levels)
     return f"{source}: {u}×{v}, G = {g}, {len(dpj):,} configurations"

@@ -97,3 +97,17 @@ def test_the_step_form_counts_points_colours_and_recipes_in_good_english():
     assert ParamsForm._describe("points", [(3, 4), (5, 6)]) == "2 points"
     assert ParamsForm._describe("palette", [(0, 0, 0)]).startswith("1 colour (")
     assert ParamsForm._describe("texts", ["a", "b"]).startswith("2 texture recipes (")
+
+
+def test_a_scale_is_summed_up_with_what_it_is_drawn_given():
+    """A photo model's scales as the Synthesis dock and the History form name them: the
+    coarsest a plain DPJ, the one over it given its parents' 2 levels and the row's phase (16
+    composite levels), the finest given 4."""
+    import skimage as ski
+    from app.params_form import dpj_summary
+    from texeditor.markov.multiscale import estimate_scales
+    model, _ = estimate_scales(ski.data.brick()[:128, :128], scales=3)
+    said = [dpj_summary(d) for d in model.dpjs]
+    assert "G = 2," in said[0]
+    assert "G = 4 given 2 and the row's phase (16 composite levels)" in said[1]
+    assert "G = 4 given 4 (16 composite levels)" in said[2]

@@ -72,7 +72,8 @@ def test_scales_follow_the_coarser_layout_and_keep_the_level_frequencies(seed):
     photo = blobs(seed)
     model, photo_levels = multiscale.estimate_scales(photo, scales=3)
     assert model.scales == 3 and model.levels == 4
-    assert [d.meta.get("parent_levels") for d in model.dpjs] == [None, 2, 4]
+    assert [d.meta.get("parent_levels") for d in model.dpjs] == [None, 4, 4]   # 2 · 2 phases
+    assert [multiscale.has_phase(d) for d in model.dpjs] == [False, True, False]
     out = multiscale.synthesize_scales(model, (200, 300), seed=seed).levels
     assert out.shape == (200, 300) and out.dtype == np.uint8 and out.max() < 4
     want = np.bincount(photo_levels[-1].ravel(), minlength=4) / photo_levels[-1].size
@@ -410,6 +411,52 @@ def test_the_scales_below_the_finest_read_their_parents_under_the_point():
         multiscale.MultiScaleDPJ((new.dpjs[0], bad) + new.dpjs[2:])
 
 
+def thin_rows(levels) -> float:
+    """The share of points that differ from the points above and below, which agree: 1-row
+    stripes."""
+    above, mid, below = levels[:-2], levels[1:-1], levels[2:]
+    return float(np.mean((mid != above) & (mid != below) & (above == below)))
+
+
+def test_the_scale_over_the_coarsest_reads_its_parents_phase_and_draws_no_combs():
+    """Brick's bundled 256² sample, 3 scales: its 128² scale drawn given the photo's own 64²
+    levels made 1-row stripes at 4–9 times the photo's rate (combs of grey teeth beside the
+    mortar: a 2-row window could not tell a parent row's first finer row from its second).
+    With the row's phase in the parent codes (PARENT_PHASE) at most 2.6 times, seed after
+    seed. The phase is kept where the composite levels allow it (the scale over the coarsest),
+    it travels with the DPJ, and a mark that is not true or false, or a phase read ahead, is
+    refused."""
+    from texeditor import load_image, resources
+    photo = load_image(next(p for p in resources.sample_images() if p.name == "brick.png"))
+    rates = {}
+    for phase in (False, True):
+        model, levels = multiscale.estimate_scales(photo, scales=3, phase=phase)
+        dpj = model.dpjs[1]
+        parents = multiscale.codes_for(dpj, levels[0], levels[1].shape)
+        rates[phase] = [thin_rows(synthesize_given(dpj, parents, multiscale.parent_levels(
+            model.dpjs, 1), seed=s).levels) / thin_rows(levels[1]) for s in range(4)]
+    assert np.mean(rates[False]) > 3.5 and max(rates[True]) < 2.6
+    assert [multiscale.has_phase(d) for d in model.dpjs] == [False, True, False]
+    four, _ = multiscale.estimate_scales(ski.data.gravel())
+    assert [multiscale.has_phase(d) for d in four.dpjs] == [False, True, False, False]
+    saved = DPJ.from_bytes(model.dpjs[1].to_bytes())
+    assert multiscale.has_phase(saved) and saved == model.dpjs[1]
+
+    parents = np.arange(6, dtype=np.uint8).reshape(3, 2)
+    codes = multiscale.parent_codes(parents, (6, 4), under=True, phase=True)
+    assert np.array_equal(codes, 2 * multiscale.upsample(parents, (6, 4), True)
+                          + np.array([0, 1] * 3)[:, None])
+    torus = multiscale.parent_codes(parents, (5, 4), under=True, phase=True, tileable=True)
+    assert np.array_equal(torus[:, 0] // 2, [0, 0, 2, 2, 4])       # rows 0 1 | 2 3 | 4
+    assert np.array_equal(torus[:, 0] % 2, [0, 1, 0, 1, 0])
+    for meta in ({multiscale.PARENT_PHASE: 1}, {multiscale.PARENTS_UNDER: False}):
+        dpj = model.dpjs[1]
+        bad = DPJ.from_codes(dpj.codes, dpj.probs, dpj.levels, dpj.window,
+                             meta={**dpj.meta, **meta})
+        with pytest.raises(InputError):
+            multiscale.MultiScaleDPJ((model.dpjs[0], bad, model.dpjs[2]))
+
+
 def test_the_own_law_of_a_conditional_dpj_is_the_dpj_of_its_levels_alone():
     """Summing the parents out of a conditional DPJ gives the DPJ the finer levels alone have:
     the same windows, the same probabilities (own_law, which moves free of the parents keep
@@ -430,9 +477,11 @@ def test_moves_free_of_the_parents_bring_a_small_fields_shares_back_where_its_pa
     """A crop of coffee (a cup, a saucer, a table: a few large regions) drawn at 140×100: the
     moves its parents allow leave a level's share up to 0.16 off (steps before version 14);
     the moves that follow, on the finest windows' own law, bring every seed within 0.03. Every
-    window they make is one the photo has at that scale, and most points keep their level."""
-    from texeditor.photo import acquire_model
-    model = acquire_model(ski.data.coffee()[100:292, 200:392], scales=3).scales
+    window they make is one the photo has at that scale, and most points keep their level.
+    (A model without the parents' phase, as acquired before PARENT_PHASE: with it, two of the
+    four seeds' parents already allow their shares.)"""
+    model = multiscale.estimate_scales(ski.data.coffee()[100:292, 200:392], scales=3,
+                                       phase=False)[0]
     g, aim = model.levels, model.frequencies(model.scales - 1)
     law = multiscale.own_law(model.dpjs[-1], g)
     bound_off, free_off = [], []

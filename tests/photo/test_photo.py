@@ -636,21 +636,29 @@ def test_tone_refuses_levels_it_cannot_show(model):
         tone.render(np.full((4, 4), 7, np.uint8), 4, model.tone.levels, model.tone.grey)
 
 
-@pytest.mark.parametrize("colour, shape", [(False, (300, 170)), (True, (97, 260))])
-def test_tone_drawn_beside_the_synthesis_is_the_tone_of_the_finished_levels(colour, shape):
+@pytest.mark.parametrize("colour, shape, seed", [(False, (300, 170), 5), (True, (97, 260), 7),
+                                               (True, (97, 260), 5)])
+def test_tone_drawn_beside_the_synthesis_is_the_tone_of_the_finished_levels(colour, shape, seed):
     """The tone runs on a second thread behind the synthesis, on rows said to be final: the
-    picture is the one rendered from the finished levels, and no final row changes after."""
+    picture is the one rendered from the finished levels, and no final row changes after;
+    or, when the shares were brought back by moves (the last seed), the last call (all rows
+    final) is not made and the picture is rendered again from the moved levels."""
     model = acquire_model(speckle((256, 256), seed=2, colour=colour), scales=3)
-    result = model.synthesize(shape, seed=5)
-    assert np.array_equal(result.image, model.render(result.levels, seed=5))
+    result = model.synthesize(shape, seed=seed)
+    assert np.array_equal(result.image, model.render(result.levels, seed=seed))
 
     seen = []
     from texeditor.markov.multiscale import synthesize_scales
-    final = synthesize_scales(model.scales, shape, seed=5,
-                              rows_final=lambda lv, n: seen.append(lv[:n].copy())).levels
-    assert seen and len(seen[-1]) == shape[0]
+    drawn = synthesize_scales(model.scales, shape, seed=seed,
+                              rows_final=lambda lv, n: seen.append(lv[:n].copy()))
+    final = drawn.levels
+    assert np.array_equal(final, result.levels) and seen
+    assert (drawn.moved > 0) == (seed == 5 and colour)
+    if drawn.moved:
+        assert len(seen[-1]) < shape[0]
+        return
+    assert len(seen[-1]) == shape[0]
     assert all(np.array_equal(rows, final[:len(rows)]) for rows in seen)
-    assert np.array_equal(final, result.levels)
 
 
 @pytest.mark.parametrize("balanced", [False, True])

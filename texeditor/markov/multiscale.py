@@ -43,6 +43,12 @@ WINDOW = (3, 2)             # finer scales: the parents carry the layout, a smal
 LEVELS = 4
 PARENTS_UNDER = "parents_under"   # a conditional DPJ's meta: True, its parents are read under
                                   # each point (upsample), else one row ahead
+PARENT_PHASE = "parent_phase"     # ... True: read under, each point's parent code also says
+                                  # whether it is the first or the second finer row over its
+                                  # parent (parent_codes). A 2-row window could not tell them
+                                  # apart: it drew a parent row's edge as a 1-row stripe every
+                                  # other row, "combs" beside brick's mortar (its 256² sample:
+                                  # 1-row features 0.059 of the 128² scale, the photo's 0.0095)
 FREQUENCY_TOLERANCE = 0.01  # a coarse scale is drawn again while a level's share is further off
 PLAIN_TRIES = 2             # plain draws of a scale (side by side) before it is drafted
 DRAFT_TRIGGER = 0.03        # ... when a level's share in both is further off than this (as far
@@ -128,7 +134,14 @@ class MultiScaleDPJ:
 
 
 def parent_levels(dpjs, k: int) -> int:
+    """The parent codes of scale k: the levels of scale k - 1 (twice as many with
+    PARENT_PHASE)."""
     return 1 if k == 0 else int(dpjs[k].meta.get("parent_levels", 0))
+
+
+def has_phase(dpj: DPJ) -> bool:
+    """Whether a conditional DPJ's parent codes hold the row's phase (PARENT_PHASE)."""
+    return bool(dpj.meta.get(PARENT_PHASE, False))
 
 
 def check_scales(dpjs) -> None:
@@ -137,10 +150,14 @@ def check_scales(dpjs) -> None:
         raise InputError(f"a multi-scale DPJ has 1..{MAX_SCALES} DPJs")
     below = dpjs[0].levels
     for k in range(1, len(dpjs)):
-        if not isinstance(dpjs[k].meta.get(PARENTS_UNDER, False), bool):
-            raise InputError(f"scale {k}: {PARENTS_UNDER} says true or false")
+        for key in (PARENTS_UNDER, PARENT_PHASE):
+            if not isinstance(dpjs[k].meta.get(key, False), bool):
+                raise InputError(f"scale {k}: {key} says true or false")
+        if has_phase(dpjs[k]) and not parents_under(dpjs[k]):
+            raise InputError(f"scale {k}: a parent's phase is read under the point only")
         gp = parent_levels(dpjs, k)
-        if gp != below or dpjs[k].levels % gp or dpjs[k].levels // gp < 2:
+        if gp != below * (2 if has_phase(dpjs[k]) else 1) or dpjs[k].levels % gp \
+                or dpjs[k].levels // gp < 2:
             raise InputError(f"scale {k}: a conditional DPJ of {dpjs[k].levels} composite levels "
                              f"does not sit on a scale of {below} levels")
         below = dpjs[k].levels // gp
@@ -218,6 +235,28 @@ def upsample_torus(parents: np.ndarray, shape, under: bool = False) -> np.ndarra
     return parents[np.ix_(rows, cols)]
 
 
+def parent_codes(parents: np.ndarray, shape, *, under: bool, phase: bool,
+                 tileable: bool = False) -> np.ndarray:
+    """The parent code of every point of a (H, W) scale given the levels ``parents`` of the
+    scale under it: the parent's level (upsample, ``under`` as there, on the torus when
+    ``tileable``), or with ``phase`` (PARENT_PHASE) 2 · level, + 1 on the second finer row
+    over a parent row."""
+    up = (upsample_torus if tileable else upsample)(parents, shape, under)
+    if not phase:
+        return up
+    h, hc = shape[0], parents.shape[0]
+    rows = np.arange(h) * hc // h if tileable else np.arange(h) // 2    # as upsample reads
+    second = np.zeros(h, up.dtype)
+    second[1:] = rows[1:] == rows[:-1]
+    return up * 2 + second[:, None]
+
+
+def codes_for(dpj: DPJ, parents: np.ndarray, shape, tileable: bool = False) -> np.ndarray:
+    """The parent codes a conditional DPJ draws its scale given (parent_codes)."""
+    return parent_codes(parents, shape, under=parents_under(dpj), phase=has_phase(dpj),
+                        tileable=tileable)
+
+
 def parents_under(dpj: DPJ) -> bool:
     """Whether a conditional DPJ reads each point's parent under the point itself (models
     acquired since PARENTS_UNDER; older DPJs read it one row ahead)."""
@@ -227,12 +266,14 @@ def parents_under(dpj: DPJ) -> bool:
 def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
                     window=WINDOW, coarse_levels: int = COARSE_LEVELS,
                     coarse_window=COARSE_WINDOW, quantizer: str = "lab",
-                    under: bool = True):
+                    under: bool = True, phase: bool = True):
     """Acquire a multi-scale DPJ from a photo. Returns (model, the photo's levels at each scale,
     coarsest first). Each scale is quantised on its own (a reduced photo has less contrast);
     with the "lab" quantiser a colour photo's levels are colour classes at every scale.
     ``under``: the scales between the coarsest and the finest read their parents under each
-    point (upsample; False: one row ahead, as models acquired before PARENTS_UNDER)."""
+    point (upsample; False: one row ahead, as models acquired before PARENTS_UNDER);
+    ``phase``: those whose composite levels allow it (2 · parents' G · G ≤ MAX_LEVELS: the
+    scale over the coarsest) also by the row's phase (PARENT_PHASE)."""
     colour = quantizer == "lab" and has_colour(image)
     grey = None if colour else to_grey(image)        # a colour photo's grey is not needed
     scales = default_scales(np.shape(image)) if scales is None else int(scales)
@@ -269,12 +310,17 @@ def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
                          palette=quantized[0].palette, meta={"scale": 0, "scales": scales})]
     for k in range(1, scales):
         gp, below = per_scale[k - 1], under and k < scales - 1   # the finest reads ahead
-        composite = upsample(lv[k - 1], lv[k].shape, below) * per_scale[k] + lv[k]
-        # composite level parent · G + level shows as its level
-        meta = {"scale": k, "scales": scales, "parent_levels": gp}
+        meta = {"scale": k, "scales": scales}
+        if below:
+            meta[PARENTS_UNDER] = True
+            if phase and 2 * gp * per_scale[k] <= MAX_LEVELS:
+                meta[PARENT_PHASE], gp = True, 2 * gp
+        meta["parent_levels"] = gp
+        codes = parent_codes(lv[k - 1], lv[k].shape, under=below,
+                             phase=meta.get(PARENT_PHASE, False))
+        composite = codes * per_scale[k] + lv[k]   # parent code · G + level shows as its level
         dpjs.append(estimate_dpj(composite, window, gp * per_scale[k], wrap=True,
-                                 palette=np.tile(quantized[k].palette, (gp, 1)),
-                                 meta={**meta, PARENTS_UNDER: True} if below else meta))
+                                 palette=np.tile(quantized[k].palette, (gp, 1)), meta=meta))
     return MultiScaleDPJ(tuple(dpjs)), lv
 
 
@@ -393,8 +439,7 @@ def _rebalanced(model: MultiScaleDPJ, levels, parents, seed: int, tileable: bool
         return levels, 0
     up = None
     if k > 0:
-        up = (upsample_torus if tileable else upsample)(parents, levels.shape,
-                                                        parents_under(model.dpjs[k]))
+        up = codes_for(model.dpjs[k], parents, levels.shape, tileable)
     aim, g = model.frequencies(k), model.levels_at(k)
     moved_levels = levels.copy()
     moved = rebalance(moved_levels, model.dpjs[k], aim, parents=up,
@@ -615,8 +660,8 @@ def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final, ti
                           rows_final=rows_final, tileable=tileable, closure=_seam(closure),
                           max_redraws=redraws[0], row_redraws=redraws[1], shares=shares,
                           steer=steer)
-    up = (upsample_torus if tileable else upsample)(parents, shape, parents_under(dpj))
-    return synthesize_given(dpj, up, parent_levels(model.dpjs, k), seed=seed,
+    return synthesize_given(dpj, codes_for(dpj, parents, shape, tileable),
+                            parent_levels(model.dpjs, k), seed=seed,
                             progress=progress, cancel=cancel, rows_final=rows_final,
                             tileable=tileable, closure=_seam(closure), shares=shares,
                             steer=steer, max_redraws=redraws[0])
