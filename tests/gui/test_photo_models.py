@@ -145,10 +145,11 @@ def test_acquire_scales_synthesise_tone_undo_edit_save_reopen(qtbot, window, tmp
     qtbot.keyClick(window, Key.Key_Z, CTRL | SHIFT)
     assert (dock.seed.value(), dock.scale_count()) == (6, 2)
 
-    # Edit DPJ opens the current scale's DPJ: composite levels, its name in the title
+    # Edit DPJ opens the current scale's DPJ: composite levels (4 given 2 parent levels and
+    # the row's phase), its name in the title
     qtbot.keyClick(window, Key.Key_J, CTRL)
     editor = window.dpj_editor
-    assert editor.dpj is window.document.dpj and editor.dpj.levels == 8
+    assert editor.dpj is window.document.dpj and editor.dpj.levels == 16
     assert editor.dpj.window == (3, 2) and "scale 2/3" in editor.windowTitle()
     assert editor.report is not None or editor.checked_report() is not None
     editor.close()
