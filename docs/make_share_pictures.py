@@ -6,7 +6,7 @@
   version 9 draw; 512² textures, seed 0, their top-left 320² shown);
 - forced.png: a small crop | its texture with the moves free of the parents only (as steps
   before version 15) | with forced moves after them (bench_shares.py's crops: moon 128² drawn
-  at 64², cell 512² at 256², coffee 128² at 64²; shown whole at 320², small ones enlarged
+  at 64², cell 128² at 64², coffee 128² at 64²; shown whole at 320², small ones enlarged
   without smoothing).
 
 Run: PYTHONPATH=. python3 docs/make_share_pictures.py  (about half a minute)
@@ -28,7 +28,7 @@ from bench_shares import photo as crop  # noqa: E402  (bench_shares.py's crops)
 IMG = Path(__file__).resolve().parent / "img"
 PHOTOS = ("chelsea", "rocket", "text")
 STEERED = (("coffee", 2048, 1), ("logo", 512, 0))
-FORCED = (("moon", 128, 64, 2), ("cell", 512, 256, 1), ("coffee", 128, 64, 0))
+FORCED = (("moon", 128, 64, 2), ("cell", 128, 64, 2), ("coffee", 128, 64, 0))
 SIDE, GAP = 320, 8
 
 
