@@ -23,7 +23,7 @@ from texeditor.markov.levels import load_image, quantize
 from texeditor.markov.multiscale import LEVELS as MODEL_LEVELS
 from texeditor.markov.multiscale import WINDOW as MODEL_WINDOW
 from texeditor.markov.multiscale import (MAX_SCALES, MultiScaleDPJ, default_scales, estimate_scales,
-                                         scales_phrase)
+                                         has_phase, scales_phrase)
 from texeditor.markov.scan import ROWS, SCAN_NAMES
 from texeditor.photo import PhotoModel, photo_tone
 
@@ -585,6 +585,7 @@ class AcquireDialog(QtWidgets.QDialog):
         for k, dpj in enumerate(ms.dpjs):
             u, v = dpj.window
             given = f" given {ms.levels_at(k - 1)}" if k else ""
+            given += " and the row's phase" if has_phase(dpj) else ""
             parts.append(f"{scale_caption(k, ms.scales)}: {u}×{v}, G = {ms.levels_at(k)}{given}, "
                          f"{len(dpj):,} configurations")
         tone = ("shown with the photo's own " + ("colours" if model.tone.colour is not None

@@ -70,6 +70,8 @@ def test_acquire_scales_synthesise_tone_undo_edit_save_reopen(qtbot, window, tmp
     h, w = dialog.scale_levels[-1].shape
     assert [lv.shape for lv in dialog.scale_levels] == [(h // 4, w // 4), (h // 2, w // 2), (h, w)]
     assert "3 scales" in dialog.info.text() and dialog.ok_button.isEnabled()
+    assert "1/2: 3×2, G = 4 given 2 and the row's phase" in dialog.info.text()
+    assert "1/1: 3×2, G = 4 given 4," in dialog.info.text()
     dialog.synthesise_now.setChecked(False)
     qtbot.mouseClick(dialog.ok_button, LEFT)
     window.activateWindow()                # the window manager's part, offscreen
