@@ -126,6 +126,28 @@ def texture_pixels(canvas, shot: np.ndarray, margin: int = 3) -> np.ndarray:
                 rect.right() - margin]
 
 
+@pytest.mark.parametrize("shape", [(64, 96), (37, 53), (9, 1)])
+def test_a_toned_picture_s_mip_levels_are_its_block_means(shape):
+    """A texture shown with its tone is reduced in one pass over its RGB pixels: each pixel of
+    level k the rounded mean of its 2^k × 2^k block (partial blocks at the edges: the cells they
+    have), exactly as the levels' own mip through their palette."""
+    from app.mip import box_average, box_average_rgb
+    rng = np.random.default_rng(sum(shape))
+    rgb = rng.integers(0, 256, shape + (3,), dtype=np.uint8)
+    for k in range(4):
+        f = 1 << k
+        got = box_average_rgb(rgb, k)
+        h, w = -(-shape[0] // f), -(-shape[1] // f)
+        assert got.shape == (h, w, 3)
+        for i, j in ((0, 0), (h - 1, w - 1), (h // 2, w // 3)):
+            block = rgb[i * f:(i + 1) * f, j * f:(j + 1) * f].reshape(-1, 3).astype(int)
+            assert np.array_equal(got[i, j], (block.sum(0) + len(block) // 2) // len(block))
+        grey = rgb[..., 1]                               # the levels' path agrees
+        ramp = np.repeat(np.arange(256, dtype=np.uint8)[:, None], 3, axis=1)
+        assert np.array_equal(box_average(grey, ramp, k)[..., 0],
+                              box_average_rgb(np.dstack([grey] * 3), k)[..., 0])
+
+
 @pytest.mark.parametrize("pattern", ["checkerboard", "stripes", "pairs"])
 def test_zoomed_out_shows_area_averages_not_moire(qtbot, pattern):
     y, x = np.indices((1024, 1536))
