@@ -30,8 +30,12 @@ def box_average(levels: np.ndarray, lut: np.ndarray, k: int) -> np.ndarray:
     f = 1 << k
     h, w = levels.shape
     out = np.empty(((h + f - 1) // f, (w + f - 1) // f, 3), np.uint8)
-    _box(_readonly(levels), _readonly(lut[:, :3]), f, out)
+    _box(_readonly(levels)[:, :, None], _readonly(lut[:, :3]), f, out)
     return out
+
+
+_IDENTITY = np.repeat(np.arange(256, dtype=np.uint8)[:, None], 3, axis=1)
+_IDENTITY.flags.writeable = False
 
 
 def box_average_rgb(rgb: np.ndarray, k: int) -> np.ndarray:
@@ -41,7 +45,7 @@ def box_average_rgb(rgb: np.ndarray, k: int) -> np.ndarray:
     f = 1 << k
     h, w = rgb.shape[:2]
     out = np.empty(((h + f - 1) // f, (w + f - 1) // f, 3), np.uint8)
-    _box_rgb(_readonly(rgb), f, out)
+    _box(_readonly(rgb), _IDENTITY, f, out)
     return out
 
 
@@ -54,8 +58,10 @@ def _readonly(a: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(cache=True, nogil=True)
-def _box(levels, lut, f, out):   # pragma: no cover - compiled
-    h, w = levels.shape
+def _box(values, lut, f, out):   # pragma: no cover - compiled
+    """Box means of ``lut[values]``: ``values`` (H, W, 1) levels through a 256×3 table, or
+    (H, W, 3) colours, each channel through its column of an identity table."""
+    h, w, depth = values.shape
     oh, ow = out.shape[0], out.shape[1]
     acc = np.zeros((ow, 3), np.uint32)
     for i in range(oh):
@@ -64,48 +70,19 @@ def _box(levels, lut, f, out):   # pragma: no cover - compiled
         r1 = min(r0 + f, h)
         for r in range(r0, r1):
             for j in range(ow):
-                c0 = j * f
-                c1 = min(c0 + f, w)
-                a0 = 0
-                a1 = 0
-                a2 = 0
-                for c in range(c0, c1):
-                    v = levels[r, c]
-                    a0 += lut[v, 0]
-                    a1 += lut[v, 1]
-                    a2 += lut[v, 2]
+                a0 = a1 = a2 = 0
+                for c in range(j * f, min(j * f + f, w)):
+                    v0 = values[r, c, 0]
+                    v1, v2 = (values[r, c, 1], values[r, c, 2]) if depth == 3 else (v0, v0)
+                    a0 += lut[v0, 0]
+                    a1 += lut[v1, 1]
+                    a2 += lut[v2, 2]
                 acc[j, 0] += a0
                 acc[j, 1] += a1
                 acc[j, 2] += a2
         for j in range(ow):
             n = (r1 - r0) * (min(j * f + f, w) - j * f)
             half = n // 2
-            out[i, j, 0] = (acc[j, 0] + half) // n
-            out[i, j, 1] = (acc[j, 1] + half) // n
-            out[i, j, 2] = (acc[j, 2] + half) // n
-    return out
-
-
-@numba.njit(cache=True, nogil=True)
-def _box_rgb(rgb, f, out):   # pragma: no cover - compiled
-    h, w = rgb.shape[0], rgb.shape[1]
-    oh, ow = out.shape[0], out.shape[1]
-    acc = np.zeros((ow, 3), np.uint32)
-    for i in range(oh):
-        acc[:] = 0
-        r0 = i * f
-        r1 = min(r0 + f, h)
-        for r in range(r0, r1):
-            for j in range(ow):
-                c1 = min(j * f + f, w)
-                for c in range(j * f, c1):
-                    acc[j, 0] += rgb[r, c, 0]
-                    acc[j, 1] += rgb[r, c, 1]
-                    acc[j, 2] += rgb[r, c, 2]
-        for j in range(ow):
-            n = (r1 - r0) * (min(j * f + f, w) - j * f)
-            half = n // 2
-            out[i, j, 0] = (acc[j, 0] + half) // n
-            out[i, j, 1] = (acc[j, 1] + half) // n
-            out[i, j, 2] = (acc[j, 2] + half) // n
+            for k in range(3):
+                out[i, j, k] = (acc[j, k] + half) // n
     return out
