@@ -159,10 +159,9 @@ def acquire_scales(out: Acquired, scales, window, levels: int, method: str, tone
 def acquire(path: Path, image, window, levels: int, method: str, wrap: bool, cancel,
             scales: int | None = 1, tone: bool = True, scan: str = ROWS,
             stationary: bool = False, show: bool = False) -> Acquired:
-    """Read the photo (unless ``image`` is given — an array, or a PastedPicture read here;
-    ``show``: make its preview all the same),
-    quantise it and count its windows: all the slow part of the dialog, for the worker. Stops
-    between stages when ``cancel()``.
+    """Read the photo (unless ``image`` is given: an array, or a PastedPicture read here;
+    ``show``: make its preview all the same), quantise it and count its windows: all the slow
+    part of the dialog, for the worker. Stops between stages when ``cancel()``.
     ``scales``: 1 for one DPJ, more for a photo model (``tone``: with the photo's tone), None
     for as many as the photo's size suggests (markov.multiscale.default_scales). One DPJ is
     counted in the ``scan`` asked for, and made ``stationary`` if asked (§5.2.2)."""

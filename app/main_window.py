@@ -884,8 +884,9 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
 
     def clipboard_photo(self, error_title: str, purpose: str):
         """The clipboard's picture (an images.PastedPicture, read in the worker) or the image
-        file copied in a file manager (a Path); None once it has said why not (a picture that cannot be used: a dialog; nothing
-        on the clipboard: the status bar, "no picture to ``purpose``")."""
+        file copied in a file manager (a Path); None once it has said why not (a picture that
+        cannot be used: a dialog; nothing on the clipboard: the status bar, "no picture to
+        ``purpose``")."""
         try:
             photo = pasted_photo(QtWidgets.QApplication.clipboard().mimeData())
         except TexeditorError as exc:

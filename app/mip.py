@@ -27,11 +27,7 @@ def mip_level(zoom: float, shape: tuple[int, int]) -> int:
 def box_average(levels: np.ndarray, lut: np.ndarray, k: int) -> np.ndarray:
     """(ceil(H/2^k), ceil(W/2^k), 3) uint8: the mean colour of each 2^k × 2^k block of
     ``lut[levels]`` (``lut`` a 256×3 uint8 table), rounded to the nearest integer."""
-    f = 1 << k
-    h, w = levels.shape
-    out = np.empty(((h + f - 1) // f, (w + f - 1) // f, 3), np.uint8)
-    _box(_readonly(levels)[:, :, None], _readonly(lut[:, :3]), f, out)
-    return out
+    return _averaged(_readonly(levels)[:, :, None], _readonly(lut[:, :3]), k)
 
 
 _IDENTITY = np.repeat(np.arange(256, dtype=np.uint8)[:, None], 3, axis=1)
@@ -42,11 +38,13 @@ def box_average_rgb(rgb: np.ndarray, k: int) -> np.ndarray:
     """The same mean colours for a picture that is already (H, W, 3) uint8 RGB (a texture shown
     with its photo's tone), in one pass over its pixels (a channel at a time through an
     identity table took a 2048² picture 45 ms, on the GUI thread at every edit)."""
+    return _averaged(_readonly(rgb), _IDENTITY, k)
+
+
+def _averaged(values: np.ndarray, lut: np.ndarray, k: int) -> np.ndarray:
     f = 1 << k
-    h, w = rgb.shape[:2]
-    out = np.empty(((h + f - 1) // f, (w + f - 1) // f, 3), np.uint8)
-    _box(_readonly(rgb), _IDENTITY, f, out)
-    return out
+    h, w = values.shape[:2]
+    return _box(values, lut, f, np.empty(((h + f - 1) // f, (w + f - 1) // f, 3), np.uint8))
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
