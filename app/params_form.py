@@ -21,7 +21,8 @@ LABELS = {"dpj": "DPJ", "dpjs": "DPJs", "levels": "Levels G",
           "given_redraws": "Redraws at a finer dead end",
           "coarse_row_redraws": "Coarsest redraws a row, per point",
           "free_moves": "Shares: moves free of the parents",
-          "forced_moves": "Shares: forced moves at last"}
+          "forced_moves": "Shares: forced moves at last",
+          "lean_drafts": "Drafts: only past the parents' error"}
 NEW_SEED_MAX = 2**31 - 1   # fresh seeds stay readable; any seed up to 2**63-1 can be typed
 
 

@@ -17,7 +17,8 @@ torus:
 - time of a tileable draw over a plain one (warm; the draws take turns, seed after seed, so a
   busy spell of a shared machine falls on both: the median's ratio, and best over best), at the
   size and by size (128² to 1024²), for the 3×3 DPJ and for a photo model (256² to 1024²), each
-  with its current seam closure beside the one before (which older recipes keep);
+  with its current seam closure beside the one before (which older recipes keep), the photo
+  model also drafted as before SynthesizeScales 16 (lean_drafts off, plain and tileable);
 - a photo model (multi-scale + tone): mean grey jump across each seam over the mean jump between
   neighbours inside (1: no seam to see), plain and tileable.
 """
@@ -163,11 +164,17 @@ def sweep(dpj, model, seeds, sizes=(128, 256, 512, 1024)):
             [lambda s: model.synthesize((n, n), seed=s),
              lambda s: model.synthesize((n, n), seed=s, tileable=True),
              lambda s: model.synthesize((n, n), seed=s, tileable=True,
-                                        closure=SCALES_CLOSURE - 1)], seeds)
-        (now, now_best), (old, old_best) = ratios(times)
+                                        closure=SCALES_CLOSURE - 1),
+             lambda s: model.synthesize((n, n), seed=s, lean_drafts=False),
+             lambda s: model.synthesize((n, n), seed=s, tileable=True, lean_drafts=False)],
+            seeds)
+        (now, now_best), (old, old_best) = ratios(times[:3])
+        (drafted, drafted_best), = ratios(times[3:])
         line.append(f"{n}² {now:.2f}/{now_best:.2f} ({np.median(times[1]):.2f} / "
                     f"{np.median(times[0]):.2f} s; closure {SCALES_CLOSURE - 1}: "
-                    f"{old:.2f}/{old_best:.2f})")
+                    f"{old:.2f}/{old_best:.2f}; drafted as before version 16: "
+                    f"{drafted:.2f}/{drafted_best:.2f}, {np.median(times[4]):.2f} / "
+                    f"{np.median(times[3]):.2f} s)")
     print(f"  photo model (scales + tone) time tileable/plain, closure {SCALES_CLOSURE} "
           "(median/best): " + ", ".join(line))
 

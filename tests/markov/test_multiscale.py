@@ -372,6 +372,41 @@ def test_a_scale_is_drafted_only_when_its_plain_draws_stray_and_it_is_not_too_la
     assert calls == [(0, False)]
 
 
+def test_a_scale_is_not_drafted_past_the_error_its_parents_hold(monkeypatch):
+    """A scale inherits about the level-share error of the scale under it, and drafts cannot
+    take it closer (SynthesizeScales 16, lean_drafts): a scale is drafted only when its plain
+    draws are further off than DRAFT_TRIGGER beyond its parents' error. Here, a tileable
+    coffee crop, the coarsest scale comes out 0.017 off and the closer plain draw of the
+    scale over it between 0.03 and 0.047: no longer drafted, where steps before it drafted it
+    (and so drew another texture). The finest shares end within 0.03 either way."""
+    model, _ = multiscale.estimate_scales(ski.data.coffee()[100:292, 150:342], scales=3)
+    calls, parents_off, plain_off = [], [], []
+    draw_scale = multiscale._draw_scale
+
+    def spy(model, k, shape, parents, *args):
+        drafted = args[-2] is not None                  # shares (then steer)
+        calls.append((k, drafted))
+        drawn = draw_scale(model, k, shape, parents, *args)
+        if k == 1 and not drafted:
+            parents_off.append(multiscale._frequency_error(parents, model.frequencies(0)))
+            plain_off.append(multiscale._frequency_error(drawn.levels, model.frequencies(1)))
+        return drawn
+    monkeypatch.setattr(multiscale, "_draw_scale", spy)
+    old = multiscale.synthesize_scales(model, (128, 128), seed=2, tileable=True,
+                                       lean_drafts=False).levels
+    assert (1, True) in calls
+    trigger = multiscale.DRAFT_TRIGGER
+    assert trigger < min(plain_off) <= trigger + parents_off[0]
+    calls.clear()
+    lean = multiscale.synthesize_scales(model, (128, 128), seed=2, tileable=True).levels
+    assert calls and not any(shares for _, shares in calls)
+    assert not np.array_equal(lean, old)
+    want = model.frequencies(model.scales - 1)
+    for levels in (old, lean):
+        assert np.abs(np.bincount(levels.ravel(), minlength=len(want)) / levels.size
+                      - want).max() <= 0.03
+
+
 def vertical_correlation(levels: np.ndarray, lag: int) -> float:
     """Correlation of the levels with themselves ``lag`` rows down."""
     x = levels.astype(float) - levels.mean()

@@ -94,7 +94,7 @@ def test_old_steps_show_their_tone_unfinished_and_new_ones_finished():
     assert new.tone_finish and step_wrap(new) & tone.FINISHED
     before_12 = {k: v for k, v in new.to_json().items()
                  if k not in ("given_redraws", "coarse_row_redraws", "free_moves",
-                               "forced_moves")}
+                               "forced_moves", "lean_drafts")}
     with pytest.raises(FormatError):
         action_from_json({**before_12, "version": 10})          # version 10 had no finish
     written = {k: v for k, v in before_12.items() if k != "tone_finish"}

@@ -410,9 +410,38 @@ def test_textures_of_versions_14_and_15_replay_as_they_were_written(name, versio
         free_moves=switch != "free_moves", forced_moves=False).levels)
 
 
+@pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
+def test_textures_of_version_16_replay_as_they_were_written(name):
+    """Files written by SynthesizeScales version 16 (tests/data/scales-v16: a coffee crop, plain
+    and tileable) come out bit-identical, levels and tone: a scale whose plain draws are off
+    about as far as its parents was not drafted (lean_drafts); the same step without it, as
+    steps before it, drafts that scale and draws another texture. Both within 0.03 of the
+    model's level shares."""
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_model, document_tone
+    expected = json.loads((DATA / "scales-v16" / "expected.json").read_text())[name]
+    doc = render_texture(DATA / "scales-v16" / f"{name}.texture")
+    step = doc.actions[-1]
+    assert expected["version"] == 16 and step.lean_drafts and step.seed == expected["seed"]
+    assert step.tileable == expected["tileable"] and step.closure == expected["closure"]
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
+    model = document_model(doc, step)
+    drafted = dataclasses.replace(step, lean_drafts=False).prepare(doc)
+    assert not np.array_equal(drafted, doc.levels)
+    assert np.array_equal(drafted, model.synthesize((step.height, step.width), seed=step.seed,
+                                                    tileable=step.tileable, tone=False,
+                                                    lean_drafts=False).levels)
+    for levels in (doc.levels, drafted):
+        assert np.abs(np.bincount(levels.ravel(), minlength=model.levels) / levels.size
+                      - model.frequencies()).max() <= 0.03
+
+
 FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10),    # the multiscale step's switches,
          ("tone_finish", 11), ("free_moves", 14),                # with the version each came with
-         ("forced_moves", 15))
+         ("forced_moves", 15), ("lean_drafts", 16))
 
 
 def flag_cases():
@@ -428,8 +457,9 @@ def flag_cases():
 @pytest.mark.parametrize("name, version, obj, value", list(flag_cases()))
 def test_a_multiscale_step_keeps_its_switches_as_its_version_has_them(name, version, obj, value):
     """Rebalancing (version 8), steering (9), more drafts of small scales (10), the tone's
-    finish (11), moves free of the parents (14) and forced moves (15): an older step draws without them and cannot name them; the version that brought
-    one names it, default on."""
+    finish (11), moves free of the parents (14), forced moves (15) and drafts only past the
+    parents' error (16): an older step draws without them and cannot name them; the version
+    that brought one names it, default on."""
     if value is None:
         with pytest.raises(FormatError):
             read_scales_step(version, obj)
@@ -493,7 +523,8 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 13, {}, 5), ("synthesize_scales", 13, {"closure": 6}, None),
     ("synthesize_scales", 14, {}, 5), ("synthesize_scales", 14, {"closure": 6}, None),
     ("synthesize_scales", 15, {}, 5), ("synthesize_scales", 15, {"closure": 6}, None),
-    ("synthesize_scales", 16, {}, None),
+    ("synthesize_scales", 16, {}, 5), ("synthesize_scales", 16, {"closure": 6}, None),
+    ("synthesize_scales", 17, {}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
@@ -567,7 +598,7 @@ def test_a_multiscale_step_keeps_its_coarsest_row_limit(version, obj, limit):
         step = read_scales_step(version, obj)
         assert step.coarse_row_redraws == limit and step.given_redraws == (
             GIVEN_REDRAWS if version >= 12 else 16)
-        assert step.to_json()["version"] == SynthesizeScales.VERSION == 15
+        assert step.to_json()["version"] == SynthesizeScales.VERSION == 16
 
 
 def _rezip(data: bytes, change) -> bytes:

@@ -25,7 +25,7 @@ from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers
 from ..markov.levels import to_grey
 from ..markov.particles import PARTICLES
 from ..markov.multiscale import (COARSE_LEVELS, COARSE_REDRAWS, COARSE_ROW_REDRAWS,
-                                 COARSE_WINDOW, GIVEN_REDRAWS,
+                                 COARSE_WINDOW, GIVEN_REDRAWS, LEAN_DRAFTS,
                                  LEVELS, SCALES_CLOSURE, WINDOW,
                                  MultiScaleDPJ, check_scales_closure, estimate_scales,
                                  synthesize_scales)
@@ -91,7 +91,7 @@ class PhotoModel:
                    rebalance: bool = True, steer: bool = True, more_drafts: bool = True,
                    given_redraws: int = GIVEN_REDRAWS,
                    coarse_row_redraws: float = COARSE_ROW_REDRAWS, free_moves: bool = True,
-                   forced_moves: bool = True,
+                   forced_moves: bool = True, lean_drafts: bool = LEAN_DRAFTS,
                    progress: Callable[[float], None] | None = None,
                    cancel: Callable[[], bool] | None = None) -> Resynthesis:
         """Levels from the scales, shown with the photo's tone (or the palette). The tone is
@@ -100,14 +100,15 @@ class PhotoModel:
         about half the time on two cores). ``tileable``: the levels and the picture repeat
         without a seam (``closure``, ``coarse_redraws``, ``particles``, ``rebalance``,
         ``steer``, ``more_drafts``, ``given_redraws``, ``coarse_row_redraws``,
-        ``free_moves``, ``forced_moves``: see markov.multiscale.synthesize_scales;
+        ``free_moves``, ``forced_moves``, ``lean_drafts``: see
+        markov.multiscale.synthesize_scales;
         ``tone_balance``: each level's greys keep the photo's histogram, tone.BALANCED;
         ``tone_finish``: its pixel-scale power is the photo's, tone.FINISHED)."""
         draw = dict(seed=seed, progress=progress, cancel=cancel, tileable=tileable,
                     closure=closure, coarse_redraws=coarse_redraws, particles=particles,
                     rebalance=rebalance, steer=steer, more_drafts=more_drafts,
                     given_redraws=given_redraws, coarse_row_redraws=coarse_row_redraws,
-                    free_moves=free_moves, forced_moves=forced_moves)
+                    free_moves=free_moves, forced_moves=forced_moves, lean_drafts=lean_drafts)
         if not tone or self.tone is None:
             result = synthesize_scales(self.scales, shape, **draw)
             image = self.render(result.levels, seed=seed, tone=False)

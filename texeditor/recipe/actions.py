@@ -15,8 +15,9 @@ import numpy as np
 
 from ..markov.dpj import MAX_LEVELS, grey_ramp
 from ..markov.scan import ROWS, SCANS, check_scan
-from ..markov.multiscale import (COARSE_REDRAWS, COARSE_ROW_REDRAWS, GIVEN_REDRAWS,
-                                 NO_ROW_LIMIT, OLD_REDRAWS, SCALES_CLOSURE, scales_phrase)
+from ..markov.multiscale import (COARSE_REDRAWS, COARSE_ROW_REDRAWS, DRAFT_TRIGGER,
+                                 GIVEN_REDRAWS, LEAN_DRAFTS, NO_ROW_LIMIT, OLD_REDRAWS,
+                                 SCALES_CLOSURE, scales_phrase)
 from ..markov.particles import DRAFT_POINTS, MAX_PARTICLES, MORE_PARTICLES, PARTICLES
 from ..markov.synthesis import CLOSURE
 from ..errors import FormatError, InputError, check_unicode
@@ -471,6 +472,7 @@ def _synthesis_of_version(cls, version: int, params: dict) -> dict:
 # the parameters SynthesizeScales gained, newest first: the version each came with, and the value
 # a step of an older version reads (it cannot name the parameter)
 _SCALES_GAINED = (
+    (16, "lean_drafts", False),                 # drafted past DRAFT_TRIGGER, whatever the parents
     (15, "forced_moves", False),                # shares left off after the free moves
     (14, "free_moves", False),                  # moves free of the parents after the bound ones
     (13, "coarse_row_redraws", NO_ROW_LIMIT),   # a coarsest row redrew without limit
@@ -574,7 +576,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 15
+    VERSION: ClassVar[int] = 16
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
@@ -635,6 +637,12 @@ class SynthesizeScales(Action):
                                    "texture lacks), forced moves follow, which may leave "
                                    "windows outside the DPJ (current; recipes before version "
                                    "15 stopped there)")
+    lean_drafts: bool = param("bool", default=LEAN_DRAFTS,
+                              doc="a scale is drafted only when its level shares come out "
+                                  f"more than {DRAFT_TRIGGER} further off than its parents' "
+                                  "(current: the parents hold it about as far off, and drafts "
+                                  "could not take it closer; recipes before version 16 drafted "
+                                  f"it whenever more than {DRAFT_TRIGGER} off)")
 
     upgrade = classmethod(_scales_of_version)
 
@@ -657,7 +665,8 @@ class SynthesizeScales(Action):
                                  given_redraws=self.given_redraws,
                                  coarse_row_redraws=self.coarse_row_redraws,
                                  free_moves=self.free_moves,
-                                 forced_moves=self.forced_moves)
+                                 forced_moves=self.forced_moves,
+                                 lean_drafts=self.lean_drafts)
 
     def prepare(self, doc, progress=None, cancel=None) -> np.ndarray:
         return self.render_result(self._dpjs_of(doc), progress, cancel).levels
