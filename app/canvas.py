@@ -335,6 +335,18 @@ class CanvasView(pg.GraphicsView):
         """The (H, W, 3) picture shown instead of the palette's colours (tone), or None."""
         return self._picture
 
+    def shown_crop(self, side: int) -> np.ndarray | None:
+        """The middle side × side (at most) of the picture shown, (h, w, 3) uint8: the tone or
+        plates when they show, else the levels in the palette's colours; None when empty."""
+        if self._levels is None or not self._levels.size:
+            return None
+        h, w = self._levels.shape
+        top, left = max(0, (h - side) // 2), max(0, (w - side) // 2)
+        box = (slice(top, top + side), slice(left, left + side))
+        if self._picture is not None:
+            return np.ascontiguousarray(self._picture[box][..., :3])
+        return np.ascontiguousarray(self._lut[self._levels[box]][..., :3])
+
     def displayed_colour(self, x: int, y: int) -> tuple[int, int, int]:
         """The colour the canvas shows at cell (x, y) — what the user sees, for checks."""
         if self._picture is not None:

@@ -22,6 +22,7 @@ from texeditor.markov.multiscale import scales_phrase
 from texeditor.recipe.actions import SetPalette, Synthesize, SynthesizeScales
 from texeditor.errors import TexeditorError
 from texeditor.recipe.history import EVERYTHING, History
+from texeditor.recipe.journal import THUMB_CROP
 
 from . import dpj_editor, resources
 from .acquire_dialog import AcquireDialog, pasted_photo
@@ -44,6 +45,7 @@ from .tool_dock import ToolOptionsDock
 from .tools import tool_classes
 
 APP_NAME = "texeditor"
+THUMB_PAUSE_MS = 1000      # the journal's thumbnail is taken once the edits pause this long
 LEFT = QtCore.Qt.DockWidgetArea.LeftDockWidgetArea
 RIGHT = QtCore.Qt.DockWidgetArea.RightDockWidgetArea
 
@@ -95,6 +97,10 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self._clean_log: tuple = ()
         self._unsubscribe = None
         self._journal = None       # this window's crash journal (None: not yet; False: failed)
+        self._thumb_timer = QtCore.QTimer(self)     # its thumbnail, once the edits pause
+        self._thumb_timer.setSingleShot(True)
+        self._thumb_timer.setInterval(THUMB_PAUSE_MS)
+        self._thumb_timer.timeout.connect(self.journal_thumbnail)
         self.runner = TaskRunner(self)
         self._replaying = None     # the PendingEdit of a past step replayed in the worker
         self.closing = False       # closeEvent accepted: a task cancelled now is not replaced
@@ -574,11 +580,28 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
                 self._journal.sync(self.history.applied, self.history.document.dpjs,
                                    self.history.document.exemplars)
         except OSError as exc:
-            self._journal = False
-            self.statusBar().showMessage(f"Crash protection is off: cannot write the journal "
-                                         f"({exc.strerror or exc}).", 10000)
+            self._journal_failed(exc)
+            return
+        self._thumb_timer.start()
+
+    def journal_thumbnail(self) -> None:
+        """Record in the journal what the canvas shows (the recovery dialog's picture of the
+        work): once the edits pause, so a brush stroke does not write one per dab."""
+        crop = self.canvas.shown_crop(THUMB_CROP)
+        if not self._journal or crop is None:
+            return
+        try:
+            self._journal.thumbnail(crop)
+        except OSError as exc:
+            self._journal_failed(exc)
+
+    def _journal_failed(self, exc: OSError) -> None:
+        self._journal = False
+        self.statusBar().showMessage(f"Crash protection is off: cannot write the journal "
+                                     f"({exc.strerror or exc}).", 10000)
 
     def journal_discard(self) -> None:
+        self._thumb_timer.stop()
         if self._journal:
             self._journal.discard()
         self._journal = None

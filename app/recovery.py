@@ -14,13 +14,15 @@ import sys
 import time
 from pathlib import Path
 
-from PySide6 import QtCore, QtWidgets
+from PySide6 import QtCore, QtGui, QtWidgets
 
 from texeditor.errors import Cancelled
 from texeditor.wording import counted
 from texeditor.recipe.history import History
-from texeditor.recipe.journal import orphans, recover
+from texeditor.recipe.journal import THUMB_SIDE, orphans, recover
 from texeditor.userdata import set_aside_line
+
+from .images import photo_rgb, pixmap
 
 def offer_recovery(window, make_window=None, problems: list | None = None, *,
                    otherwise=None) -> bool:
@@ -183,8 +185,9 @@ def opened_when(item) -> str:
 
 
 class RecoveryDialog(QtWidgets.QDialog):
-    """Every texture a crash left unsaved, each with a tick box (all ticked): Restore brings back
-    the ticked ones and discards the others; Not now keeps them all for the next start."""
+    """Every texture a crash left unsaved, each with a tick box (all ticked) and the middle of
+    its picture as it was last shown: Restore brings back the ticked ones and discards the
+    others; Not now keeps them all for the next start."""
 
     def __init__(self, parent, found: list):
         super().__init__(parent)
@@ -200,13 +203,24 @@ class RecoveryDialog(QtWidgets.QDialog):
             text = (f"texeditor closed unexpectedly while editing {describe(found[0])} (opened "
                     f"{opened_when(found[0])}).\n\nRestore it as it was after its last "
                     f"completed step ({counted(len(found[0].actions), 'step')})?")
-        intro = QtWidgets.QLabel(text)
+        intro = QtWidgets.QLabel(text, self)        # the dialog's first label: its message
         intro.setWordWrap(True)
+        intro.setAlignment(QtCore.Qt.AlignmentFlag.AlignTop | QtCore.Qt.AlignmentFlag.AlignLeft)
+        self.picture = QtWidgets.QLabel(self)       # one texture: what it looked like
+        self.picture.setObjectName("thumbnail")
+        thumb = found[0].thumbnail
+        if not several and thumb is not None:
+            self.picture.setPixmap(pixmap(photo_rgb(thumb), 2 * THUMB_SIDE))
+            self.picture.setToolTip("The middle of the texture as it was last shown")
+        self.picture.setVisible(not several and thumb is not None)
         self.list = QtWidgets.QListWidget()
+        self.list.setIconSize(QtCore.QSize(THUMB_SIDE, THUMB_SIDE))
         for item in found:
             row = QtWidgets.QListWidgetItem(
                 f"{describe(item)} — opened {opened_when(item)}, "
                 f"{counted(len(item.actions), 'step')}")
+            if item.thumbnail is not None:
+                row.setIcon(QtGui.QIcon(pixmap(photo_rgb(item.thumbnail), THUMB_SIDE)))
             row.setFlags(row.flags() | QtCore.Qt.ItemFlag.ItemIsUserCheckable)
             row.setCheckState(QtCore.Qt.CheckState.Checked)
             self.list.addItem(row)
@@ -225,10 +239,15 @@ class RecoveryDialog(QtWidgets.QDialog):
         self.discard_button.clicked.connect(self.discard_all)
         self.later_button.clicked.connect(self.reject)
         layout = QtWidgets.QVBoxLayout(self)
-        layout.addWidget(intro)
+        top = QtWidgets.QHBoxLayout()
+        top.addWidget(self.picture, 0, QtCore.Qt.AlignmentFlag.AlignTop)
+        top.addWidget(intro, 1)
+        layout.addLayout(top)
         layout.addWidget(self.list)
         layout.addWidget(buttons)
-        self.resize(560, min(480, 160 + 22 * len(found)) if several else 140)
+        rows = max(22, THUMB_SIDE + 6) if any(i.thumbnail is not None for i in found) else 22
+        self.resize(560, min(520, 160 + rows * len(found)) if several
+                    else 200 if self.picture.isVisibleTo(self) else 140)
 
     def chosen(self) -> list:
         """The journals ticked for restoring."""

@@ -958,17 +958,23 @@ MORE_SHOTS.append(shot_tileable_photo)
 
 def shot_recovery(app, window, out: Path) -> None:
     """Crash recovery: the one dialog that offers every texture a crash left unsaved (three
-    journals, as a crash of three windows leaves), one of them unticked."""
+    journals, as a crash of three windows leaves, each with its thumbnail: textures from
+    scikit-image's grass, brick and gravel), one of them unticked."""
     import time
 
+    import skimage as ski
+
     from app.recovery import RecoveryDialog
-    from texeditor.recipe.journal import Recovered
+    from texeditor import resynthesize
+    from texeditor.recipe.journal import Recovered, thumbnail_of
 
     now = time.time()
-    found = [Recovered(Path(f"{k}.journal"), (None,) * steps, {}, source, now - age, steps)
-             for k, (steps, source, age) in enumerate(
-                 [(58, None, 600), (12, "/home/me/textures/brick wall.texture", 3600),
-                  (4, None, 7200)])]
+    found = [Recovered(Path(f"{k}.journal"), (None,) * steps, {}, source, now - age, steps,
+                       thumbnail=thumbnail_of(resynthesize(photo(), (160, 160), seed=k).image))
+             for k, (steps, source, age, photo) in enumerate(
+                 [(58, None, 600, ski.data.grass),
+                  (12, "/home/me/textures/brick wall.texture", 3600, ski.data.brick),
+                  (4, None, 7200, ski.data.gravel)])]
     dialog = RecoveryDialog(window, found)
     dialog.list.item(2).setCheckState(QtCore.Qt.CheckState.Unchecked)
     dialog.show()

@@ -14,11 +14,11 @@ from PySide6 import QtWidgets
 from app.recovery import RecoveryDialog, offer_recovery
 from texeditor.recipe.actions import SetLevels
 from texeditor.recipe.history import History
-from texeditor.recipe.journal import orphans
+from texeditor.recipe.journal import THUMB_CROP, THUMB_SIDE, orphans
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CHILD = textwrap.dedent("""
-    import os, signal, sys
+    import os, signal, sys, time
     from PySide6 import QtWidgets
     app = QtWidgets.QApplication([])
     from app.main_window import MainWindow
@@ -32,14 +32,19 @@ CHILD = textwrap.dedent("""
     for k in range(n - 1):
         window.submit(SetLevels(k, 2 * k, 3, 5, 1 + k % 3))
         app.processEvents()
+    pause = time.monotonic() + float(sys.argv[2])    # the edits pause: the journal's thumbnail
+    while time.monotonic() < pause:
+        app.processEvents()
+        time.sleep(0.01)
     os.kill(os.getpid(), signal.SIGKILL)    # a crash: no close, no cleanup
 """)
 
 
-def crash(n: int) -> None:
-    """A texeditor process that makes ``n`` steps and dies, leaving its journal."""
+def crash(n: int, pause: float = 0.0) -> None:
+    """A texeditor process that makes ``n`` steps, waits ``pause`` seconds and dies, leaving
+    its journal."""
     env = {**os.environ, "QT_QPA_PLATFORM": "offscreen"}
-    proc = subprocess.run([sys.executable, "-c", CHILD, str(n)], env=env, capture_output=True,
+    proc = subprocess.run([sys.executable, "-c", CHILD, str(n), str(pause)], env=env, capture_output=True,
                           timeout=120, cwd=ROOT)
     assert proc.returncode == -9, proc.stderr.decode()[-2000:]
 
@@ -59,6 +64,11 @@ class Seen:
         self.rows = dialog.list.count()
         self.list_shown = dialog.list.isVisible()
         self.ticked = [dialog.list.item(k).checkState().name for k in range(self.rows)]
+        self.thumbnails = [item.thumbnail for item in dialog.found]
+        self.picture_shown = dialog.picture.isVisible()
+        self.picture = dialog.picture.pixmap().toImage() if self.picture_shown else None
+        self.row_texts = [dialog.list.item(k).text() for k in range(self.rows)]
+        self.icons = [not dialog.list.item(k).icon().isNull() for k in range(self.rows)]
 
 
 def answering(monkeypatch, act):
@@ -99,6 +109,32 @@ def test_a_killed_app_is_restored_exactly_up_to_its_last_action(window, monkeypa
     assert not window.document.levels.any()
     window.submit(SetLevels(0, 0, 2, 2, 3))    # and the window edits on
     assert window.document.levels[:2, :2].tolist() == [[3, 3], [3, 3]]
+
+
+def test_the_dialog_shows_the_texture_as_it_was_last_shown(window, monkeypatch):
+    crash(5, pause=2.5)               # the thumbnail is taken once the edits pause (1 s)
+    seen = answering(monkeypatch, lambda d: d.restore_button.click())
+    offered(window)
+    [thumb] = seen[0].thumbnails
+    shown = window.canvas.shown_crop(THUMB_CROP)          # the restored texture, as shown now
+    assert np.array_equal(thumb, shown) and shown.shape == (30, 40, 3)
+    assert len(np.unique(thumb.reshape(-1, 3), axis=0)) == 4    # all four levels were painted
+    assert seen[0].picture_shown and seen[0].picture.width() == 2 * THUMB_SIDE
+    scale = 2 * THUMB_SIDE / 40                            # enlarged without smoothing
+    for y, x in ((0, 0), (5, 9), (29, 39)):
+        colour = seen[0].picture.pixelColor(int((x + 0.5) * scale), int((y + 0.5) * scale))
+        assert colour.getRgb()[:3] == tuple(thumb[y, x])
+
+
+def test_several_textures_are_listed_with_their_thumbnails(window, monkeypatch):
+    crash(3)                          # killed at once: no thumbnail yet
+    crash(4, pause=2.5)
+    seen = answering(monkeypatch, lambda d: d.later_button.click())
+    offered(window)
+    assert seen[0].rows == 2 and not seen[0].picture_shown      # a list, no large picture
+    icons = {text.split(", ")[-1]: icon for text, icon in zip(seen[0].row_texts, seen[0].icons)}
+    assert icons == {"3 steps": False, "4 steps": True}
+    assert len(orphans()) == 2                                  # Not now: both kept
 
 
 def test_discarding_forgets_the_journal(window, monkeypatch):

@@ -7,9 +7,12 @@ that died, and ``recover`` rebuilds their logs. One window, one file: a live jou
 
 A journal is JSON Lines. ``start`` (format, the document's file if any, time), then ``dpj`` records
 (a DPJ the log refers to, base64 of its `.dpj` bytes), ``exemplar`` records (a model step's photo,
-base64 of its PNG) and ``log`` records: keep the first ``keep``
+base64 of its PNG), ``log`` records: keep the first ``keep``
 actions of the log as it was and append ``append`` (undo keeps n-1 and appends nothing; an edit of
-step k keeps k-1 and appends the rest). A line cut short by the crash is ignored.
+step k keeps k-1 and appends the rest), and ``thumbnail`` records (base64 of a PNG of the middle
+of the picture as the window showed it, at most THUMB_SIDE a side; the last one is shown when the
+work is offered back, and a damaged one is passed over: it holds no work). A line cut short by
+the crash is ignored.
 """
 
 from __future__ import annotations
@@ -21,11 +24,15 @@ import json
 import os
 import time
 import uuid
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+from PIL import Image
+
 from .codec import action_from_json
-from .exemplars import exemplar_png, read_exemplar_png
+from .exemplars import MIN_SIDE, exemplar_png, read_exemplar_png
 from ..markov.dpj import DPJ
 from ..errors import FormatError, TexeditorError
 from ..fileio import load_json, read_limited
@@ -41,6 +48,10 @@ FORMAT = 1
 SUFFIX = ".journal"
 MAX_JOURNAL_BYTES = 256 * 2**20       # measured: recovery at the limit stays near 1 GiB
 MAX_START_TIME = 253402300799       # 9999-12-31 23:59:59 UTC: any later "time" is damage
+THUMB_SIDE = 64                     # a thumbnail: the picture's middle, at most this a side,
+THUMB_CROP = 128                    # ... from a crop this wide, every other point (the texture
+                                    # at half its size: its grain still shows)
+MAX_THUMB_BYTES = 64 * 2**10
 
 
 def journal_dir() -> Path:
@@ -96,6 +107,13 @@ class Journal:
                      "append": [a.to_json() for a in actions[keep:]]})
         self._logged = actions
 
+    def thumbnail(self, picture) -> None:
+        """Record what the document looks like now (``picture``: uint8 (H, W) or (H, W, 3), as
+        the window shows it): the one offered back with the work is the last recorded."""
+        image = thumbnail_of(picture)
+        self._write({"kind": "thumbnail",
+                     "png": base64.b64encode(exemplar_png(image)).decode("ascii")})
+
     def discard(self) -> None:
         """The document was saved and closed, or dropped on purpose: nothing to recover."""
         if not self._file.closed:
@@ -121,6 +139,25 @@ class Recovered:
     started: float
     changes: int          # changes of the log since the document was opened or saved
     exemplars: dict = dataclasses.field(default_factory=dict)
+    thumbnail: np.ndarray | None = None     # the last thumbnail recorded (uint8, grey or RGB)
+
+
+def thumbnail_of(picture) -> np.ndarray:
+    """The middle THUMB_CROP² of a picture, every other point (at most THUMB_SIDE a side)."""
+    picture = np.asarray(picture)
+    if picture.dtype != np.uint8 or not (picture.ndim == 2 or (picture.ndim == 3
+                                                               and picture.shape[2] == 3)):
+        raise ValueError(f"a thumbnail is taken from a uint8 grey or RGB picture, not "
+                         f"{picture.dtype} {picture.shape}")
+    h, w = picture.shape[:2]
+    top, left = max(0, (h - THUMB_CROP) // 2), max(0, (w - THUMB_CROP) // 2)
+    crop = picture[top:top + THUMB_CROP, left:left + THUMB_CROP]
+    step = max(1, -(-max(crop.shape[:2]) // THUMB_SIDE))
+    image = np.ascontiguousarray(crop[::step, ::step])
+    for axis in (0, 1):                  # a thumbnail PNG is at least MIN_SIDE (2) a side
+        if image.shape[axis] < MIN_SIDE:
+            image = np.repeat(image, MIN_SIDE, axis=axis)
+    return np.ascontiguousarray(image)
 
 
 def orphans(folder: Path | None = None) -> list[Path]:
@@ -175,9 +212,12 @@ def recover(path: Path) -> Recovered:
     start = _record(next(lines, b""))
     if not isinstance(start, dict) or start.get("kind") != "start" or start.get("format") != FORMAT:
         raise FormatError(f"{path}: not a texeditor journal")
-    actions, dpjs, photos, logs = [], {}, {}, 0
+    actions, dpjs, photos, logs, thumb = [], {}, {}, 0, None
     for line in lines:
         record = _record(line)
+        if isinstance(record, dict) and record.get("kind") == "thumbnail":
+            thumb = _thumbnail(record.get("png"), thumb)
+            continue
         try:
             if record is None:
                 break        # the line the crash cut short (and anything after it)
@@ -188,7 +228,28 @@ def recover(path: Path) -> Recovered:
         logs += record.get("kind") == "log"
     source = start.get("source") if isinstance(start.get("source"), str) else None
     return Recovered(path, tuple(actions), dpjs, source, _start_time(start.get("time")),
-                     max(0, logs - 1), photos)
+                     max(0, logs - 1), photos, thumb)
+
+
+def _thumbnail(data, before):
+    """A thumbnail record's picture, or ``before`` when it is damaged (passed over: no work
+    is lost with it)."""
+    if not isinstance(data, str) or len(data) > 2 * MAX_THUMB_BYTES:
+        return before
+    try:
+        png = base64.b64decode(data, validate=True)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", Image.DecompressionBombWarning)
+            with Image.open(io.BytesIO(png), formats=["PNG"]) as im:
+                w, h = im.size
+                if im.mode not in ("L", "RGB") or not (MIN_SIDE <= min(w, h)
+                                                       and max(w, h) <= THUMB_SIDE):
+                    return before
+                image = np.asarray(im.convert(im.mode))
+    except (OSError, ValueError, SyntaxError, Image.DecompressionBombWarning,
+            Image.DecompressionBombError):
+        return before
+    return np.ascontiguousarray(image, dtype=np.uint8)
 
 
 def _record(line: bytes):
