@@ -152,6 +152,41 @@ def test_json_bombs_are_refused_or_loaded_in_bounded_time(tmp_path_factory, text
             "nests", "more than the limit", "zip bomb")), (where, box)
 
 
+def _png(width: int, height: int, mode: str) -> bytes:
+    from PIL import Image
+    out = io.BytesIO()
+    Image.new(mode, (width, height), 90).save(out, format="PNG")
+    return out.getvalue()
+
+
+@BOMBS
+@given(base=st.sampled_from([(8, 8, "L"), (64, 64, "RGB"), (65, 4, "L"), (1, 30, "L"),
+                             (16, 16, "P"), (16, 16, "I;16"), (16, 16, "RGBA"),
+                             (5000, 5000, "1")]),
+       flips=st.lists(st.tuples(st.integers(0, 2**20), st.integers(0, 255)), max_size=6),
+       cut=st.integers(0, 2**20), junk=st.binary(max_size=64))
+def test_damaged_thumbnails_never_cost_the_steps_after_them(tmp_path_factory, base, flips,
+                                                            cut, junk):
+    """A journal's thumbnail record holding any mutated, cut or odd PNG (palette, 16-bit,
+    alpha, too large, a bomb's header) is passed over: the log after it recovers whole, and a
+    thumbnail, when one is kept, is within bounds."""
+    png = bytearray(_png(*base))
+    for at, value in flips:
+        png[at % len(png)] = value
+    png = bytes(png[:max(8, cut % (len(png) + 1))]) + junk
+    path = tmp_path_factory.mktemp("thumb") / "x.journal"
+    records = [{"kind": "start", "format": 1, "time": 0.0, "source": None},
+               {"kind": "thumbnail", "png": base64.b64encode(png).decode()},
+               {"kind": "log", "keep": 0, "append": [{"type": "new_canvas", "version": 1,
+                                                      "width": 9, "height": 7, "levels": 3}]}]
+    path.write_text("".join(json.dumps(record) + "\n" for record in records))
+    got = ends(journal.recover, path)["result"]
+    assert len(got.actions) == 1
+    if got.thumbnail is not None:
+        assert got.thumbnail.dtype == np.uint8 and got.thumbnail.ndim in (2, 3)
+        assert 2 <= min(got.thumbnail.shape[:2]) and max(got.thumbnail.shape[:2]) <= 64
+
+
 @BOMBS
 @given(st.binary(max_size=4096))
 def test_load_json_on_arbitrary_bytes_is_clean(blob):
