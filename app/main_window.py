@@ -273,6 +273,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
                                  "Acquire a DPJ from the picture on the clipboard")
         self.act_undo = a("&Undo", self.undo, "Ctrl+Z")
         self.act_redo = a("&Redo", self.redo, ["Ctrl+Shift+Z", "Ctrl+Y"])
+        for act in (self.act_undo, self.act_redo):     # nothing to undo before a texture
+            act.setEnabled(False)
         self.act_synth = a("&Synthesise", self.synthesise_from_dock, "Ctrl+R",
                            "Draw a texture from the current DPJ")
         self.act_global = a("&Global operators…", self.global_operators, "Ctrl+G",

@@ -138,8 +138,9 @@ def test_commands_before_the_first_texture_is_there_say_to_wait(qtbot, small_dpj
     """A window whose first texture is still opening in the worker (a first start, or a
     crash's journals being read) has no document yet: Undo, Redo, Synthesise, an export, a
     model, the grain editor, the relief's height map raised "'NoneType' object has no
-    attribute …" in the event loop (an exception, which fails this test). Now the status bar
-    says to wait and nothing changes; the Extract tool chosen meanwhile works once the texture
+    attribute …" in the event loop (an exception, which fails this test). Now Undo and Redo
+    are greyed (until the texture is there) and the others say in the status bar to wait,
+    changing nothing; the Extract tool chosen meanwhile works once the texture
     is there: it follows the document (a synthesis, undo)."""
     from PySide6 import QtCore
     from app.main_window import MainWindow
@@ -156,7 +157,8 @@ def test_commands_before_the_first_texture_is_there_say_to_wait(qtbot, small_dpj
     assert started.wait(10) and win.act_cancel.isEnabled()
     win.act_cancel.trigger()
     assert win.runner.wait(10_000) and "still opening" not in win.statusBar().currentMessage()
-    for action in (win.act_undo, win.act_redo, win.act_synth, win.act_export, win.act_global):
+    assert not win.act_undo.isEnabled() and not win.act_redo.isEnabled()   # nothing to undo
+    for action in (win.act_synth, win.act_export, win.act_global):
         win.statusBar().clearMessage()
         action.trigger()                      # its menu entry, toolbar button or shortcut
         assert "still opening" in win.statusBar().currentMessage(), action.text()
@@ -175,6 +177,7 @@ def test_commands_before_the_first_texture_is_there_say_to_wait(qtbot, small_dpj
     win.synthesis_dock.height_box.setValue(40)
     win.act_synth.trigger()
     assert win.runner.wait(60_000) and win.document.shape == (40, 48)
+    assert not win.act_undo.isEnabled()       # the first step is the base texture
     assert win.canvas.tool is extract and "No selection" in extract.status.text()
     win.canvas.fit()
     click(win.canvas.viewport(), cell_pos(win.canvas, 10, 10))     # it follows the document
