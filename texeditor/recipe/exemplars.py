@@ -25,11 +25,16 @@ MAX_PNG_BYTES = 4 * 2**20       # a 1024² RGB photo is 3 MiB raw; PNG adds litt
 MAX_EXEMPLARS = 16              # in one file or bank entry
 
 
+def is_picture(image: np.ndarray) -> bool:
+    """Whether an array is what exemplars and thumbnails hold: uint8 grey or RGB."""
+    return image.dtype == np.uint8 and (image.ndim == 2 or (image.ndim == 3
+                                                            and image.shape[2] == 3))
+
+
 def check_exemplar(image) -> np.ndarray:
     """The picture as a read-only C-contiguous uint8 copy, or an InputError saying why not."""
     image = np.asarray(image)
-    if image.dtype != np.uint8 or not (image.ndim == 2 or (image.ndim == 3
-                                                           and image.shape[2] == 3)):
+    if not is_picture(image):
         raise InputError(f"an exemplar is a uint8 grey (h, w) or colour (h, w, 3) picture, "
                          f"not an array of shape {image.shape} and type {image.dtype}")
     h, w = image.shape[:2]

@@ -32,7 +32,7 @@ import numpy as np
 from PIL import Image
 
 from .codec import action_from_json
-from .exemplars import MIN_SIDE, exemplar_png, read_exemplar_png
+from .exemplars import MIN_SIDE, exemplar_png, is_picture, read_exemplar_png
 from ..markov.dpj import DPJ
 from ..errors import FormatError, TexeditorError
 from ..fileio import load_json, read_limited
@@ -145,8 +145,7 @@ class Recovered:
 def thumbnail_of(picture) -> np.ndarray:
     """The middle THUMB_CROP² of a picture, every other point (at most THUMB_SIDE a side)."""
     picture = np.asarray(picture)
-    if picture.dtype != np.uint8 or not (picture.ndim == 2 or (picture.ndim == 3
-                                                               and picture.shape[2] == 3)):
+    if not is_picture(picture):
         raise ValueError(f"a thumbnail is taken from a uint8 grey or RGB picture, not "
                          f"{picture.dtype} {picture.shape}")
     h, w = picture.shape[:2]
