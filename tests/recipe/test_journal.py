@@ -12,8 +12,9 @@ from texeditor.recipe.actions import SetLevels, SetPalette, Synthesize
 from texeditor.recipe.history import History
 from texeditor.recipe.replay import replay
 from texeditor.recipe.exemplars import exemplar_png
-from texeditor.recipe.journal import (MAX_THUMB_BYTES, THUMB_SIDE, Journal, orphans, recover,
-                                     thumbnail_of)
+from texeditor.recipe import journal as journal_module
+from texeditor.recipe.journal import (MAX_THUMB_BYTES, NEW_SUFFIX, THUMB_SIDE, Journal, orphans,
+                                     recover, thumbnail_of)
 
 
 def _history():
@@ -149,3 +150,105 @@ def test_a_journal_without_thumbnails_recovers_none(tmp_path):
     journal = Journal(tmp_path)
     journal.reset(history.applied, history.document.dpjs)
     assert recover(journal.path).thumbnail is None
+
+
+def _journal_with_photo(tmp_path):
+    history = _history()
+    photo = np.random.default_rng(5).integers(0, 256, (20, 24, 3), dtype=np.uint8)
+    from texeditor.recipe.exemplars import exemplar_ref
+    journal = Journal(tmp_path)
+    journal.reset(history.applied, history.document.dpjs, source="/tmp/w.texture",
+                  exemplars={exemplar_ref(photo): photo})
+    return history, journal, {exemplar_ref(photo): photo}
+
+
+def _fresh_size(tmp_path, history, photos=None) -> int:
+    """The size of a journal of this log written afresh (a save's reset)."""
+    journal = Journal(tmp_path / "fresh")
+    journal.reset(history.applied, history.document.dpjs, source="/tmp/w.texture",
+                  exemplars=photos)
+    size = journal.path.stat().st_size
+    journal.discard()
+    return size
+
+
+def test_a_long_journal_is_written_afresh_and_recovers_the_same(tmp_path, monkeypatch):
+    """Undo and redo, thumbnails: a session's churn grows a journal without end; written
+    afresh it stays within twice the size of its log's, and recovers the same."""
+    monkeypatch.setattr(journal_module, "COMPACT_BYTES", 6000)
+    history, journal, photos = _journal_with_photo(tmp_path)
+    started = recover(journal.path).started
+    sizes = [journal.path.stat().st_size]
+    for k, action in enumerate(_edits(40) + [SetLevels(1, 1, 4, 4, 2)] * 500):
+        history.apply(action)
+        journal.sync(history.applied, history.document.dpjs, photos)
+        if k >= 40:                                 # then undo, as a hesitating painter does
+            history.undo()
+            journal.sync(history.applied, history.document.dpjs, photos)
+        if k % 50 == 0:
+            journal.thumbnail(np.full((9, 9), k // 50, np.uint8))
+        sizes.append(journal.path.stat().st_size)
+    written = sum(np.diff(sizes).clip(0))
+    assert sizes[-1] <= 2 * _fresh_size(tmp_path, history, photos) + 400 < written / 3
+    assert orphans(tmp_path) == [] and not list(tmp_path.glob("*" + NEW_SUFFIX))  # locked, tidy
+    got = recover(journal.path)
+    assert got.actions == history.applied and got.source == "/tmp/w.texture"
+    assert got.started == started and got.changes == 40 + 2 * 500   # what it held, carried
+    assert set(got.dpjs) == set(history.document.dpjs) and set(got.exemplars) == set(photos)
+    assert np.array_equal(got.thumbnail, np.full((9, 9), 10, np.uint8))
+    assert np.array_equal(replay(got.actions, got.dpjs).levels, history.document.levels)
+    history.undo()                              # and the journal goes on after it
+    journal.sync(history.applied, history.document.dpjs, photos)
+    assert recover(journal.path).actions == history.applied
+
+
+def test_a_process_killed_after_its_journal_was_written_afresh_leaves_it_whole(tmp_path):
+    pid = os.fork()
+    if pid == 0:
+        try:
+            journal_module.COMPACT_BYTES = 3000
+            history = _history()
+            journal = Journal(tmp_path)
+            journal.reset(history.applied, history.document.dpjs)
+            for action in _edits(120):
+                history.apply(action)
+                journal.sync(history.applied, history.document.dpjs)
+            os.kill(os.getpid(), signal.SIGKILL)
+        finally:
+            os._exit(1)
+    os.waitpid(pid, 0)
+    [path] = orphans(tmp_path)
+    expected = _history()
+    for action in _edits(120):
+        expected.apply(action)
+    got = recover(path)
+    assert got.actions == expected.applied and got.changes == 120
+    assert len(path.read_bytes().splitlines()) < 60        # written afresh: fewer records
+
+
+def test_a_failed_rewrite_leaves_the_journal_as_it_was(tmp_path, monkeypatch):
+    monkeypatch.setattr(journal_module, "COMPACT_BYTES", 3000)
+    history = _history()
+    journal = Journal(tmp_path)
+    journal.reset(history.applied, history.document.dpjs)
+
+    def full_disk(src, dst):
+        raise OSError(28, "No space left on device")
+    monkeypatch.setattr(journal_module.os, "replace", full_disk)
+    for action in _edits(60):
+        history.apply(action)
+        journal.sync(history.applied, history.document.dpjs)
+    assert not list(tmp_path.glob("*" + NEW_SUFFIX))
+    got = recover(journal.path)
+    assert got.actions == history.applied and got.changes == 60
+
+
+def test_what_a_rewrite_cut_short_left_is_swept_only_once_its_writer_is_dead(tmp_path):
+    dead = tmp_path / ("1-dead" + NEW_SUFFIX)
+    dead.write_bytes(b'{"kind":"start"')
+    holder = journal_module._locked(tmp_path / ("2-live" + NEW_SUFFIX), "wb")   # a live one:
+    journal = Journal(tmp_path)              # a window opens its journal     locked by its writer
+    assert not dead.exists() and (tmp_path / ("2-live" + NEW_SUFFIX)).exists()
+    assert orphans(tmp_path) == []           # never taken for a journal
+    holder.close()
+    journal.discard()

@@ -13,6 +13,12 @@ step k keeps k-1 and appends the rest), and ``thumbnail`` records (base64 of a P
 of the picture as the window showed it, at most THUMB_SIDE a side; the last one is shown when the
 work is offered back, and a damaged one is passed over: it holds no work). A line cut short by
 the crash is ignored.
+
+A journal grows with every change and is read whole at recovery, within MAX_JOURNAL_BYTES: one
+past COMPACT_BYTES (and twice its size when last written afresh) is written afresh — the log as
+it is now, its DPJs and photos, the last thumbnail — into a locked ``.journal-new`` file that
+then replaces it, so its path always names a complete, locked journal; the start record then
+carries the number of ``changes`` the records it replaced had made.
 """
 
 from __future__ import annotations
@@ -52,6 +58,10 @@ THUMB_SIDE = 64                     # a thumbnail: the picture's middle, at most
 THUMB_CROP = 128                    # ... from a crop this wide, every other point (the texture
                                     # at half its size: its grain still shows)
 MAX_THUMB_BYTES = 64 * 2**10
+COMPACT_BYTES = 32 * 2**20            # a journal past this is written afresh (a day's painting
+                                      # without a save, or edits of early steps of a long log,
+                                      # each appending the rest of it, passed the read limit)
+NEW_SUFFIX = ".journal-new"           # a journal being written afresh (never an orphan)
 
 
 def journal_dir() -> Path:
@@ -64,21 +74,27 @@ class Journal:
     def __init__(self, folder: Path | None = None):
         self.folder = Path(folder) if folder is not None else journal_dir()
         self.folder.mkdir(parents=True, exist_ok=True)
+        _sweep_rewrites(self.folder)
         self.path = self.folder / f"{os.getpid()}-{uuid.uuid4().hex[:12]}{SUFFIX}"
-        self._file = open(self.path, "ab")
-        if fcntl is not None:     # held while this process lives: orphans() tells the dead
-            fcntl.flock(self._file.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        self._file = _locked(self.path, "ab")
         self._logged: tuple = ()
         self._refs: set[str] = set()
+        self._start: dict = {}
+        self._logs = 0            # log records since the start record
+        self._thumb = None        # the last thumbnail record
+        self._afresh = 0          # the size when last written afresh
 
     def reset(self, actions, dpjs: dict, *, source=None, exemplars=None) -> None:
         """Start afresh from this log (a new or just-saved document): the old records go."""
         self._file.seek(0)
         self._file.truncate()
-        self._logged, self._refs = (), set()
-        self._write({"kind": "start", "format": FORMAT, "time": time.time(),
-                     "source": None if source is None else str(source)}, flush=False)
+        self._logged, self._refs, self._logs, self._thumb = (), set(), 0, None
+        self._start = {"kind": "start", "format": FORMAT, "time": time.time(),
+                       "source": None if source is None else str(source)}
+        self._write(self._start, flush=False)
+        self._afresh = MAX_JOURNAL_BYTES          # (not written afresh again at once)
         self.sync(actions, dpjs, exemplars)
+        self._afresh = self._file.tell()
 
     def sync(self, actions, dpjs: dict, exemplars=None) -> None:
         """Record how the log changed since the last call (nothing if it did not), with the
@@ -91,6 +107,16 @@ class Journal:
             if old != new:
                 break
             keep += 1
+        self._write_sources(dpjs, exemplars)
+        self._write({"kind": "log", "keep": keep,
+                     "append": [a.to_json() for a in actions[keep:]]})
+        self._logged = actions
+        self._logs += 1
+        if self._start and self._file.tell() > max(COMPACT_BYTES, 2 * self._afresh):
+            self._rewrite(dpjs, exemplars)
+
+    def _write_sources(self, dpjs: dict, exemplars) -> None:
+        """The DPJs and exemplar photos not recorded yet (not flushed: the log record is)."""
         for ref, dpj in dpjs.items():
             if ref not in self._refs:
                 self._write({"kind": "dpj", "ref": ref,
@@ -103,16 +129,41 @@ class Journal:
                              "png": base64.b64encode(exemplar_png(image)).decode("ascii")},
                             flush=False)
                 self._refs.add(ref)
-        self._write({"kind": "log", "keep": keep,
-                     "append": [a.to_json() for a in actions[keep:]]})
-        self._logged = actions
+
+    def _rewrite(self, dpjs: dict, exemplars) -> None:
+        """Write this journal afresh (see the module's note): the new file is complete, flushed
+        and locked before it takes the journal's name. If that fails, the journal goes on as
+        it was."""
+        new = self.path.with_name(self.path.stem + NEW_SUFFIX)
+        old, logged, refs = self._file, self._logged, self._refs
+        try:
+            self._file = _locked(new, "wb")
+            self._refs = set()
+            changes = _changes(self._start) + self._logs - 1
+            self._write({**self._start, "changes": changes}, flush=False)
+            self._write_sources(dpjs, exemplars)
+            self._write({"kind": "log", "keep": 0, "append": [a.to_json() for a in logged]},
+                        flush=self._thumb is None)
+            if self._thumb is not None:
+                self._write(self._thumb)
+            os.replace(new, self.path)
+        except OSError:
+            if self._file is not old:
+                self._file.close()
+            self._file, self._refs = old, refs
+            new.unlink(missing_ok=True)
+            return
+        old.close()
+        self._start, self._logs, self._afresh = {**self._start, "changes": changes}, 1, \
+            self._file.tell()
 
     def thumbnail(self, picture) -> None:
         """Record what the document looks like now (``picture``: uint8 (H, W) or (H, W, 3), as
         the window shows it): the one offered back with the work is the last recorded."""
         image = thumbnail_of(picture)
-        self._write({"kind": "thumbnail",
-                     "png": base64.b64encode(exemplar_png(image)).decode("ascii")})
+        self._thumb = {"kind": "thumbnail",
+                       "png": base64.b64encode(exemplar_png(image)).decode("ascii")}
+        self._write(self._thumb)
 
     def discard(self) -> None:
         """The document was saved and closed, or dropped on purpose: nothing to recover."""
@@ -157,6 +208,34 @@ def thumbnail_of(picture) -> np.ndarray:
         if image.shape[axis] < MIN_SIDE:
             image = np.repeat(image, MIN_SIDE, axis=axis)
     return np.ascontiguousarray(image)
+
+
+def _locked(path: Path, mode: str):
+    """``path`` opened and locked for as long as this process lives (orphans() tells the
+    dead by the lock)."""
+    f = open(path, mode)
+    if fcntl is not None:
+        try:
+            fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            f.close()
+            raise
+    return f
+
+
+def _sweep_rewrites(folder: Path) -> None:
+    """Remove what a process that died while writing its journal afresh left (its journal
+    itself was still whole under its own name)."""
+    for path in folder.glob(f"*{NEW_SUFFIX}"):
+        if not _alive(path):
+            path.unlink(missing_ok=True)
+
+
+def _changes(start: dict) -> int:
+    """The changes a journal written afresh carries over (0 when none or damaged)."""
+    value = start.get("changes", 0)
+    return value if isinstance(value, int) and not isinstance(value, bool) \
+        and 0 <= value <= MAX_ACTIONS * 2**10 else 0
 
 
 def orphans(folder: Path | None = None) -> list[Path]:
@@ -227,7 +306,7 @@ def recover(path: Path) -> Recovered:
         logs += record.get("kind") == "log"
     source = start.get("source") if isinstance(start.get("source"), str) else None
     return Recovered(path, tuple(actions), dpjs, source, _start_time(start.get("time")),
-                     max(0, logs - 1), photos, thumb)
+                     _changes(start) + max(0, logs - 1), photos, thumb)
 
 
 def _thumbnail(data, before):
