@@ -78,7 +78,7 @@ class Journal:
         self.path = self.folder / f"{os.getpid()}-{uuid.uuid4().hex[:12]}{SUFFIX}"
         self._file = _locked(self.path, "ab")
         self._logged: tuple = ()
-        self._refs: set[str] = set()
+        self._refs: dict = {}     # ref → where its record lies in the file (offset, length)
         self._start: dict = {}
         self._logs = 0            # log records since the start record
         self._thumb = None        # the last thumbnail record
@@ -88,7 +88,7 @@ class Journal:
         """Start afresh from this log (a new or just-saved document): the old records go."""
         self._file.seek(0)
         self._file.truncate()
-        self._logged, self._refs, self._logs, self._thumb = (), set(), 0, None
+        self._logged, self._refs, self._logs, self._thumb = (), {}, 0, None
         self._start = {"kind": "start", "format": FORMAT, "time": time.time(),
                        "source": None if source is None else str(source)}
         self._write(self._start, flush=False)
@@ -115,20 +115,27 @@ class Journal:
         if self._start and self._file.tell() > max(COMPACT_BYTES, 2 * self._afresh):
             self._rewrite(dpjs, exemplars)
 
-    def _write_sources(self, dpjs: dict, exemplars) -> None:
-        """The DPJs and exemplar photos not recorded yet (not flushed: the log record is)."""
-        for ref, dpj in dpjs.items():
-            if ref not in self._refs:
-                self._write({"kind": "dpj", "ref": ref,
-                             "data": base64.b64encode(dpj.to_bytes()).decode("ascii")},
-                            flush=False)
-                self._refs.add(ref)
-        for ref, image in (exemplars or {}).items():
-            if ref not in self._refs:
-                self._write({"kind": "exemplar", "ref": ref,
-                             "png": base64.b64encode(exemplar_png(image)).decode("ascii")},
-                            flush=False)
-                self._refs.add(ref)
+    def _write_sources(self, dpjs: dict, exemplars, before=None) -> None:
+        """The DPJs and exemplar photos not recorded yet (not flushed: the log record is);
+        ``before``: (the file, {ref: its record's place}) they are copied from, as written
+        (encoding five 1024² photos again took 0.7 s)."""
+        sources = [(ref, "dpj", dpj) for ref, dpj in dpjs.items()]
+        sources += [(ref, "exemplar", image) for ref, image in (exemplars or {}).items()]
+        for ref, kind, source in sources:
+            if ref in self._refs:
+                continue
+            line = _copied(before, ref)
+            if line is not None:
+                self._refs[ref] = self._write_line(line)
+            elif kind == "dpj":
+                self._refs[ref] = self._write(
+                    {"kind": "dpj", "ref": ref,
+                     "data": base64.b64encode(source.to_bytes()).decode("ascii")}, flush=False)
+            else:
+                self._refs[ref] = self._write(
+                    {"kind": "exemplar", "ref": ref,
+                     "png": base64.b64encode(exemplar_png(source)).decode("ascii")},
+                    flush=False)
 
     def _rewrite(self, dpjs: dict, exemplars) -> None:
         """Write this journal afresh (see the module's note): the new file is complete, flushed
@@ -137,15 +144,17 @@ class Journal:
         new = self.path.with_name(self.path.stem + NEW_SUFFIX)
         old, logged, refs = self._file, self._logged, self._refs
         try:
-            self._file = _locked(new, "wb")
-            self._refs = set()
-            changes = _changes(self._start) + self._logs - 1
-            self._write({**self._start, "changes": changes}, flush=False)
-            self._write_sources(dpjs, exemplars)
-            self._write({"kind": "log", "keep": 0, "append": [a.to_json() for a in logged]},
-                        flush=self._thumb is None)
-            if self._thumb is not None:
-                self._write(self._thumb)
+            with open(self.path, "rb") as written:
+                self._file = _locked(new, "wb")
+                self._refs = {}
+                changes = _changes(self._start) + self._logs - 1
+                self._write({**self._start, "changes": changes}, flush=False)
+                self._write_sources(dpjs, exemplars, (written, refs))
+                self._write({"kind": "log", "keep": 0,
+                             "append": [a.to_json() for a in logged]},
+                            flush=self._thumb is None)
+                if self._thumb is not None:
+                    self._write(self._thumb)
             os.replace(new, self.path)
         except OSError:
             if self._file is not old:
@@ -171,11 +180,18 @@ class Journal:
             self._file.close()
         self.path.unlink(missing_ok=True)
 
-    def _write(self, record: dict, *, flush: bool = True) -> None:
-        self._file.write(json.dumps(record, separators=(",", ":")).encode() + b"\n")
+    def _write(self, record: dict, *, flush: bool = True) -> tuple[int, int]:
+        """Append one record; where its line lies (offset, length)."""
+        return self._write_line(json.dumps(record, separators=(",", ":")).encode() + b"\n",
+                                flush=flush)
+
+    def _write_line(self, line: bytes, *, flush: bool = False) -> tuple[int, int]:
+        start = self._file.tell()
+        self._file.write(line)
         if flush:
             self._file.flush()
             os.fsync(self._file.fileno())
+        return start, len(line)
 
 
 @dataclass(frozen=True)
@@ -208,6 +224,17 @@ def thumbnail_of(picture) -> np.ndarray:
         if image.shape[axis] < MIN_SIDE:
             image = np.repeat(image, MIN_SIDE, axis=axis)
     return np.ascontiguousarray(image)
+
+
+def _copied(before, ref: str) -> bytes | None:
+    """The record of ``ref`` in the journal being written afresh, as it lies there (None: not
+    there, or not where it was noted)."""
+    if before is None or ref not in before[1]:
+        return None
+    start, size = before[1][ref]
+    line = os.pread(before[0].fileno(), size, start)
+    whole = len(line) == size and line.endswith(b"\n")
+    return line if whole and f'"ref":"{ref}"'.encode() in line[:200] else None
 
 
 def _locked(path: Path, mode: str):
