@@ -274,3 +274,24 @@ def test_a_rewrite_copies_the_photos_and_dpjs_as_they_were_written(tmp_path, mon
     [(ref, photo)] = photos.items()
     assert np.array_equal(got.exemplars[ref], photo) and set(got.dpjs) == set(
         history.document.dpjs)
+
+
+def test_a_save_starts_the_journal_afresh_copying_what_it_still_uses(tmp_path, monkeypatch):
+    history, journal, photos = _journal_with_photo(tmp_path)
+    other = np.zeros((8, 8), np.uint8)
+    from texeditor.recipe.exemplars import exemplar_ref
+    journal.sync(history.applied, history.document.dpjs, {**photos, exemplar_ref(other): other})
+
+    def encoded_again(*args):
+        raise AssertionError("encoded again")
+    monkeypatch.setattr(journal_module, "exemplar_png", encoded_again)
+    monkeypatch.setattr(journal_module.DPJ, "to_bytes", encoded_again)
+    history.apply(_edits(1)[0])
+    journal.reset(history.applied, history.document.dpjs, source="/tmp/saved.texture",
+                  exemplars=photos)              # saved: the other photo is no longer used
+    monkeypatch.undo()
+    got = recover(journal.path)
+    assert got.actions == history.applied and got.changes == 0
+    assert got.source == "/tmp/saved.texture"
+    assert set(got.exemplars) == set(photos) and set(got.dpjs) == set(history.document.dpjs)
+    assert len(journal.path.read_bytes().splitlines()) == 4     # start, photo, dpj, log

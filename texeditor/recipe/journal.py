@@ -85,13 +85,20 @@ class Journal:
         self._afresh = 0          # the size when last written afresh
 
     def reset(self, actions, dpjs: dict, *, source=None, exemplars=None) -> None:
-        """Start afresh from this log (a new or just-saved document): the old records go."""
+        """Start afresh from this log (a new or just-saved document): the old records go, but
+        for the DPJs and photos still used, copied as they were written."""
+        wanted = set(dpjs) | set(exemplars or {})
+        with open(self.path, "rb") as written:
+            kept = {ref: line for ref in wanted
+                    if (line := _copied((written, self._refs), ref)) is not None}
         self._file.seek(0)
         self._file.truncate()
         self._logged, self._refs, self._logs, self._thumb = (), {}, 0, None
         self._start = {"kind": "start", "format": FORMAT, "time": time.time(),
                        "source": None if source is None else str(source)}
         self._write(self._start, flush=False)
+        for ref, line in kept.items():
+            self._refs[ref] = self._write_line(line)
         self._afresh = MAX_JOURNAL_BYTES          # (not written afresh again at once)
         self.sync(actions, dpjs, exemplars)
         self._afresh = self._file.tell()
