@@ -295,3 +295,18 @@ def test_a_save_starts_the_journal_afresh_copying_what_it_still_uses(tmp_path, m
     assert got.source == "/tmp/saved.texture"
     assert set(got.exemplars) == set(photos) and set(got.dpjs) == set(history.document.dpjs)
     assert len(journal.path.read_bytes().splitlines()) == 4     # start, photo, dpj, log
+
+
+def test_a_damaged_changes_count_counts_as_none(tmp_path):
+    import json
+    history = _history()
+    journal = Journal(tmp_path)
+    journal.reset(history.applied, history.document.dpjs)
+    lines = journal.path.read_bytes().splitlines()
+    journal.discard()
+    for value, expected in (("7", 0), (-5, 0), (True, 0), (10**30, 0), (1.5, 0), (7, 7)):
+        start = {**json.loads(lines[0]), "changes": value}
+        path = tmp_path / "damaged.journal"
+        path.write_bytes(b"\n".join([json.dumps(start).encode(), *lines[1:]]) + b"\n")
+        got = recover(path)
+        assert got.changes == expected and got.actions == history.applied
