@@ -38,11 +38,13 @@ def test_a_live_journal_is_not_an_orphan_and_discard_removes_it(tmp_path):
     assert not journal.path.exists()
 
 
-def test_a_killed_process_leaves_an_orphan_that_recovers_exactly_n_actions(tmp_path):
-    n = 7
+def _killed_after(tmp_path, n: int, compact_bytes: int | None = None):
+    """A forked process journals ``n`` edits and dies hard; the orphan it leaves."""
     pid = os.fork()
     if pid == 0:                     # the child: work, journal each step, then die hard
         try:
+            if compact_bytes is not None:
+                journal_module.COMPACT_BYTES = compact_bytes
             history = _history()
             journal = Journal(tmp_path)
             journal.reset(history.applied, history.document.dpjs, source="/tmp/a.texture")
@@ -54,6 +56,12 @@ def test_a_killed_process_leaves_an_orphan_that_recovers_exactly_n_actions(tmp_p
             os._exit(1)
     os.waitpid(pid, 0)
     [path] = orphans(tmp_path)
+    return path
+
+
+def test_a_killed_process_leaves_an_orphan_that_recovers_exactly_n_actions(tmp_path):
+    n = 7
+    path = _killed_after(tmp_path, n)
     got = recover(path)
     expected = _history()
     for action in _edits(n):
@@ -203,21 +211,7 @@ def test_a_long_journal_is_written_afresh_and_recovers_the_same(tmp_path, monkey
 
 
 def test_a_process_killed_after_its_journal_was_written_afresh_leaves_it_whole(tmp_path):
-    pid = os.fork()
-    if pid == 0:
-        try:
-            journal_module.COMPACT_BYTES = 3000
-            history = _history()
-            journal = Journal(tmp_path)
-            journal.reset(history.applied, history.document.dpjs)
-            for action in _edits(120):
-                history.apply(action)
-                journal.sync(history.applied, history.document.dpjs)
-            os.kill(os.getpid(), signal.SIGKILL)
-        finally:
-            os._exit(1)
-    os.waitpid(pid, 0)
-    [path] = orphans(tmp_path)
+    path = _killed_after(tmp_path, 120, compact_bytes=3000)
     expected = _history()
     for action in _edits(120):
         expected.apply(action)
@@ -254,15 +248,20 @@ def test_what_a_rewrite_cut_short_left_is_swept_only_once_its_writer_is_dead(tmp
     journal.discard()
 
 
+def _forbid_encoding(monkeypatch) -> None:
+    """From now on, a DPJ or photo encoded again (not copied as written) fails the test."""
+    def encoded_again(*args):
+        raise AssertionError("a DPJ or photo was encoded again")
+    monkeypatch.setattr(journal_module, "exemplar_png", encoded_again)
+    monkeypatch.setattr(journal_module.DPJ, "to_bytes", encoded_again)
+
+
 def test_a_rewrite_copies_the_photos_and_dpjs_as_they_were_written(tmp_path, monkeypatch):
     """Encoding five 1024² photos again took 0.7 s on the GUI thread: a rewrite copies their
     records instead (and the journal still recovers them)."""
     history, journal, photos = _journal_with_photo(tmp_path)
 
-    def encoded_again(*args):
-        raise AssertionError("a photo was encoded again")
-    monkeypatch.setattr(journal_module, "exemplar_png", encoded_again)
-    monkeypatch.setattr(journal_module.DPJ, "to_bytes", encoded_again)
+    _forbid_encoding(monkeypatch)
     monkeypatch.setattr(journal_module, "COMPACT_BYTES", 1000)
     for action in _edits(150):
         history.apply(action)
@@ -282,10 +281,7 @@ def test_a_save_starts_the_journal_afresh_copying_what_it_still_uses(tmp_path, m
     from texeditor.recipe.exemplars import exemplar_ref
     journal.sync(history.applied, history.document.dpjs, {**photos, exemplar_ref(other): other})
 
-    def encoded_again(*args):
-        raise AssertionError("encoded again")
-    monkeypatch.setattr(journal_module, "exemplar_png", encoded_again)
-    monkeypatch.setattr(journal_module.DPJ, "to_bytes", encoded_again)
+    _forbid_encoding(monkeypatch)
     history.apply(_edits(1)[0])
     journal.reset(history.applied, history.document.dpjs, source="/tmp/saved.texture",
                   exemplars=photos)              # saved: the other photo is no longer used
