@@ -239,7 +239,8 @@ def _copied(before, ref: str) -> bytes | None:
     if before is None or ref not in before[1]:
         return None
     start, size = before[1][ref]
-    line = os.pread(before[0].fileno(), size, start)
+    before[0].seek(start)
+    line = before[0].read(size)
     whole = len(line) == size and line.endswith(b"\n")
     return line if whole and f'"ref":"{ref}"'.encode() in line[:200] else None
 
