@@ -708,11 +708,12 @@ def _plain_weights(tb, toff, lo, hi, weight):
 
 
 @njit(cache=True, nogil=True)
-def _keep_fixed(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode):
-    """Zero the weight of entries disagreeing with the fixed points (outside [c0, c1));
-    ``g`` is the base of the bottom codes (a point's parent, if any, is not compared). The
-    fixed points are the window's first p and last s: an entry agrees when its code's first
-    p digits and last s digits are theirs (a division each, not one a point)."""
+def _fixed_weights(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode, plain, big_r, head, weight):
+    """T_n(e) as _plain_weights (``plain``) or _chain_weights give it, but 0 for the entries
+    disagreeing with the fixed points (outside [c0, c1)) — one pass, not a second to zero
+    them. ``g`` is the base of the bottom codes (a point's parent, if any, is not compared).
+    The fixed points are the window's first p and last s: an entry agrees when its code's
+    first p digits and last s digits are theirs (a division each, not one a point)."""
     p = min(u, max(0, c0 - n))
     s = min(u - p, max(0, n + u - c1))
     first = last = 0
@@ -725,8 +726,13 @@ def _keep_fixed(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode):
     for e in range(lo, hi):
         code = bcode[e]
         if code // cut != first or code % tail != last:
-            tb[toff + e - lo] = 0.0
-        total += tb[toff + e - lo]
+            x = 0.0
+        elif plain:
+            x = weight[e]
+        else:
+            x = big_r[head[e]] * weight[e]
+        tb[toff + e - lo] = x
+        total += x
     return total
 
 
@@ -785,14 +791,15 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below
             if toff + hi - lo > len(tb):
                 pos[HI, n] = toff + hi - lo  # the room needed
                 return GROW, n, repairs
-            if n == 0 or restart:
-                total = _plain_weights(tb, toff, lo, hi, q)
-            elif n == n_first:
-                total = _plain_weights(tb, toff, lo, hi, m)
+            plain = n == 0 or restart or n == n_first
+            weight = q if n == 0 or restart else m
+            if n < c0 or n + u > c1:
+                total = _fixed_weights(out, r, n, c0, c1, gx, u, tb, toff, lo, hi, bcode,
+                                       plain, big_r, head, weight)
+            elif plain:
+                total = _plain_weights(tb, toff, lo, hi, weight)
             else:
                 total = _chain_weights(tb, toff, lo, hi, big_r, head, m)
-            if n < c0 or n + u > c1:
-                total = _keep_fixed(out, r, n, c0, c1, gx, u, tb, toff, lo, hi, bcode)
             if below > 0 and n != lenient_at and n < below_to:
                 total = _keep_below(out, r, n, below, tb, toff, lo, hi, bcode, t)
             if total > 0.0:
@@ -844,7 +851,7 @@ def _backward(out, r, n_last, c0, t, work, state):
     pos, tb = work.pos, work.tb[0]
     gu1 = g ** (u - 1)
     code = bcode[_pick(tb, pos[TOFF, n_last], pos[LO, n_last], pos[HI, n_last], state)]
-    for j in range(u - 1, -1, -1):  # fixed points among these agree: _keep_fixed saw to it
+    for j in range(u - 1, -1, -1):  # fixed points among these agree: _fixed_weights saw to it
         out[r, n_last + j] = out[r, n_last + j] // parents * g + code % g
         code //= g
     for n in range(n_last - 1, c0 - 1, -1):
