@@ -589,8 +589,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
     def journal_thumbnail(self) -> None:
         """Record in the journal what the canvas shows (the recovery dialog's picture of the
         work): once the edits pause, so a brush stroke does not write one per dab."""
-        crop = self.canvas.shown_crop(THUMB_CROP)
-        if not self._journal or crop is None:
+        crop = self.canvas.shown_crop(THUMB_CROP) if self._journal else None
+        if crop is None:
             return
         try:
             self._journal.thumbnail(crop)
