@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import skimage as ski
 
-from texeditor import DPJ, synthesize
+from texeditor import DPJ, quantize, synthesize
 from texeditor.errors import InputError
 from texeditor.markov import multiscale
 from texeditor.markov.multiscale import SCALES_CLOSURE, SEAMS, estimate_scales, synthesize_scales
@@ -451,3 +451,45 @@ def test_the_torus_a_tileable_draw_fills_repeats_its_first_rows_and_columns(shap
         for columns in range(4):
             assert np.array_equal(_torus(levels, rows, columns),
                                   np.pad(levels, ((0, rows), (0, columns)), mode="wrap"))
+
+
+@pytest.mark.parametrize("kind", ["photo", "given parents"])
+def test_the_rows_below_weigh_each_entry_by_the_windows_they_end(kind):
+    """A seam closure weighs a stretch's entries by the fixed rows under it (_keep_below reads
+    each row's window key once a position): the product of the transitions m of the windows
+    ending in them, read one window at a time (_window_m), 0 where the DPJ lacks one."""
+    from texeditor.markov import synthesis as S
+    if kind == "photo":
+        dpj, gp = photo_dpj("brick", (3, 3)), 1
+        q = quantize(ski.data.brick(), 4, "lloyd").levels
+    else:
+        model, levels = estimate_scales(ski.data.gravel()[:128, :128], scales=2)
+        dpj = model.dpjs[1]
+        gp = multiscale.parent_levels(model.dpjs, 1)
+        q = levels[1] + dpj.levels // gp * multiscale.codes_for(dpj, levels[0], levels[1].shape)
+    t = S._tables(dpj, gp)
+    rng = np.random.default_rng(3)
+    bcode, start, end = t.ient[S.BCODE], t.ctx[S.START], t.ctx[S.END]
+    checked = kept = 0
+    for _ in range(300):
+        if rng.random() < 0.7:        # mostly the photo's windows, which the DPJ has
+            y, x = rng.integers(0, q.shape[0] - 8), rng.integers(0, q.shape[1] - 9)
+            out = q[y:y + 8, x:x + 9].astype(np.uint8)
+        else:
+            out = (rng.integers(0, gp, (8, 9)) * t.gx
+                   + rng.integers(0, t.gx, (8, 9))).astype(np.uint8)
+        r, n, below = 3, int(rng.integers(0, 9 - t.u + 1)), t.v - 1
+        ci = int(rng.integers(t.lvl[S.LEN, 0]))
+        lo, hi = int(start[ci]), int(end[ci])
+        tb = rng.random(hi - lo + 5)
+        tb[rng.random(len(tb)) < 0.2] = 0.0
+        expected = tb.copy()
+        for e in range(lo, hi):
+            for k in range(1, below + 1):
+                expected[2 + e - lo] *= S._window_m(out, r + k, n, r, bcode[e], t)
+        total = S._keep_below(out, r, n, below, tb, 2, lo, hi, bcode, t)
+        assert np.array_equal(tb, expected)
+        assert total == sum(expected[2 + e - lo] for e in range(lo, hi))
+        checked += hi - lo
+        kept += np.count_nonzero(expected[2:2 + hi - lo])
+    assert checked > 1000 and 0 < kept < checked

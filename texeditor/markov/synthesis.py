@@ -1160,16 +1160,42 @@ def _keep_below(out, r, n, below, tb, toff, lo, hi, bcode, t):
     """Weigh each entry by how the ``below`` fixed rows under row r continue from it: the
     horizontal transition m of each window ending in one of them (0: not in the DPJ). The
     rows below are drawn as chains of such transitions, so this is their likelihood but for
-    its normaliser over the row, which depends on the whole row and is left out."""
+    its normaliser over the row, which depends on the whole row and is left out.
+    A row below at a time: its window's key but for row r's points, and its bottom, are the
+    same for every entry (_window_m's figures, read once)."""
+    g, gx, gp, u, v = t.levels, t.gx, t.gp, t.u, t.v
+    direct, code, start, end = t.direct, t.ctx[CODE], t.ctx[START], t.ctx[END]
+    rot, m = t.ient[ROT], t.fent[M]
+    off0, len0, amod = t.lvl[OFF, 0], t.lvl[LEN, 0], t.amod
+    gu1 = gx ** (u - 1)
+    for k in range(1, below + 1):
+        base = 0
+        for i in range(r + k - v + 1, r + k):
+            for j in range(u):
+                base = base * g + (0 if i == r else out[i, n + j] % amod)
+        bottom = 0
+        for j in range(u):
+            if gp > 1:
+                base = base * gp + out[r + k, n + j] // gx
+            bottom = bottom * gx + out[r + k, n + j] % gx
+        turned = bottom % gu1 * gx + bottom // gu1
+        shift = g ** ((k - 1) * u) * (gp ** u if gp > 1 else 1)   # row r's place in the key
+        for e in range(lo, hi):
+            x = tb[toff + e - lo]
+            if x == 0.0:
+                continue
+            own = 0
+            for j in range(u):
+                own = own * g + bcode[e] // gx ** (u - 1 - j) % gx
+            key = base + own * shift
+            ci = direct[key] if len(direct) else _find(code, off0, len0, key)
+            f = -1
+            if ci >= 0:
+                f = _find(rot, start[ci], end[ci] - start[ci], turned)
+            tb[toff + e - lo] = x * m[f] if f >= 0 else 0.0
     total = 0.0
     for e in range(lo, hi):
-        x = tb[toff + e - lo]
-        for k in range(1, below + 1):
-            if x == 0.0:
-                break
-            x *= _window_m(out, r + k, n, r, bcode[e], t)
-        tb[toff + e - lo] = x
-        total += x
+        total += tb[toff + e - lo]
     return total
 
 
