@@ -666,7 +666,7 @@ def _context(out, r, n, u, rows, g, gx, gp, amod):
     key = 0
     for i in range(r - rows, r):
         for j in range(n, n + u):
-            key = key * g + out[i, j] % amod
+            key = key * g + (out[i, j] if amod == 256 else out[i, j] % amod)
     if gp > 1:
         for j in range(n, n + u):
             key = key * gp + out[r, j] // gx
@@ -712,8 +712,9 @@ def _fixed_weights(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode, plain, big_
     """T_n(e) as _plain_weights (``plain``) or _chain_weights give it, but 0 for the entries
     disagreeing with the fixed points (outside [c0, c1)) — one pass, not a second to zero
     them. ``g`` is the base of the bottom codes (a point's parent, if any, is not compared).
-    The fixed points are the window's first p and last s: an entry agrees when its code's
-    first p digits and last s digits are theirs (a division each, not one a point)."""
+    The fixed points are the window's first p and last s: an entry agrees when its code lies
+    in the range of its first p digits' and its last s digits are theirs (at most a division,
+    not one a point)."""
     p = min(u, max(0, c0 - n))
     s = min(u - p, max(0, n + u - c1))
     first = last = 0
@@ -722,10 +723,11 @@ def _fixed_weights(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode, plain, big_
     for j in range(u - s, u):
         last = last * g + out[r, n + j] % g
     cut, tail = g ** (u - p), g ** s
+    a, b = first * cut, (first + 1) * cut      # the codes whose first p digits are first's
     total = 0.0
     for e in range(lo, hi):
         code = bcode[e]
-        if code // cut != first or code % tail != last:
+        if code < a or code >= b or (s > 0 and code % tail != last):
             x = 0.0
         elif plain:
             x = weight[e]
