@@ -97,6 +97,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self._clean_log: tuple = ()
         self._unsubscribe = None
         self._journal = None       # this window's crash journal (None: not yet; False: failed)
+        self._broken_journal = None   # the one that failed, kept locked (see _journal_failed)
         self._thumb_timer = QtCore.QTimer(self)     # its thumbnail, once the edits pause
         self._thumb_timer.setSingleShot(True)
         self._thumb_timer.setInterval(THUMB_PAUSE_MS)
@@ -567,12 +568,14 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
     # -- crash journal ------------------------------------------------------------------------------
     def journal_sync(self, *, reset: bool = False) -> None:
         """Append the log's change to this window's crash journal (reset: after open or save).
-        A journal that cannot be written is given up with a warning, never an error."""
-        if self.history is None or self._journal is False:
+        A journal that cannot be written is given up with a warning, never an error; the next
+        open or save (the disk took a file again) starts a new one."""
+        if self.history is None or (self._journal is False and not reset):
             return
         from texeditor.recipe.journal import Journal
         try:
-            if self._journal is None:
+            if not self._journal:
+                self._forget_broken_journal()
                 self._journal = Journal()
                 reset = True
             if reset:
@@ -598,14 +601,29 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
             self._journal_failed(exc)
 
     def _journal_failed(self, exc: OSError) -> None:
+        """Crash protection off until the next open or save. The journal that failed stays
+        open and locked, so no other window offers it as a crashed one while this one lives;
+        if this one dies, what it holds is offered back."""
+        if self._journal:
+            self._broken_journal = self._journal
         self._journal = False
-        self.statusBar().showMessage(f"Crash protection is off: cannot write the journal "
-                                     f"({exc.strerror or exc}).", 10000)
+        self._thumb_timer.stop()
+        self.statusBar().showMessage(f"Crash protection is off until the next save: cannot write "
+                                     f"the journal ({exc.strerror or exc}).", 10000)
+
+    def _forget_broken_journal(self) -> None:
+        if self._broken_journal is not None:
+            try:
+                self._broken_journal.discard()
+            except OSError:
+                pass             # offered at the next start, as any journal left behind
+            self._broken_journal = None
 
     def journal_discard(self) -> None:
         self._thumb_timer.stop()
         if self._journal:
             self._journal.discard()
+        self._forget_broken_journal()
         self._journal = None
 
     def submit(self, action, prepared=None) -> bool:

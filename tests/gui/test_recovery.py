@@ -335,3 +335,41 @@ def test_closing_the_window_under_the_dialog_keeps_every_journal(qtbot, monkeypa
     qtbot.wait(50)
     assert not win.isVisible() and otherwise == [] and len(orphans()) == 1
     win.deleteLater()
+
+
+def test_a_journal_that_fails_is_started_again_at_the_next_save(window, monkeypatch, tmp_path):
+    """A full disk stops the journal (a warning, not an error), and the edits go on without it;
+    the journal that failed stays locked, so it is never offered as a crashed window's while
+    this one lives. The next save starts a new journal, which records the edits after it."""
+    from texeditor.recipe import journal as journal_module
+    from texeditor.recipe.journal import recover
+    window.submit(SetLevels(0, 0, 4, 4, 1))
+    first = window._journal.path
+    assert first.exists() and orphans() == []
+
+    def full(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+    writes = journal_module.Journal.sync
+    monkeypatch.setattr(journal_module.Journal, "sync", full)
+    window.submit(SetLevels(4, 4, 4, 4, 2))
+    assert window._journal is False
+    assert "Crash protection is off" in window.statusBar().currentMessage()
+    window.submit(SetLevels(8, 8, 4, 4, 3))          # edits go on, unrecorded
+    window.undo()
+    window.redo()
+    assert window.document.levels[8, 8] == 3 and window.errors == []
+    assert first.exists() and orphans() == []       # still locked: nobody's orphan
+    monkeypatch.setattr(journal_module.Journal, "sync", writes)    # room on the disk again
+    assert window.save_to(tmp_path / "saved.texture")
+    assert window._journal and not first.exists()
+    second = window._journal.path
+    assert second.parent == first.parent
+    window.submit(SetLevels(12, 12, 4, 4, 1))
+    window.submit(SetLevels(16, 16, 4, 4, 2))
+    window.undo()
+    got = recover(second)
+    assert got.actions == tuple(window.history.applied)
+    assert got.changes == 3 and got.source == str(tmp_path / "saved.texture")
+    window.mark_clean()
+    window.close()
+    assert not second.exists() and orphans() == []
