@@ -201,7 +201,11 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         self.retargeted_label.setToolTip("Steps after an edited one whose Fill, Translate, Copy or "
                                          "Extract now acts on a different region (marked ⚠ in "
                                          "the History)")
-        for w in (self.task_label, self.progress, self.cancel_button):
+        self.journal_label = QtWidgets.QLabel("⚠ Crash protection off")
+        self.journal_label.setToolTip("The crash journal cannot be written (a full disk?): the "
+                                      "work since the last save would be lost in a crash. "
+                                      "Saving starts a new journal.")
+        for w in (self.task_label, self.progress, self.cancel_button, self.journal_label):
             bar.addPermanentWidget(w)
             w.hide()
         for w, chars in ((self.retargeted_label, 0), (self.repairs_label, 0),
@@ -587,6 +591,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         except OSError as exc:
             self._journal_failed(exc)
             return
+        self.journal_label.hide()
         self._thumb_timer.start()
 
     def journal_thumbnail(self) -> None:
@@ -608,6 +613,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
             self._broken_journal = self._journal
         self._journal = False
         self._thumb_timer.stop()
+        self.journal_label.show()
         self.statusBar().showMessage(f"Crash protection is off until the next save: cannot write "
                                      f"the journal ({exc.strerror or exc}).", 10000)
 

@@ -345,7 +345,7 @@ def test_a_journal_that_fails_is_started_again_at_the_next_save(window, monkeypa
     from texeditor.recipe.journal import recover
     window.submit(SetLevels(0, 0, 4, 4, 1))
     first = window._journal.path
-    assert first.exists() and orphans() == []
+    assert first.exists() and orphans() == [] and not window.journal_label.isVisible()
 
     def full(*args, **kwargs):
         raise OSError(28, "No space left on device")
@@ -354,6 +354,7 @@ def test_a_journal_that_fails_is_started_again_at_the_next_save(window, monkeypa
     window.submit(SetLevels(4, 4, 4, 4, 2))
     assert window._journal is False
     assert "Crash protection is off" in window.statusBar().currentMessage()
+    assert window.journal_label.isVisible()          # a warning that stays, not 10 s of text
     window.submit(SetLevels(8, 8, 4, 4, 3))          # edits go on, unrecorded
     window.undo()
     window.redo()
@@ -361,7 +362,7 @@ def test_a_journal_that_fails_is_started_again_at_the_next_save(window, monkeypa
     assert first.exists() and orphans() == []       # still locked: nobody's orphan
     monkeypatch.setattr(journal_module.Journal, "sync", writes)    # room on the disk again
     assert window.save_to(tmp_path / "saved.texture")
-    assert window._journal and not first.exists()
+    assert window._journal and not first.exists() and not window.journal_label.isVisible()
     second = window._journal.path
     assert second.parent == first.parent
     window.submit(SetLevels(12, 12, 4, 4, 1))
