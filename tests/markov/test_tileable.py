@@ -453,11 +453,37 @@ def test_the_torus_a_tileable_draw_fills_repeats_its_first_rows_and_columns(shap
                                   np.pad(levels, ((0, rows), (0, columns)), mode="wrap"))
 
 
+class WindowLaw:
+    """m of a window straight from a DPJ, as the sampler's tables mean it: the rows above read
+    without their parents (a row is drawn given the levels above it and its own parents), the
+    horizontal transition of column states, P(window) over P(its first u-1 columns); 0 where
+    the DPJ lacks the window."""
+
+    def __init__(self, dpj, gp):
+        self.gx = dpj.levels // gp
+        self.p, self.left = {}, {}
+        for config, p in zip(self._above_stripped(dpj.configs), dpj.probs):
+            self.p[config.tobytes()] = self.p.get(config.tobytes(), 0.0) + p
+            head = config[:, :-1].tobytes()
+            self.left[head] = self.left.get(head, 0.0) + p
+
+    def _above_stripped(self, configs):
+        configs = np.array(configs, np.int64)
+        configs[..., :-1, :] %= self.gx
+        return configs
+
+    def m(self, window):
+        window = self._above_stripped(window)
+        p = self.p.get(window.tobytes(), 0.0)
+        return p / self.left[window[:, :-1].tobytes()] if p > 0.0 else 0.0
+
+
 @pytest.mark.parametrize("kind", ["photo", "given parents"])
 def test_the_rows_below_weigh_each_entry_by_the_windows_they_end(kind):
     """A seam closure weighs a stretch's entries by the fixed rows under it (_keep_below reads
     each row's window key once a position): the product of the transitions m of the windows
-    ending in them, read one window at a time (_window_m), 0 where the DPJ lacks one."""
+    ending in them — here read from the DPJ itself, window by window — 0 where the DPJ lacks
+    one. _window_m (what _first_bad reads) is that m too."""
     from texeditor.markov import synthesis as S
     if kind == "photo":
         dpj, gp = photo_dpj("brick", (3, 3)), 1
@@ -468,6 +494,8 @@ def test_the_rows_below_weigh_each_entry_by_the_windows_they_end(kind):
         gp = multiscale.parent_levels(model.dpjs, 1)
         q = levels[1] + dpj.levels // gp * multiscale.codes_for(dpj, levels[0], levels[1].shape)
     t = S._tables(dpj, gp)
+    law = WindowLaw(dpj, gp)
+    u, v, gx = t.u, t.v, t.gx
     rng = np.random.default_rng(3)
     bcode, start, end = t.ient[S.BCODE], t.ctx[S.START], t.ctx[S.END]
     checked = kept = 0
@@ -476,20 +504,26 @@ def test_the_rows_below_weigh_each_entry_by_the_windows_they_end(kind):
             y, x = rng.integers(0, q.shape[0] - 8), rng.integers(0, q.shape[1] - 9)
             out = q[y:y + 8, x:x + 9].astype(np.uint8)
         else:
-            out = (rng.integers(0, gp, (8, 9)) * t.gx
-                   + rng.integers(0, t.gx, (8, 9))).astype(np.uint8)
-        r, n, below = 3, int(rng.integers(0, 9 - t.u + 1)), t.v - 1
+            out = (rng.integers(0, gp, (8, 9)) * gx
+                   + rng.integers(0, gx, (8, 9))).astype(np.uint8)
+        r, n, below = 3, int(rng.integers(0, 9 - u + 1)), v - 1
         ci = int(rng.integers(t.lvl[S.LEN, 0]))
         lo, hi = int(start[ci]), int(end[ci])
         tb = rng.random(hi - lo + 5)
         tb[rng.random(len(tb)) < 0.2] = 0.0
         expected = tb.copy()
         for e in range(lo, hi):
+            drawn = out.copy()          # row r as the entry would draw it (its parents stay)
+            digits = [bcode[e] // gx ** (u - 1 - j) % gx for j in range(u)]
+            drawn[r, n:n + u] = drawn[r, n:n + u] // gx * gx + digits
             for k in range(1, below + 1):
-                expected[2 + e - lo] *= S._window_m(out, r + k, n, r, bcode[e], t)
+                m = law.m(drawn[r + k - v + 1:r + k + 1, n:n + u])
+                assert S._window_m(out, r + k, n, r, bcode[e], t) == pytest.approx(m, rel=1e-9)
+                expected[2 + e - lo] *= m
         total = S._keep_below(out, r, n, below, tb, 2, lo, hi, bcode, t)
-        assert np.array_equal(tb, expected)
-        assert total == sum(expected[2 + e - lo] for e in range(lo, hi))
+        assert np.array_equal(tb == 0.0, expected == 0.0)
+        assert tb == pytest.approx(expected, rel=1e-9)
+        assert total == pytest.approx(expected[2:2 + hi - lo].sum(), rel=1e-9)
         checked += hi - lo
         kept += np.count_nonzero(expected[2:2 + hi - lo])
     assert checked > 1000 and 0 < kept < checked
