@@ -480,10 +480,10 @@ class WindowLaw:
 
 @pytest.mark.parametrize("kind", ["photo", "given parents"])
 def test_the_rows_below_weigh_each_entry_by_the_windows_they_end(kind):
-    """A seam closure weighs a stretch's entries by the fixed rows under it (_keep_below reads
-    each row's window key once a position): the product of the transitions m of the windows
-    ending in them — here read from the DPJ itself, window by window — 0 where the DPJ lacks
-    one. _window_m (what _first_bad reads) is that m too."""
+    """A seam closure weighs a stretch's entries by the fixed rows under it (_keep_below): the
+    product of the transitions m of the windows ending in them — here read from the DPJ
+    itself, window by window — 0 where the DPJ lacks one. _window_m (what _first_bad reads)
+    is that m too."""
     from texeditor.markov import synthesis as S
     if kind == "photo":
         dpj, gp = photo_dpj("brick", (3, 3)), 1
