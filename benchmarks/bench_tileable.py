@@ -13,7 +13,9 @@ torus:
   ways: the interior of one seed, subsampled to the band's count, against the interior of the
   next seed (random windows, so less spread than any contiguous band shows even without a
   seam), and the next seed's band moved to the middle against this seed's interior (a band of
-  the same shape: the spread the seam band is to be read against);
+  the same shape: the spread the seam band is to be read against); then each of the band's four
+  sides apart, beside a strip of the same shape in the middle, and the level changes between
+  the two rows (columns) meeting at each seam over those between neighbours inside;
 - time of a tileable draw over a plain one (warm; the draws take turns, seed after seed, so a
   busy spell of a shared machine falls on both: the median's ratio, and best over best), at the
   size and by size (128² to 1024²), for the 3×3 DPJ and for a photo model (256² to 1024²), each
@@ -127,6 +129,7 @@ def bench(name, size, seeds):
             spread = [tv(rng.choice(codes[s][~mask], mask.sum(), replace=False),
                          codes[(s + 1) % seeds][~mask]) for s in range(seeds)]
             banded = [tv(codes[(s + 1) % seeds][middle], codes[s][rest]) for s in range(seeds)]
+            sides(codes, tiled, size)
             print(f"  3x3 seam band vs interior TV {np.mean(seam):.3f} (worst {max(seam):.3f}); "
                   f"the band moved to the middle {np.mean(moved):.3f} (worst {max(moved):.3f}); "
                   f"interior seed-to-seed spread {np.mean(spread):.3f} (worst {max(spread):.3f}); "
@@ -140,6 +143,32 @@ def bench(name, size, seeds):
         across_rows, across_cols = np.mean(jumps, axis=0)
         print(f"  photo model {'tileable' if tileable else 'plain   '}: grey jump across the seam "
               f"/ inside: bottom-top {across_rows:.2f}, right-left {across_cols:.2f}")
+
+
+def sides(codes, fields, size):
+    """Each side of the seam band apart: the BAND rows (or columns) of windows starting before
+    the bottom seam, after the top one, before the right and after the left, each against the
+    interior (TV of their 3×3 window histograms) beside the same strip in the middle of the
+    texture; and how often the two rows (columns) meeting at the seam differ over how often two
+    neighbours inside do. The bottom strip's windows cross the seam the columns' closure drew
+    (the texture turned a quarter, so the law of its columns)."""
+    mid, inner = size // 2, slice(4 * BAND, size - 4 * BAND)
+    strips = {"bottom": (slice(size - BAND, size), slice(None)),
+              "top": (slice(0, BAND), slice(None)),
+              "right": (slice(None), slice(size - BAND, size)),
+              "left": (slice(None), slice(0, BAND))}
+    middle = {"rows": (slice(mid, mid + BAND), slice(None)),
+              "columns": (slice(None), slice(mid, mid + BAND))}
+    figures = {k: np.mean([tv(c[at].ravel(), c[inner, inner].ravel()) for c in codes])
+               for k, at in {**strips, **middle}.items()}
+    change = [np.mean([np.mean(x[-1] != x[0]) / np.mean(x[1:] != x[:-1]) for x in fields]),
+              np.mean([np.mean(x[:, -1] != x[:, 0]) / np.mean(x[:, 1:] != x[:, :-1])
+                       for x in fields])]
+    print("  3x3 seam band side by side, TV vs interior: "
+          + ", ".join(f"{k} {figures[k]:.3f}" for k in strips)
+          + f" (a strip in the middle: rows {figures['rows']:.3f}, columns "
+          f"{figures['columns']:.3f}); level changes across the seam / inside: bottom-top "
+          f"{change[0]:.2f}, right-left {change[1]:.2f}")
 
 
 def sweep(dpj, model, seeds, sizes=(128, 256, 512, 1024)):
