@@ -22,7 +22,8 @@ torus:
   with its current seam closure beside the one before (which older recipes keep), the photo
   model also drafted as before SynthesizeScales 16 (lean_drafts off, plain and tileable);
 - a photo model (multi-scale + tone): mean grey jump across each seam over the mean jump between
-  neighbours inside (1: no seam to see), plain and tileable.
+  neighbours inside (1: no seam to see), and the same for its finest levels' changes, plain and
+  tileable.
 """
 
 from __future__ import annotations
@@ -138,11 +139,21 @@ def bench(name, size, seeds):
     model = texeditor.acquire_model(photo)
     sweep(dpj, model, seeds)
     for tileable in (False, True):
-        jumps = [[seam_jump(model.synthesize((size, size), seed=s, tileable=tileable).image, a)
-                  for a in (0, 1)] for s in range(min(seeds, 3))]
-        across_rows, across_cols = np.mean(jumps, axis=0)
+        drawn = [model.synthesize((size, size), seed=s, tileable=tileable) for s in range(seeds)]
+        across_rows, across_cols = np.mean([[seam_jump(r.image, a) for a in (0, 1)]
+                                            for r in drawn], axis=0)
+        rows, cols = seam_changes([r.levels for r in drawn])
         print(f"  photo model {'tileable' if tileable else 'plain   '}: grey jump across the seam "
-              f"/ inside: bottom-top {across_rows:.2f}, right-left {across_cols:.2f}")
+              f"/ inside: bottom-top {across_rows:.2f}, right-left {across_cols:.2f}; its finest "
+              f"levels' changes: bottom-top {rows:.2f}, right-left {cols:.2f}")
+
+
+def seam_changes(fields):
+    """How often the two rows (columns) meeting at the seam differ, over how often two
+    neighbours inside do: (bottom-top, right-left), the mean over ``fields``."""
+    return (np.mean([np.mean(x[-1] != x[0]) / np.mean(x[1:] != x[:-1]) for x in fields]),
+            np.mean([np.mean(x[:, -1] != x[:, 0]) / np.mean(x[:, 1:] != x[:, :-1])
+                     for x in fields]))
 
 
 def sides(codes, fields, size):
@@ -161,9 +172,7 @@ def sides(codes, fields, size):
               "columns": (slice(None), slice(mid, mid + BAND))}
     figures = {k: np.mean([tv(c[at].ravel(), c[inner, inner].ravel()) for c in codes])
                for k, at in {**strips, **middle}.items()}
-    change = [np.mean([np.mean(x[-1] != x[0]) / np.mean(x[1:] != x[:-1]) for x in fields]),
-              np.mean([np.mean(x[:, -1] != x[:, 0]) / np.mean(x[:, 1:] != x[:, :-1])
-                       for x in fields])]
+    change = seam_changes(fields)
     print("  3x3 seam band side by side, TV vs interior: "
           + ", ".join(f"{k} {figures[k]:.3f}" for k in strips)
           + f" (a strip in the middle: rows {figures['rows']:.3f}, columns "
