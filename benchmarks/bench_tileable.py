@@ -162,15 +162,19 @@ def sides(codes, fields, size):
     interior (TV of their 3×3 window histograms) beside the same strip in the middle of the
     texture; and how often the two rows (columns) meeting at the seam differ over how often two
     neighbours inside do. The bottom strip's windows cross the seam the columns' closure drew
-    (the texture turned a quarter, so the law of its columns)."""
-    mid, inner = size // 2, slice(4 * BAND, size - 4 * BAND)
+    (the texture turned a quarter, so the law of its columns). The interior leaves out the
+    middle strips, so that none is measured against itself."""
+    mid = size // 2
+    interior = np.zeros((size, size), bool)
+    interior[4 * BAND:size - 4 * BAND, 4 * BAND:size - 4 * BAND] = True
+    interior[mid:mid + BAND] = interior[:, mid:mid + BAND] = False
     strips = {"bottom": (slice(size - BAND, size), slice(None)),
               "top": (slice(0, BAND), slice(None)),
               "right": (slice(None), slice(size - BAND, size)),
               "left": (slice(None), slice(0, BAND))}
     middle = {"rows": (slice(mid, mid + BAND), slice(None)),
               "columns": (slice(None), slice(mid, mid + BAND))}
-    figures = {k: np.mean([tv(c[at].ravel(), c[inner, inner].ravel()) for c in codes])
+    figures = {k: np.mean([tv(c[at].ravel(), c[interior]) for c in codes])
                for k, at in {**strips, **middle}.items()}
     change = seam_changes(fields)
     print("  3x3 seam band side by side, TV vs interior: "
