@@ -93,18 +93,23 @@ TORUS_REPAIRS = 0.02        # closure 5: ... or backing off at more than this sh
                             # (a back-off leaves about one window off the DPJ: the draws that
                             # closed in our trials backed off at ≤ 0.012 of their points; most
                             # 5×5 draws that do not close, at 0.02–0.16, are stopped part way)
-SCALES_CLOSURE = 5          # the seam closure of a tileable multi-scale synthesis: 3 closes every
+SCALES_CLOSURE = 6          # the seam closure of a tileable multi-scale synthesis: 3 closes every
                             # scale with fewer tries than 2 (synthesis.CLOSE_TRIES_3), stops the
                             # coarsest law's failing trial draws early (TORUS_BUDGET) and has its
                             # tone drawn beside the levels (photo.tone.TILED_LANES); 4 is 3 over
                             # shorter stretches (synthesis.CLOSE_SPAN_4); 5 is 4 with the trial
-                            # draws stopped earlier still (TORUS_REPAIRS); 4 to 1 are kept for
-                            # older recipes
-SEAMS = (1, 2, 3, 4, 4)     # the seam closure (synthesis.CLOSURE) of each closure of the scales:
+                            # draws stopped earlier still (TORUS_REPAIRS); 6 is 5 with every
+                            # scale's rows drawn on their ring (seam closure 6); 5 to 1 are kept
+                            # for older recipes
+SEAMS = (1, 2, 3, 4, 4, 6)  # the seam closure (synthesis.CLOSURE) of each closure of the scales:
                             # not synthesis closure 5, whose last column leaves a row's failed
                             # side closure far up as it is — a photo model's scales fail more
                             # (2 tries a seam), and its tone then jumped more across the side
-                            # seam (6 of 6 photos at 256², 10 seeds: brick 2.21 -> 2.59)
+                            # seam (6 of 6 photos at 256², 10 seeds: brick 2.21 -> 2.59). Seam
+                            # closure 6 mends the same way, but its rows drawn on their ring
+                            # have their finest levels change across the side seam 1.4-2.7× as
+                            # often as inside (moon, coffee, cell, camera, 256², 24 seeds)
+                            # against 2.3-4.6× with seam closure 4
 
 
 @dataclass(frozen=True)

@@ -425,7 +425,8 @@ def _tileable():
 
 def _closure():
     return param("int", 1, CLOSURE, default=CLOSURE,
-                 doc="how a tileable texture's seams are closed: 5 (current: every window an "
+                 doc="how a tileable texture's seams are closed: 6 (current: each row drawn "
+                     "on its ring, the bottom seam as 5), 5 (every window an "
                      "earlier redraw changed and the corner kept in the DPJ, over stretches "
                      "from one window), 4 (as 5, the last column also redrawn far up from a "
                      "row's failed closure), 2 (4 over stretches from 4 windows; 3 is 2 for "
@@ -435,7 +436,8 @@ def _closure():
 
 def _scales_closure():
     return param("int", 1, SCALES_CLOSURE, default=SCALES_CLOSURE,
-                 doc="how a tileable texture's seams are closed: 5 (current: as 4, the "
+                 doc="how a tileable texture's seams are closed: 6 (current: as 5, each "
+                     "scale's rows drawn on their ring), 5 (as 4, the "
                      "coarsest window chosen quicker still), 4 (as 3 over stretches from one "
                      "window), 3 (the scales as 2, a quicker choice of the coarsest window, "
                      "the tone drawn beside the levels on two lanes), 2 and 1 (earlier ways, "
@@ -461,7 +463,9 @@ def _closure_as_written(cls, version: int, params: dict, default: int) -> dict:
 def _synthesis_of_version(cls, version: int, params: dict) -> dict:
     """Version 1 had no ``closure`` (closed the first way); version 2 closures 1 and 2
     (default 2), closed over stretches from CLOSE_SPAN windows; version 3 closures 1 to 4
-    (default 4)."""
+    (default 4); version 4 closures 1 to 5 (default 5)."""
+    if version == 4:
+        return _closure_as_written(cls, version, params, 5)
     if version == 3:
         return _closure_as_written(cls, version, params, 4)
     if version == 2:
@@ -487,7 +491,7 @@ _SCALES_GAINED = (
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
     """An older step with the parameters it lacks (_SCALES_GAINED) and its closure: versions 7
-    to 13 had closures 1 to 5 (default 5), 5 and 6 1 to 4 (default 4), 4 1 to 3 (default 3).
+    to 16 had closures 1 to 5 (default 5), 5 and 6 1 to 4 (default 4), 4 1 to 3 (default 3).
     Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest scale and drew
     their tone without balance; version 1 had no ``closure`` (closed the first way), version 2
     closures 1 and 2 (default 2), version 3 1 to 3 (default 3)."""
@@ -515,7 +519,7 @@ class Synthesize(Action):
     """A new canvas drawn from a DPJ by the 2-D Markov process (thesis ch. 4); palette = DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize"
-    VERSION: ClassVar[int] = 4
+    VERSION: ClassVar[int] = 5
     EFFECT: ClassVar[str] = "reset"
     dpj: str = param("ref", doc="reference of a DPJ of the document")
     width: int = _side("points across")
@@ -576,7 +580,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 16
+    VERSION: ClassVar[int] = 17
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
