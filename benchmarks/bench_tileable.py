@@ -2,6 +2,7 @@
 corner included).
 
 Run: python benchmarks/bench_tileable.py [--photos brick grass gravel] [--size 256] [--seeds 6]
+     [--previous]  (the seams, not the times, of the closures before the current ones)
 
 For each photo (scikit-image data name or picture file), 4 Lloyd levels, DPJs estimated on the
 torus:
@@ -98,8 +99,10 @@ def seam_jump(picture, axis):
     return float(np.abs(np.take(g, 0, axis=axis) - np.take(g, -1, axis=axis)).mean() / inside)
 
 
-def bench(name, size, seeds):
+def bench(name, size, seeds, previous=False):
     photo = quality.photo(name)
+    closure = CLOSURE - previous             # the single-DPJ seam closure read, and the scales'
+    scales_closure = SCALES_CLOSURE - previous
     q = texeditor.quantize(photo, 4, "lloyd")
     shape = (size, size)
     print(f"\n{name}: {size}x{size}, {seeds} seeds")
@@ -107,7 +110,7 @@ def bench(name, size, seeds):
         dpj = texeditor.estimate_dpj(q.levels, window, 4, wrap=True)
         texeditor.synthesize(dpj, (32, 32), seed=0, tileable=True)
         plain = [texeditor.synthesize(dpj, shape, seed=s).levels for s in range(seeds)]
-        tiled = [texeditor.synthesize(dpj, shape, seed=s, tileable=True).levels
+        tiled = [texeditor.synthesize(dpj, shape, seed=s, tileable=True, closure=closure).levels
                  for s in range(seeds)]
         plain_t, tiled_t = interleaved_times(
             [lambda s: texeditor.synthesize(dpj, shape, seed=s),
@@ -137,9 +140,14 @@ def bench(name, size, seeds):
                   f"the next seed's band vs this interior {np.mean(banded):.3f} "
                   f"(worst {max(banded):.3f})")
     model = texeditor.acquire_model(photo)
-    sweep(dpj, model, seeds)
+    if previous:
+        print(f"  (closures {closure} and {scales_closure} of the scales; times: without "
+              f"--previous)")
+    else:
+        sweep(dpj, model, seeds)
     for tileable in (False, True):
-        drawn = [model.synthesize((size, size), seed=s, tileable=tileable) for s in range(seeds)]
+        drawn = [model.synthesize((size, size), seed=s, tileable=tileable,
+                                  closure=scales_closure) for s in range(seeds)]
         across_rows, across_cols = np.mean([[seam_jump(r.image, a) for a in (0, 1)]
                                             for r in drawn], axis=0)
         rows, cols = seam_changes([r.levels for r in drawn])
@@ -226,9 +234,11 @@ def main():
     ap.add_argument("--photos", nargs="+", default=["brick", "grass", "gravel"])
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--seeds", type=int, default=6)
+    ap.add_argument("--previous", action="store_true",
+                    help="draw with the seam closures before the current ones (older recipes)")
     args = ap.parse_args()
     for name in args.photos:
-        bench(name, args.size, args.seeds)
+        bench(name, args.size, args.seeds, args.previous)
 
 
 if __name__ == "__main__":

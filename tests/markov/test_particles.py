@@ -13,7 +13,7 @@ from texeditor.markov import particles
 from texeditor.markov.particles import Shares, band_edges
 from texeditor.markov.particles import drafts_for as particles_for
 from texeditor.markov.synthesis import synthesize_given
-from tests.support.torus import off_the_dpj, photo_dpj
+from tests.support.torus import off_places, off_the_dpj, photo_dpj
 
 BLOBS = ski.data.binary_blobs(256, blob_size_fraction=0.1, volume_fraction=0.5,
                               rng=1).astype(np.uint8)
@@ -40,7 +40,9 @@ def test_drafts_bring_the_shares_of_a_blobby_field_to_its_aim(tileable):
     assert max(plain) > 0.1
     assert max(share_error(g) for g in given) <= 0.03
     for levels in given:                       # no row is tilted: every window is the DPJ's
-        assert off_the_dpj(levels, dpj, torus=tileable) == 0
+        off = off_places(levels, dpj, torus=tileable)
+        assert not off[:-2].any()               # but, on a torus, seldom one where the bottom
+        assert off.sum() <= tileable            # seam's closure backs off, as in a plain draw
 
 
 def test_drafts_keep_every_window_of_a_photo_dpj_that_plain_draws_keep():

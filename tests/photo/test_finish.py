@@ -90,7 +90,7 @@ def test_old_steps_show_their_tone_unfinished_and_new_ones_finished():
     from texeditor.photo import step_wrap
     from texeditor.recipe.actions import SynthesizeScales
     from texeditor.recipe.codec import action_from_json
-    new = SynthesizeScales(("0123456789abcdef",), 30, 20)
+    new = SynthesizeScales(("0123456789abcdef",), 30, 20, closure=5)     # version 10's last
     assert new.tone_finish and step_wrap(new) & tone.FINISHED
     before_12 = {k: v for k, v in new.to_json().items()
                  if k not in ("given_redraws", "coarse_row_redraws", "free_moves",

@@ -344,7 +344,7 @@ def test_textures_of_version_12_replay_as_they_were_written(name):
     assert not np.array_equal(sixteen, doc.levels)
     assert np.array_equal(sixteen, document_model(doc, step).synthesize(
         (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
-        given_redraws=16, free_moves=False, forced_moves=False).levels)
+        closure=step.closure, given_redraws=16, free_moves=False, forced_moves=False).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -368,7 +368,7 @@ def test_textures_of_version_13_replay_as_they_were_written(name):
     assert not np.array_equal(free, doc.levels)
     assert np.array_equal(free, document_model(doc, step).synthesize(
         (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
-        coarse_row_redraws=NO_ROW_LIMIT, free_moves=False, forced_moves=False).levels)
+        closure=step.closure, coarse_row_redraws=NO_ROW_LIMIT, free_moves=False, forced_moves=False).levels)
 
 
 SHARE_SWITCHES = (   # a version, the switch it brought, how far off its fixtures are without it
@@ -407,7 +407,7 @@ def test_textures_of_versions_14_and_15_replay_as_they_were_written(name, versio
     assert off(doc.levels) <= 0.03 < without < off(switched)
     assert np.array_equal(switched, model.synthesize(
         (step.height, step.width), seed=step.seed, tileable=step.tileable, tone=False,
-        free_moves=switch != "free_moves", forced_moves=False).levels)
+        closure=step.closure, free_moves=switch != "free_moves", forced_moves=False).levels)
 
 
 @pytest.mark.parametrize("name", ["scales-plain", "scales-tileable"])
@@ -433,6 +433,7 @@ def test_textures_of_version_16_replay_as_they_were_written(name):
     assert not np.array_equal(drafted, doc.levels)
     assert np.array_equal(drafted, model.synthesize((step.height, step.width), seed=step.seed,
                                                     tileable=step.tileable, tone=False,
+                                                    closure=step.closure,
                                                     lean_drafts=False).levels)
     for levels in (doc.levels, drafted):
         assert np.abs(np.bincount(levels.ravel(), minlength=model.levels) / levels.size
@@ -524,18 +525,21 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 14, {}, 5), ("synthesize_scales", 14, {"closure": 6}, None),
     ("synthesize_scales", 15, {}, 5), ("synthesize_scales", 15, {"closure": 6}, None),
     ("synthesize_scales", 16, {}, 5), ("synthesize_scales", 16, {"closure": 6}, None),
-    ("synthesize_scales", 17, {}, None),
+    ("synthesize_scales", 17, {}, 6), ("synthesize_scales", 17, {"closure": 5}, 5),
+    ("synthesize_scales", 18, {}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
     ("synthesize", 3, {"closure": 5}, None), ("synthesize", 4, {}, 5),
-    ("synthesize", 4, {"closure": 4}, 4), ("synthesize", 4, {"closure": 6}, None)])
+    ("synthesize", 4, {"closure": 4}, 4), ("synthesize", 4, {"closure": 6}, None),
+    ("synthesize", 5, {}, 6), ("synthesize", 5, {"closure": 5}, 5), ("synthesize", 6, {}, None)])
 def test_steps_keep_the_closure_of_their_version(kind, version, obj, closure):
     """Closure 4 (seams closed over shorter stretches) came with Synthesize version 3 and
     SynthesizeScales version 5, closure 5 (the coarsest law chosen quicker) with
     SynthesizeScales version 7, closure 5 of one DPJ (its last column read as the others) with
-    Synthesize version 4: an older step keeps the closure it names, or its version's default,
-    and cannot name a later one."""
+    Synthesize version 4, closure 6 (rows drawn on their ring) with Synthesize version 5 and
+    SynthesizeScales version 17: an older step keeps the closure it names, or its version's
+    default, and cannot name a later one."""
     from texeditor.recipe.codec import action_from_json
     step = {"type": kind, "version": version, "width": 30, "height": 20, "seed": 1,
             "tileable": True, **obj,
@@ -598,7 +602,7 @@ def test_a_multiscale_step_keeps_its_coarsest_row_limit(version, obj, limit):
         step = read_scales_step(version, obj)
         assert step.coarse_row_redraws == limit and step.given_redraws == (
             GIVEN_REDRAWS if version >= 12 else 16)
-        assert step.to_json()["version"] == SynthesizeScales.VERSION == 16
+        assert step.to_json()["version"] == SynthesizeScales.VERSION == 17
 
 
 def _rezip(data: bytes, change) -> bytes:
