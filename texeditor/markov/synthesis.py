@@ -49,13 +49,14 @@ CLOSE_SPAN_4 = 1               # closure 4: as 3, the shortest stretch one windo
                                # redraws a quarter as many points per row and column; its
                                # windows still close: ≤ 0.03 % of a 3×3 photo DPJ's off it)
 RING_LEAD = 2                  # closure 6: window positions either side of the side seam drawn
-                               # first to choose a row's first points (4 to 8 gave the same seams
-                               # on 4 photos, 24 seeds, and cost more)
+                               # first to choose a row's first points (4 and 8 gave the same
+                               # seams within the spread of 12-24 seeds on six photos, and cost
+                               # more: 8, about +0.1× a plain draw at 128²)
 CLOSURE = 6                    # the seam closure tileable synthesis uses: 6 draws each row on its
-                               # ring (_draw_ring_row): the side seam's level changes are as
-                               # often as inside (3×3 G=4, 256², 12 seeds: cell 4.59 → 0.83×,
-                               # brick 1.82 → 1.24×) instead of gathering in a short bridge;
-                               # the bottom seam is closed as 5 does. 5 is 4 but for the
+                               # ring (_ring_start, _draw_row): the side seam's level changes are
+                               # about as often as inside (3×3 G=4, 256², 12 seeds: cell 4.59 →
+                               # 1.04×, brick 1.82 → 0.93×) instead of gathering in a short
+                               # bridge; the bottom seam is closed as 5 does. 5 is 4 but for the
                                # last column, which mends only windows across the bottom seam,
                                # no longer a row's failed side closure far up the column (a
                                # redraw of most of the column that seldom closed and cost up to
@@ -96,8 +97,9 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
     torus, to be compared with what it was told before. ``closure``
     picks the seam closure: 6 (the current one: each row drawn on its ring, its first points
     chosen given both sides of the seam, then the rest given them at both ends; the bottom
-    seam as 5), 5 (each row's end redrawn over a stretch from one window), 4 (as 5, but its last column also redraws
-    from any window across the side seam a row's closure left outside the DPJ), 2 (as 4 over
+    seam as 5), 5 (each row's end redrawn over a stretch from one window), 4 (as 5, but its
+    last column also redraws from any window across the side seam a row's closure left
+    outside the DPJ), 2 (as 4 over
     longer stretches; 3 is the same here, see synthesize_given) or 1 (the first, which left a
     few windows across the seams outside the DPJ); older ones are kept so older recipes
     replay the same.
@@ -1018,7 +1020,7 @@ def _ring_start(out, r, tile_w, t, seg, state):
     a stretch of RING_LEAD window positions either side of it, drawn as a free chain in a
     strip of ``seg.saved`` holding the rows above from column tile_w - RING_LEAD on, across
     the seam (the ring's own start, which the row then meets at its end: drawn from the row's
-    first points alone, they often could not be met, and the row's last points changed level
+    first window alone, they often could not be met, and the row's last points changed level
     2-5 times as often as inside). False: it met a dead end (nothing of row r changed)."""
     u, v = t.u, t.v
     lead = min(np.int64(RING_LEAD), (tile_w - u) // 2)
@@ -1051,9 +1053,9 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, row_redraws, tile_h, tile_w
     ``repair_budget``.
 
     Tileable (tile_h > 0): ``out`` is the (tile_h, tile_w) torus with its first v-1 rows and
-    u-1 columns copied after its last (see _draw); each row is drawn on its ring (closure 6,
-    _draw_ring_row), or drawn, then closed across the side seam (_close_row, by the seam
-    closure of version ``closure``; closure 6 too where the ring does not close)."""
+    u-1 columns copied after its last (see _draw); each row is drawn on its ring (closure 6:
+    _ring_start, then _draw_row), or drawn, then closed across the side seam (_close_row, by
+    the seam closure of version ``closure``; closure 6 too where the ring does not close)."""
     w = out.shape[1]
     work = _new_work(t.gx, t.u, w, np.int64(1))
     seg = _new_work(t.gx, t.u, w, np.int64(max(MAX_REDRAW_DEPTH, t.v)))
