@@ -89,7 +89,7 @@ def test_one_row_follows_the_exact_conditional_law_given_the_rows_above():
         out[0] = above
         synthesis._sample_rows(out, 1, 2, tables, state, 0, np.int64(synthesis.NO_BUDGET),
                                np.int64(0), np.int64(0), np.int64(1), np.int64(synthesis.NO_BUDGET),
-                               np.int64(synthesis.NO_BUDGET))
+                               np.int64(synthesis.NO_BUDGET), synthesis.NO_PULL)
         counts[tuple(out[1])] = counts.get(tuple(out[1]), 0) + 1
     keys = [b for b in exact if exact[b] > 0]
     assert set(counts) <= set(keys)

@@ -526,19 +526,22 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 15, {}, 5), ("synthesize_scales", 15, {"closure": 6}, None),
     ("synthesize_scales", 16, {}, 5), ("synthesize_scales", 16, {"closure": 6}, None),
     ("synthesize_scales", 17, {}, 6), ("synthesize_scales", 17, {"closure": 5}, 5),
+    ("synthesize_scales", 17, {"closure": 7}, None),
     ("synthesize_scales", 18, {}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
     ("synthesize", 3, {"closure": 5}, None), ("synthesize", 4, {}, 5),
     ("synthesize", 4, {"closure": 4}, 4), ("synthesize", 4, {"closure": 6}, None),
-    ("synthesize", 5, {}, 6), ("synthesize", 5, {"closure": 5}, 5), ("synthesize", 6, {}, None)])
+    ("synthesize", 5, {}, 7), ("synthesize", 5, {"closure": 6}, 6),
+    ("synthesize", 5, {"closure": 5}, 5), ("synthesize", 6, {}, None)])
 def test_steps_keep_the_closure_of_their_version(kind, version, obj, closure):
     """Closure 4 (seams closed over shorter stretches) came with Synthesize version 3 and
     SynthesizeScales version 5, closure 5 (the coarsest law chosen quicker) with
     SynthesizeScales version 7, closure 5 of one DPJ (its last column read as the others) with
     Synthesize version 4, closure 6 (rows drawn on their ring) with Synthesize version 5 and
-    SynthesizeScales version 17: an older step keeps the closure it names, or its version's
+    SynthesizeScales version 17, closure 7 of one DPJ (its last rows pulled towards the first)
+    with Synthesize version 5: an older step keeps the closure it names, or its version's
     default, and cannot name a later one."""
     from texeditor.recipe.codec import action_from_json
     step = {"type": kind, "version": version, "width": 30, "height": 20, "seed": 1,

@@ -425,7 +425,8 @@ def _tileable():
 
 def _closure():
     return param("int", 1, CLOSURE, default=CLOSURE,
-                 doc="how a tileable texture's seams are closed: 6 (current: each row drawn "
+                 doc="how a tileable texture's seams are closed: 7 (current: as 6, the last "
+                     "rows weighed towards the first row's levels), 6 (each row drawn "
                      "on its ring, the bottom seam as 5), 5 (every window an "
                      "earlier redraw changed and the corner kept in the DPJ, over stretches "
                      "from one window), 4 (as 5, the last column also redrawn far up from a "
