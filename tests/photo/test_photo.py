@@ -152,6 +152,21 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     assert step_wrap(new) == tone.TILED_LANES | tone.BALANCED | tone.FINISHED
 
 
+@pytest.mark.parametrize("closure", range(1, 8))
+def test_a_tileable_step_of_one_dpj_shows_a_models_tone_whatever_its_closure(closure):
+    """A single-DPJ synthesis is shown with an attached photo model's tone: its step names
+    closures the scales do not have (7, the last rows pulled), and its tone tiles as a
+    multi-scale step's of closure 3 on does (a tileable photo-model walk once stopped there:
+    "seam closure 7 does not exist")."""
+    from texeditor.photo import step_wrap
+    from texeditor.photo.model import tone_wrap
+    from texeditor.recipe.actions import Synthesize
+    step = Synthesize("0123456789abcdef", 30, 20, 1, True, closure=closure)
+    assert step_wrap(step) & (tone.TILED_LANES if closure >= 3 else tone.TILED)
+    with pytest.raises(InputError):
+        tone_wrap(True, 8)
+
+
 @pytest.mark.parametrize("name", ["plain", "tileable"])
 def test_textures_of_version_3_replay_with_16_coarse_redraws_as_they_did(name):
     """Files written by SynthesizeScales version 3 (tests/data/scales-v3: brick, a coarsest law

@@ -128,7 +128,7 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
     h, w = _check_request(dpj, shape)
     out = np.zeros((h, w), dtype=np.uint8)
     across = _tables(_transposed(dpj)) if tileable else None
-    closure = _check_closure(closure)
+    closure = check_closure(closure)
     return _draw(out, _tables(dpj), seed, progress, cancel,
                  (max_redraws, _row_cap(row_redraws, w)), rows_final, across,
                  closure, (redraw_budget, repair_budget), shares, steer,
@@ -171,7 +171,7 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     gp = int(parent_levels)
     if gp < 2 or dpj.levels % gp:
         raise InputError(f"a DPJ of {dpj.levels} composite levels cannot have {gp} parent levels")
-    closure = _check_closure(closure)
+    closure = check_closure(closure)
     parents = np.asarray(parents)
     if parents.ndim != 2 or parents.dtype.kind not in "ui" or parents.size == 0:
         raise InputError("the parents must be a non-empty 2-D matrix of levels")
@@ -387,7 +387,7 @@ def _pull_factors(dpj: DPJ) -> np.ndarray:
     return factors
 
 
-def _check_closure(closure) -> int:
+def check_closure(closure) -> int:
     if closure not in range(1, CLOSURE + 1) or isinstance(closure, bool):
         raise InputError(f"seam closure {closure!r} does not exist: choose 1 to {CLOSURE}")
     return int(closure)

@@ -24,10 +24,11 @@ from ..fileio import load_json, read_limited, write_file
 from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers
 from ..markov.levels import to_grey
 from ..markov.particles import PARTICLES
+from ..markov.synthesis import check_closure
 from ..markov.multiscale import (COARSE_LEVELS, COARSE_REDRAWS, COARSE_ROW_REDRAWS,
                                  COARSE_WINDOW, GIVEN_REDRAWS, LEAN_DRAFTS,
                                  LEVELS, SCALES_CLOSURE, WINDOW,
-                                 MultiScaleDPJ, check_scales_closure, estimate_scales,
+                                 MultiScaleDPJ, estimate_scales,
                                  synthesize_scales)
 from ..recipe.exemplars import MAX_SIDE
 from .tone import (BALANCED, FINISHED, PLAIN, TILED, TILED_LANES, Rendered, Renderer, ToneIndex,
@@ -244,12 +245,12 @@ def document_tone(doc) -> np.ndarray | None:
 
 def tone_wrap(tileable: bool, closure: int = SCALES_CLOSURE, balance: bool = True,
               finish: bool = True) -> int:
-    """How a synthesis's tone is drawn: tiling not at all, or as its seam closure says (3: on
+    """How a synthesis's tone is drawn: tiling not at all, or as its seam closure says (3 on: on
     two lanes beside the levels, tone.TILED_LANES; 1 and 2: tone.TILED); ``balance``: each
     level's greys keep the photo's histogram (tone.BALANCED, since SynthesizeScales 4);
     ``finish``: its pixel-scale power is the photo's (tone.FINISHED, since version 11)."""
-    way = PLAIN if not tileable else (
-        TILED_LANES if check_scales_closure(closure) >= 3 else TILED)
+    way = PLAIN if not tileable else (      # one DPJ's steps name closures past the scales'
+        TILED_LANES if check_closure(closure) >= 3 else TILED)
     return way | (BALANCED if balance else 0) | (FINISHED if finish else 0)
 
 
