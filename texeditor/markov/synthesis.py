@@ -270,11 +270,11 @@ def _draw_given_shares(work, shape, t, seed, progress, cancel, redraws_at, tile_
 
 
 def _draw_bands(out, work, t, state, progress, cancel, redraws_at, rows_final, tile_h, tile_w,
-                closure, budget, steered=None, pull=None):
+                closure, budget, steered, pull):
     """The rows of ``work`` drawn band by band; stops once past ``budget`` (redraws,
-    repairs; None: no limit). ``steered``: a markov.steering.Steering; the rows are then
-    drawn in shorter bands (steering.band_rows), each after the first from the law it tilts,
-    and each moving it."""
+    repairs; None: no limit). ``steered``: a markov.steering.Steering or None; the rows are
+    then drawn in shorter bands (steering.band_rows), each after the first from the law it
+    tilts, and each moving it. ``pull``: see _pull (NO_PULL: none)."""
     h, w = out.shape
     tileable = tile_h > 0
     bands = 1 if rows_final is None else FINAL_BANDS
@@ -291,7 +291,7 @@ def _draw_bands(out, work, t, state, progress, cancel, redraws_at, rows_final, t
             law = t.weighed(steered.tilted(t.fent))
         rep, red = _sample_rows(work, r0, r1, law, state, *redraws_at, tile_h, tile_w,
                                 np.int64(closure), _left(budget[0], redraws),
-                                _left(budget[1], repairs), NO_PULL if pull is None else pull)
+                                _left(budget[1], repairs), pull)
         if steered is not None:
             steered.update(work[r0:r1, :w])
         repairs += rep
