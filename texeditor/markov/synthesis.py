@@ -55,16 +55,16 @@ RING_LEAD = 2                  # closure 6: window positions either side of the 
 PULL_ROWS = 32                 # closure 7: the last rows of a torus weighed towards its first row
 PULL_SHARE = 8                 # ... at most this share of its height (1/8: at 128², 16 rows)
 PULL_POWER = 0.25              # ... each point by P^d(level, first row's level)^0.25 (see _pull)
+NO_PULL = np.zeros((0, 1, 1))  # no row pulled
 CLOSURE = 7                    # the seam closure tileable synthesis uses: 7 is 6 with the last
                                # rows pulled towards the first (_pull; a photo model's scales keep
                                # 6: its coarsest scale pulled, coffee's finest levels changed across
                                # the bottom seam 3.1× as often as inside, 2.0× unpulled, 8 seeds).
-                               # 6 draws each row on its
-                               # ring (_ring_start, _draw_row): the side seam's level changes are
-                               # about as often as inside (3×3 G=4, 256², 12 seeds: cell 4.59 →
-                               # 1.04×, brick 1.82 → 0.93×) instead of gathering in a short
-                               # bridge; the bottom seam is closed as 5 does. 5 is 4 but for the
-                               # last column, which mends only windows across the bottom seam,
+                               # 6 draws each row on its ring (_ring_start, _draw_row): the side
+                               # seam's level changes are about as often as inside (3×3 G=4,
+                               # 256², 12 seeds: cell 4.59 → 1.04×, brick 1.82 → 0.93×) instead
+                               # of gathering in a short bridge; the bottom seam is closed as 5
+                               # does. 5 is 4 but for the last column, which mends only windows across the bottom seam,
                                # no longer a row's failed side closure far up the column (a
                                # redraw of most of the column that seldom closed and cost up to
                                # a fifth of the plain draw); 1 to 6: earlier ways, kept so older
@@ -203,7 +203,7 @@ def _own_levels(out, gx, rows_final, tileable):
 
 def _draw(out, t, seed, progress, cancel, redraws_at, rows_final=None,
           across=None, closure=CLOSURE, budget=(None, None), shares=None, steer=None,
-          parents=None, pull=None) -> SynthesisResult:
+          parents=None, pull=NO_PULL) -> SynthesisResult:
     """Fill ``out`` band by band (progress, cancel and the rows now final between bands;
     ``redraws_at``: (tries at a dead end, redraws a row may make); ``steer``: the level shares
     the bands are steered towards, given ``parents``; ``pull``: see _pull).
@@ -217,7 +217,6 @@ def _draw(out, t, seed, progress, cancel, redraws_at, rows_final=None,
     state = np.random.SeedSequence(check_seed(seed)).generate_state(1, np.uint64)
     work = _torus(out, t.v - 1, t.u - 1) if tileable else out
     tile_h, tile_w = (np.int64(h), np.int64(w)) if tileable else (np.int64(0), np.int64(0))
-    pull = NO_PULL if pull is None else pull
     if shares is not None:
         if rows_final is not None or budget != (None, None) or steer is not None:
             raise InputError("a synthesis given its level shares has no rows_final, budget or "
@@ -353,17 +352,14 @@ def _transposed(dpj: DPJ) -> DPJ:
         np.ascontiguousarray(d.configs.transpose(0, 2, 1)), d.probs, d.levels))
 
 
-NO_PULL = np.zeros((0, 1, 1))
-
-
 def _pull(dpj: DPJ, height: int) -> np.ndarray:
     """Closure 7: the factors the last rows of a torus of ``height`` rows are weighed by, a row
     d + 1 rows above its first row: (d, level, first row's level) → P^(d+1)(level, that
     level) ** PULL_POWER, P the DPJ's vertical level chain (the left column of its windows, a
     level to the one under it). It is what a column alone would weigh by to end where the
     first row begins (at the power 1, a Doob h-transform); its columns are not alone, hence
-    the power, and the rows
-    are weighed only where the chain has not yet forgotten the first row (PULL_ROWS). Closure 5
+    the power, and the rows are weighed only where the chain has not yet forgotten the first
+    row (PULL_ROWS). Closure 5
     closed the bottom seam by the columns' law over one window alone, and the rows drawn apart
     met there: brick 3×3, 256², 12 seeds, 3.6 times as many level changes across it as inside,
     2.8 with the pull; coffee 2.4 → 1.3, cell 5.4 → 2.4, camera 2.6 → 1.5."""
