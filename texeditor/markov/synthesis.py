@@ -739,28 +739,36 @@ OK, DEAD_END, GROW = 0, 1, 2
 
 
 @njit(cache=True, nogil=True)
-def _chain_weights(tb, toff, lo, hi, big_r, head, m):
-    """T_n(e) = R(first u-1 points of e) · m(e)."""
+def _chain_weights(tb, toff, lo, hi, big_r, head, m, pulled, factor, last_level):
+    """T_n(e) = R(first u-1 points of e) · m(e), times factor[its last level] when ``pulled``
+    (closure 7, _pull: in the same pass, not a second)."""
     total = 0.0
     for e in range(lo, hi):
         x = big_r[head[e]] * m[e]
+        if pulled:
+            x *= factor[last_level[e]]
         tb[toff + e - lo] = x
         total += x
     return total
 
 
 @njit(cache=True, nogil=True)
-def _plain_weights(tb, toff, lo, hi, weight):
-    """T_n(e) = q(e) at a row's start or a restart, m(e) after fixed points."""
+def _plain_weights(tb, toff, lo, hi, weight, pulled, factor, last_level):
+    """T_n(e) = q(e) at a row's start or a restart, m(e) after fixed points (``pulled``: as
+    _chain_weights)."""
     total = 0.0
     for e in range(lo, hi):
-        tb[toff + e - lo] = weight[e]
-        total += weight[e]
+        x = weight[e]
+        if pulled:
+            x *= factor[last_level[e]]
+        tb[toff + e - lo] = x
+        total += x
     return total
 
 
 @njit(cache=True, nogil=True)
-def _fixed_weights(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode, plain, big_r, head, weight):
+def _fixed_weights(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode, plain, big_r, head, weight,
+                   pulled, factor, last_level):
     """T_n(e) as _plain_weights (``plain``) or _chain_weights give it, but 0 for the entries
     disagreeing with the fixed points (outside [c0, c1)) — one pass, not a second to zero
     them. ``g`` is the base of the bottom codes (a point's parent, if any, is not compared).
@@ -785,17 +793,8 @@ def _fixed_weights(out, r, n, c0, c1, g, u, tb, toff, lo, hi, bcode, plain, big_
             x = weight[e]
         else:
             x = big_r[head[e]] * weight[e]
-        tb[toff + e - lo] = x
-        total += x
-    return total
-
-
-@njit(cache=True, nogil=True)
-def _pulled(tb, toff, lo, hi, last, factor):
-    """T_n(e) times the pull of its new point's level (closure 7, _pull)."""
-    total = 0.0
-    for e in range(lo, hi):
-        x = tb[toff + e - lo] * factor[last[e]]
+        if pulled:
+            x *= factor[last_level[e]]
         tb[toff + e - lo] = x
         total += x
     return total
@@ -833,9 +832,12 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below
     g, u, v, direct, lvl = t.levels, t.u, t.v, t.direct, t.lvl
     gx, gp = t.gx, t.gp
     head, tail, bcode = t.ient[HEAD], t.ient[TAIL], t.ient[BCODE]
+    last_level = t.ient[LAST]
     q, m = t.fent[Q], t.fent[M]
     code, start, end = t.ctx[CODE], t.ctx[START], t.ctx[END]
     big_r, pos, inv, tb = work.big_r, work.pos, work.inv, work.tb[0]
+    pulled = work.pull[0, gx] > 0.0    # closure 7 (_pull): the rows' pass, so never with
+    #                                    ``below`` (the columns' closure), whose factors follow
     n_last = min(width - u, c1 - 1)
     repairs = 0
     while n <= n_last:
@@ -858,17 +860,17 @@ def _forward(out, r, n, n_first, c0, c1, lenient_at, kmin, width, t, work, below
                 return GROW, n, repairs
             plain = n == 0 or restart or n == n_first
             weight = q if n == 0 or restart else m
+            factor = work.pull[n + u - 1]
             if n < c0 or n + u > c1:
                 total = _fixed_weights(out, r, n, c0, c1, gx, u, tb, toff, lo, hi, bcode,
-                                       plain, big_r, head, weight)
+                                       plain, big_r, head, weight, pulled, factor, last_level)
             elif plain:
-                total = _plain_weights(tb, toff, lo, hi, weight)
+                total = _plain_weights(tb, toff, lo, hi, weight, pulled, factor, last_level)
             else:
-                total = _chain_weights(tb, toff, lo, hi, big_r, head, m)
+                total = _chain_weights(tb, toff, lo, hi, big_r, head, m, pulled, factor,
+                                       last_level)
             if below > 0 and n != lenient_at and n < below_to:
                 total = _keep_below(out, r, n, below, tb, toff, lo, hi, bcode, t)
-            if work.pull[0, gx] > 0.0 and total > 0.0:
-                total = _pulled(tb, toff, lo, hi, t.ient[LAST], work.pull[n + u - 1])
             if total > 0.0:
                 repairs += k > kmin
                 break
