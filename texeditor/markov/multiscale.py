@@ -93,15 +93,22 @@ TORUS_REPAIRS = 0.02        # closure 5: ... or backing off at more than this sh
                             # (a back-off leaves about one window off the DPJ: the draws that
                             # closed in our trials backed off at ≤ 0.012 of their points; most
                             # 5×5 draws that do not close, at 0.02–0.16, are stopped part way)
-SCALES_CLOSURE = 6          # the seam closure of a tileable multi-scale synthesis: 3 closes every
+SCALES_CLOSURE = 7          # the seam closure of a tileable multi-scale synthesis: 3 closes every
                             # scale with fewer tries than 2 (synthesis.CLOSE_TRIES_3), stops the
                             # coarsest law's failing trial draws early (TORUS_BUDGET) and has its
                             # tone drawn beside the levels (photo.tone.TILED_LANES); 4 is 3 over
                             # shorter stretches (synthesis.CLOSE_SPAN_4); 5 is 4 with the trial
                             # draws stopped earlier still (TORUS_REPAIRS); 6 is 5 with every
-                            # scale's rows drawn on their ring (seam closure 6); 5 to 1 are kept
-                            # for older recipes
-SEAMS = (1, 2, 3, 4, 4, 6)  # the seam closure (synthesis.CLOSURE) of each closure of the scales:
+                            # scale's rows drawn on their ring (seam closure 6); 7 is 6 with the
+                            # last rows of every scale drawn given its parents pulled towards the
+                            # first row (seam closure 7: their finest levels change across the
+                            # bottom seam less often, 256², 32 seeds: coffee 2.10 -> 1.67× as
+                            # often as inside, camera 2.10 -> 1.76, cell 7.8 -> 5.4, moon 4.3
+                            # -> 3.9, brick 2.13 -> 2.00; the coarsest scale is not pulled, see
+                            # COARSEST_SEAM); 6 to 1 are kept for older recipes
+COARSEST_SEAM = 6           # the coarsest scale's seam closure at most (pulled, it made coffee's
+                            # finest bottom seam worse: 2.0 -> 3.1× as inside, 8 seeds)
+SEAMS = (1, 2, 3, 4, 4, 6, 7)  # the seam closure (synthesis.CLOSURE) of each closure of the scales:
                             # not synthesis closure 5, whose last column leaves a row's failed
                             # side closure far up as it is — a photo model's scales fail more
                             # (2 tries a seam), and its tone then jumped more across the side
@@ -625,7 +632,7 @@ def _torus_law(dpj: DPJ, shape, seed: int, closure: int,
     def closes(t, progress, cancel):
         law = laws[t]
         drawn = synthesize(law, shape, seed=scale_seed(seed, 0), tileable=True,
-                           closure=_seam(closure), cancel=cancel, redraw_budget=budget,
+                           closure=_seam(closure, 0), cancel=cancel, redraw_budget=budget,
                            repair_budget=repairs, max_redraws=redraws[0],
                            row_redraws=redraws[1], steer=steer)
         if past_budget((budget, repairs), drawn.redraws, drawn.repairs):
@@ -664,9 +671,9 @@ def check_scales_closure(closure) -> int:
     return int(closure)
 
 
-def _seam(closure: int) -> int:
-    """The seam closure (synthesis.CLOSURE) a closure of the scales draws each scale with."""
-    return SEAMS[closure - 1]
+def _seam(closure: int, k: int) -> int:
+    """The seam closure (synthesis.CLOSURE) a closure of the scales draws scale k with."""
+    return min(SEAMS[closure - 1], COARSEST_SEAM) if k == 0 else SEAMS[closure - 1]
 
 
 def _tries(k: int, scales: int) -> int:
@@ -682,13 +689,13 @@ def _draw_scale(model, k, shape, parents, seed, progress, cancel, rows_final, ti
     dpj = model.dpjs[k]
     if k == 0:
         return synthesize(dpj, shape, seed=seed, progress=progress, cancel=cancel,
-                          rows_final=rows_final, tileable=tileable, closure=_seam(closure),
+                          rows_final=rows_final, tileable=tileable, closure=_seam(closure, 0),
                           max_redraws=redraws[0], row_redraws=redraws[1], shares=shares,
                           steer=steer)
     return synthesize_given(dpj, codes_for(dpj, parents, shape, tileable),
                             parent_levels(model.dpjs, k), seed=seed,
                             progress=progress, cancel=cancel, rows_final=rows_final,
-                            tileable=tileable, closure=_seam(closure), shares=shares,
+                            tileable=tileable, closure=_seam(closure, k), shares=shares,
                             steer=steer, max_redraws=redraws[0])
 
 

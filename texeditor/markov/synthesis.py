@@ -55,11 +55,15 @@ RING_LEAD = 2                  # closure 6: window positions either side of the 
 PULL_ROWS = 32                 # closure 7: the last rows of a torus weighed towards its first row
 PULL_SHARE = 8                 # ... at most this share of its height (1/8: at 128², 16 rows)
 PULL_POWER = 0.25              # ... each point by P^d(level, first row's level)^0.25 (see _pull)
+PULL_POWER_GIVEN = 0.5         # ... and a scale drawn given its parents by its own chain given
+                               # them, ^0.5 (_pull_given; photo models, 256², 32 seeds: 0.5 and 1
+                               # alike but for cell, whose bottom seam 0.5 helped more)
 NO_PULL = np.zeros((0, 1, 1))  # no row pulled
 CLOSURE = 7                    # the seam closure tileable synthesis uses: 7 is 6 with the last
-                               # rows pulled towards the first (_pull; a photo model's scales keep
-                               # 6: its coarsest scale pulled, coffee's finest levels changed across
-                               # the bottom seam 3.1× as often as inside, 2.0× unpulled, 8 seeds).
+                               # rows pulled towards the first (_pull; a photo model's coarsest
+                               # scale keeps 6: pulled, coffee's finest levels changed across the
+                               # bottom seam 3.1× as often as inside, 2.0× unpulled, 8 seeds; its
+                               # finer scales are pulled given their parents, _pull_given).
                                # 6 draws each row on its ring (_ring_start, _draw_row): the side
                                # seam's level changes are about as often as inside (3×3 G=4,
                                # 256², 12 seeds: cell 4.59 → 1.04×, brick 1.82 → 0.93×) instead
@@ -164,8 +168,10 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
     parents, as :func:`synthesize`; the result holds the G-levels alone (so do the rows
     ``rows_final`` is told of). ``tileable``: on the torus, the parents tiling too
-    (``closure`` 3 to 5: as 2 with CLOSE_TRIES_3 tries a seam, what multi-scale synthesis
-    uses; 4 and 5 over stretches from CLOSE_SPAN_4 windows); ``shares``: the own levels' shares
+    (``closure`` 3 to 7: as 2 with CLOSE_TRIES_3 tries a seam, what multi-scale synthesis
+    uses; 4 and 5 over stretches from CLOSE_SPAN_4 windows; 6 each row on its ring; 7 the
+    last rows weighed towards the first by the chain given their parents, _pull_given);
+    ``shares``: the own levels' shares
     it is drawn given; ``steer``: the own levels' shares it is steered towards, given these
     parents (see synthesize)."""
     gp = int(parent_levels)
@@ -183,7 +189,8 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     across = _tables(_transposed(dpj), gp) if tileable else None
     result = _draw(out, _tables(dpj, gp), seed, progress, cancel, (max_redraws, NO_BUDGET),
                    rows_final and _own_levels(out, gx, rows_final, tileable), across, closure,
-                   (None, None), shares, steer, parents)
+                   (None, None), shares, steer, parents,
+                   pull=_pull_given(dpj, gp, h) if tileable and closure >= 7 else NO_PULL)
     np.remainder(result.levels, gx, out=result.levels)
     return result
 
@@ -381,6 +388,28 @@ def _pull_factors(dpj: DPJ) -> np.ndarray:
         power = power @ chain
         factors[d] = np.maximum(power, 1e-3) ** PULL_POWER
     return factors
+
+
+def _pull_given(dpj: DPJ, gp: int, height: int) -> np.ndarray:
+    """Closure 7 of a scale drawn given its parents: the law of its own levels down a column
+    given the parents of both points, (parent · gp + parent under it, level, level under it)
+    → P (the left column of its windows). A column's parents are known before it is drawn, so
+    its last rows are weighed by what this chain says of reaching the first row's level
+    through them (_pull_along); a chain of the levels alone would pull against the parents."""
+    if dpj.window[1] < 2 or height // PULL_SHARE == 0:
+        return NO_PULL
+    return derived(dpj, "pull given", lambda d: _chain_given(d, gp))
+
+
+def _chain_given(dpj: DPJ, gp: int) -> np.ndarray:
+    u, v = dpj.window
+    gx = dpj.levels // gp
+    windows = decode(dpj.codes, dpj.levels, v, u).astype(np.int64)
+    above, under = windows[:, 0, 0], windows[:, 1, 0]
+    chain = np.zeros((gp * gp, gx, gx))
+    np.add.at(chain, (above // gx * gp + under // gx, above % gx, under % gx), dpj.probs)
+    total = chain.sum(axis=2, keepdims=True)     # parents never seen together: no preference
+    return np.where(total > 0, chain / np.maximum(total, 1e-300), 1.0 / gx)
 
 
 def check_closure(closure) -> int:
@@ -1114,7 +1143,7 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, row_redraws, tile_h, tile_w
     u-1 columns copied after its last (see _draw); each row is drawn on its ring (closure 6:
     _ring_start, then _draw_row), or drawn, then closed across the side seam (_close_row, by
     the seam closure of version ``closure``; 6 and 7 too where the ring does not close). The
-    last len(``pull``) rows are weighed towards the first (closure 7, _pull)."""
+    last rows are weighed towards the first (closure 7: _pull, _pull_given, _pull_along)."""
     w = out.shape[1]
     work = _new_work(t.gx, t.u, w, np.int64(1))
     seg = _new_work(t.gx, t.u, w, np.int64(max(MAX_REDRAW_DEPTH, t.v)))
@@ -1133,9 +1162,15 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, row_redraws, tile_h, tile_w
                                 state, closure, np.int64(0), np.int64(0))
                 repairs += c0 < 0
                 c0 = -1 - c0 if c0 < 0 else c0
+    along = np.zeros((_pulled_rows(pull, t, tile_h), w, t.gx))
     for r in range(start, r1):
         kmin = np.int64(max(0, t.v - 1 - r))
-        _pull_row(out, r, tile_h, pull, t.gx, work.pull)
+        d = tile_h - 1 - r             # a pulled row: d < len(along)
+        if 0 <= d < len(along):
+            if r == start or d == len(along) - 1:   # the first row is final by then
+                _pull_along(out, tile_h, pull, t, along)
+            work.pull[:, :t.gx] = along[d]
+            work.pull[0, t.gx] = 1.0
         ring = tile_h > 0 and closure >= 6 and kmin == 0 and t.u > 1 and tile_w >= 2 * t.u \
             and _ring_start(out, r, tile_w, t, seg, state)
         rep, red, drawn = _draw_row(out, r, kmin, col0, col1, ring, t, work, seg, state,
@@ -1158,18 +1193,51 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, row_redraws, tile_h, tile_w
 
 
 @njit(cache=True, nogil=True)
-def _pull_row(out, r, tile_h, pull, g, factors):
-    """Set ``factors`` for row r of a torus of ``tile_h`` rows when it is one of the last
-    len(``pull``) (closure 7, _pull): each column's factor per level, towards the first row's
-    level in that column."""
-    d = tile_h - 1 - r
-    if tile_h == 0 or d >= len(pull):
+def _pulled_rows(pull, t, tile_h):
+    """How many of the last rows of a torus of ``tile_h`` rows are pulled (closure 7)."""
+    if tile_h == 0 or len(pull) == 0:
+        return 0
+    if t.gp == 1:
+        return len(pull)
+    return min(PULL_ROWS, tile_h // PULL_SHARE)
+
+
+@njit(cache=True, nogil=True)
+def _pull_along(out, tile_h, pull, t, along):
+    """along[d, c, x]: the pull of level x in column c of the row d + 1 rows above the first
+    (closure 7), towards the first row's level in that column. One DPJ: ``pull`` holds the
+    factors (_pull). A scale given its parents: ``pull`` is its chain given the parents
+    (_pull_given), and each column's factors come from the probability of reaching the first
+    row's level through that column's own parents, h_d = P_d h_(d-1) from the seam up (scaled
+    to a largest of 1, which a position's weights do not see), ** PULL_POWER_GIVEN."""
+    g = t.gx
+    w = along.shape[1]
+    if t.gp == 1:
+        for d in range(len(along)):
+            for c in range(w):
+                first = out[0, c] % g
+                for x in range(g):
+                    along[d, c, x] = pull[d, x, first]
         return
-    for c in range(out.shape[1]):
+    h, step = np.empty(g), np.empty(g)
+    for c in range(w):
         first = out[0, c] % g
         for x in range(g):
-            factors[c, x] = pull[d, x, first]
-    factors[0, g] = 1.0
+            h[x] = 1.0 if x == first else 0.0
+        under = out[0, c] // g
+        for d in range(len(along)):
+            parent = out[tile_h - 1 - d, c] // g
+            k = parent * t.gp + under
+            top = 0.0
+            for x in range(g):
+                step[x] = 0.0
+                for y in range(g):
+                    step[x] += pull[k, x, y] * h[y]
+                top = max(top, step[x])
+            for x in range(g):
+                h[x] = step[x] / top if top > 0.0 else 1.0
+                along[d, c, x] = max(h[x], 1e-3) ** PULL_POWER_GIVEN
+            under = parent
 
 
 @njit(cache=True, nogil=True)
