@@ -123,22 +123,9 @@ def bench(name, size, seeds, previous=False):
               f"{median:.2f} (median {np.median(tiled_t) * 1000:.0f} / "
               f"{np.median(plain_t) * 1000:.0f} ms; best {best:.2f})")
         if window == (3, 3):
-            mask = band_mask(shape)
-            middle = np.roll(mask, (size // 2, size // 2), axis=(0, 1))
-            rest = ~mask & ~middle
             codes = [torus_codes(x, window, 4) for x in tiled]
-            seam = [tv(c[mask], c[rest]) for c in codes]
-            moved = [tv(c[middle], c[rest]) for c in codes]
-            rng = np.random.default_rng(0)
-            spread = [tv(rng.choice(codes[s][~mask], mask.sum(), replace=False),
-                         codes[(s + 1) % seeds][~mask]) for s in range(seeds)]
-            banded = [tv(codes[(s + 1) % seeds][middle], codes[s][rest]) for s in range(seeds)]
             sides(codes, tiled, size)
-            print(f"  3x3 seam band vs interior TV {np.mean(seam):.3f} (worst {max(seam):.3f}); "
-                  f"the band moved to the middle {np.mean(moved):.3f} (worst {max(moved):.3f}); "
-                  f"interior seed-to-seed spread {np.mean(spread):.3f} (worst {max(spread):.3f}); "
-                  f"the next seed's band vs this interior {np.mean(banded):.3f} "
-                  f"(worst {max(banded):.3f})")
+            print("  3x3 " + band_text(band_figures(codes, shape)))
     model = texeditor.acquire_model(photo)
     if previous:
         print(f"  (closures {closure} and {scales_closure} of the scales; times: without "
@@ -154,6 +141,36 @@ def bench(name, size, seeds, previous=False):
         print(f"  photo model {'tileable' if tileable else 'plain   '}: grey jump across the seam "
               f"/ inside: bottom-top {across_rows:.2f}, right-left {across_cols:.2f}; its finest "
               f"levels' changes: bottom-top {rows:.2f}, right-left {cols:.2f}")
+        if tileable:
+            codes = [torus_codes(r.levels, (3, 3), model.levels) for r in drawn]
+            print("  photo model tileable, its finest levels' 3x3 windows: "
+                  + band_text(band_figures(codes, (size, size))))
+
+
+def band_figures(codes, shape) -> dict:
+    """TVs of window histograms, one a seed: the seam band (the windows across either seam)
+    against the interior of the same texture ("seam"), the same band moved to the middle
+    ("moved"), the interior of one seed against the next's, a sample of the band's size
+    ("spread"), and the next seed's band against this interior ("banded")."""
+    seeds, size = len(codes), shape[0]
+    mask = band_mask(shape)
+    middle = np.roll(mask, (size // 2, size // 2), axis=(0, 1))
+    rest = ~mask & ~middle
+    rng = np.random.default_rng(0)
+    return {"seam": [tv(c[mask], c[rest]) for c in codes],
+            "moved": [tv(c[middle], c[rest]) for c in codes],
+            "spread": [tv(rng.choice(codes[s][~mask], mask.sum(), replace=False),
+                          codes[(s + 1) % seeds][~mask]) for s in range(seeds)],
+            "banded": [tv(codes[(s + 1) % seeds][middle], codes[s][rest])
+                       for s in range(seeds)]}
+
+
+def band_text(f: dict) -> str:
+    def both(k):
+        return f"{np.mean(f[k]):.3f} (worst {max(f[k]):.3f})"
+    return (f"seam band vs interior TV {both('seam')}; the band moved to the middle "
+            f"{both('moved')}; interior seed-to-seed spread {both('spread')}; the next seed's "
+            f"band vs this interior {both('banded')}")
 
 
 def seam_changes(fields):
