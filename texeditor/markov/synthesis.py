@@ -213,7 +213,7 @@ def _draw(out, t, seed, progress, cancel, redraws_at, rows_final=None,
           parents=None, pull=NO_PULL) -> SynthesisResult:
     """Fill ``out`` band by band (progress, cancel and the rows now final between bands;
     ``redraws_at``: (tries at a dead end, redraws a row may make); ``steer``: the level shares
-    the bands are steered towards, given ``parents``; ``pull``: see _pull).
+    the bands are steered towards, given ``parents``; ``pull``: see _pull, _pull_given).
 
     Tileable (``across``: the tables of the DPJ transposed): drawn on the torus — in a copy of
     ``out`` whose first v-1 rows and u-1 columns are repeated after its last, so every window
@@ -280,7 +280,7 @@ def _draw_bands(out, work, t, state, progress, cancel, redraws_at, rows_final, t
     """The rows of ``work`` drawn band by band; stops once past ``budget`` (redraws,
     repairs; None: no limit). ``steered``: a markov.steering.Steering or None; the rows are
     then drawn in shorter bands (steering.band_rows), each after the first from the law it
-    tilts, and each moving it. ``pull``: see _pull (NO_PULL: none)."""
+    tilts, and each moving it. ``pull``: see _pull, _pull_given (NO_PULL: none)."""
     h, w = out.shape
     tileable = tile_h > 0
     bands = 1 if rows_final is None else FINAL_BANDS
