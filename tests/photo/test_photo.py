@@ -152,19 +152,19 @@ def test_a_tileable_texture_of_the_previous_closure_replays_and_shows_its_tone_a
     assert step_wrap(new) == tone.TILED_LANES | tone.BALANCED | tone.FINISHED
 
 
-@pytest.mark.parametrize("closure", range(1, 8))
+@pytest.mark.parametrize("closure", range(1, 9))
 def test_a_tileable_step_of_one_dpj_shows_a_models_tone_whatever_its_closure(closure):
     """A single-DPJ synthesis is shown with an attached photo model's tone: its step names
-    closures the scales do not have (7, the last rows pulled), and its tone tiles as a
-    multi-scale step's of closure 3 on does (a tileable photo-model walk once stopped there:
-    "seam closure 7 does not exist")."""
+    closures the scales do not have (8, the last rows pulled at full strength), and its tone
+    tiles as a multi-scale step's of closure 3 on does (a tileable photo-model walk once
+    stopped there: "seam closure 7 does not exist")."""
     from texeditor.photo import step_wrap
     from texeditor.photo.model import tone_wrap
     from texeditor.recipe.actions import Synthesize
     step = Synthesize("0123456789abcdef", 30, 20, 1, True, closure=closure)
     assert step_wrap(step) & (tone.TILED_LANES if closure >= 3 else tone.TILED)
     with pytest.raises(InputError):
-        tone_wrap(True, 8)
+        tone_wrap(True, 9)
 
 
 @pytest.mark.parametrize("name", ["plain", "tileable"])
@@ -581,15 +581,19 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize", 3, {"closure": 5}, None), ("synthesize", 4, {}, 5),
     ("synthesize", 4, {"closure": 4}, 4), ("synthesize", 4, {"closure": 6}, None),
     ("synthesize", 5, {}, 7), ("synthesize", 5, {"closure": 6}, 6),
-    ("synthesize", 5, {"closure": 5}, 5), ("synthesize", 6, {}, None)])
+    ("synthesize", 5, {"closure": 5}, 5), ("synthesize", 5, {"closure": 8}, None),
+    ("synthesize", 6, {}, 8), ("synthesize", 6, {"closure": 7}, 7),
+    ("synthesize", 6, {"closure": 9}, None), ("synthesize", 7, {}, None)])
 def test_steps_keep_the_closure_of_their_version(kind, version, obj, closure):
     """Closure 4 (seams closed over shorter stretches) came with Synthesize version 3 and
     SynthesizeScales version 5, closure 5 (the coarsest law chosen quicker) with
     SynthesizeScales version 7, closure 5 of one DPJ (its last column read as the others) with
     Synthesize version 4, closure 6 (rows drawn on their ring) with Synthesize version 5 and
     SynthesizeScales version 17, closure 7 (the last rows pulled towards the first) with
-    Synthesize version 5 and SynthesizeScales version 18: an older step keeps the closure it names, or its version's
-    default, and cannot name a later one."""
+    Synthesize version 5 and SynthesizeScales version 18, closure 8 of one DPJ (pulled at full
+    strength, its bottom seam redrawn only where it does not close) with Synthesize version 6:
+    an older step keeps the closure it names, or its version's default, and cannot name a
+    later one."""
     from texeditor.recipe.codec import action_from_json
     step = {"type": kind, "version": version, "width": 30, "height": 20, "seed": 1,
             "tileable": True, **obj,

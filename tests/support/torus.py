@@ -2,10 +2,9 @@
 
 import numpy as np
 import skimage as ski
-from numpy.lib.stride_tricks import sliding_window_view
 
 from texeditor import estimate_dpj, quantize
-from texeditor.markov.dpj import encode
+from texeditor.markov import estimation
 
 
 def off_the_dpj(levels, dpj, torus=True) -> float:
@@ -17,11 +16,22 @@ def off_the_dpj(levels, dpj, torus=True) -> float:
 def off_places(levels, dpj, torus=False) -> np.ndarray:
     """Where (top-left corners) the windows the DPJ lacks lie (on the torus: across the seams
     too)."""
-    u, v = dpj.window
-    a = np.pad(levels, ((0, v - 1), (0, u - 1)), mode="wrap") if torus else levels
-    windows = sliding_window_view(a, (v, u))
-    codes = encode(np.ascontiguousarray(windows).reshape(-1, v, u), dpj.levels)
-    return ~np.isin(codes, dpj.codes).reshape(windows.shape[:2])
+    return ~np.isin(window_codes(levels, dpj.window, dpj.levels, torus), dpj.codes)
+
+
+def window_codes(levels, window, g, torus=True) -> np.ndarray:
+    """The code of the window at each top-left corner (on the torus: across the seams too)."""
+    u, v = window
+    h, w = levels.shape if torus else (levels.shape[0] - v + 1, levels.shape[1] - u + 1)
+    return estimation.window_codes(levels, window, g, wrap=torus).reshape(h, w)
+
+
+def window_tv(a, b) -> float:
+    """The total-variation distance between the histograms of two sets of window codes."""
+    keys, inverse = np.unique(np.concatenate([a, b]), return_inverse=True)
+    pa = np.bincount(inverse[:len(a)], minlength=len(keys)) / len(a)
+    pb = np.bincount(inverse[len(a):], minlength=len(keys)) / len(b)
+    return 0.5 * float(np.abs(pa - pb).sum())
 
 
 def photo_dpj(name, window, levels=4):

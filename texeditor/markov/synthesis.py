@@ -55,25 +55,36 @@ RING_LEAD = 2                  # closure 6: window positions either side of the 
 PULL_ROWS = 32                 # closure 7: the last rows of a torus weighed towards its first row
 PULL_SHARE = 8                 # ... at most this share of its height (1/8: at 128², 16 rows)
 PULL_POWER = 0.25              # ... each point by P^d(level, first row's level)^0.25 (see _pull)
+PULL_POWER_8 = 1.0             # closure 8: by P^d itself, each column's own h-transform (its
+                               # bottom seam is redrawn only where the pulled rows did not close
+                               # it; 3×3 G=4, 256², 16 seeds: the seam band's TV from the inside
+                               # was as low or lower at 1 than at 0.5 and 0.7 on seven photos)
 PULL_POWER_GIVEN = 0.5         # ... and a scale drawn given its parents by its own chain given
                                # them, ^0.5 (_pull_given; photo models, 256², 32 seeds: 0.5 and 1
                                # alike but for cell, whose bottom seam 0.5 helped more)
 NO_PULL = np.zeros((0, 1, 1))  # no row pulled
-CLOSURE = 7                    # the seam closure tileable synthesis uses: 7 is 6 with the last
-                               # rows pulled towards the first (_pull; a photo model's coarsest
-                               # scale keeps 6: pulled, coffee's finest levels changed across the
-                               # bottom seam 3.1× as often as inside, 2.0× unpulled, 8 seeds; its
-                               # finer scales are pulled given their parents, _pull_given).
-                               # 6 draws each row on its ring (_ring_start, _draw_row): the side
-                               # seam's level changes are about as often as inside (3×3 G=4,
-                               # 256², 12 seeds: cell 4.59 → 1.04×, brick 1.82 → 0.93×) instead
-                               # of gathering in a short bridge; the bottom seam is closed as 5
-                               # does. 5 is 4 but for the last column, which mends only windows across the bottom seam,
-                               # no longer a row's failed side closure far up the column (a
-                               # redraw of most of the column that seldom closed and cost up to
-                               # a fifth of the plain draw); 1 to 6: earlier ways, kept so older
-                               # recipes replay the same; 3 differs from 2 only in a scale
-                               # drawn given its parents, markov.multiscale
+CLOSURE = 8                    # the seam closure tileable synthesis uses: 8 is 7 with the pull
+                               # at its full strength (PULL_POWER_8) and the bottom seam redrawn
+                               # only near the columns whose windows across it the DPJ lacks
+                               # (_close_columns: a redraw of every column's last points, given
+                               # the columns before it but not those after, left brick's last 5
+                               # rows of windows 0.33-0.38 TV from the inside against 0.11-0.12
+                               # for rows in the middle, 16 seeds; 0.18-0.20 now). 7 is 6 with
+                               # the last rows pulled towards the first (_pull; a photo model's
+                               # coarsest scale keeps 6: pulled, coffee's finest levels changed
+                               # across the bottom seam 3.1× as often as inside, 2.0× unpulled,
+                               # 8 seeds; its finer scales are pulled given their parents,
+                               # _pull_given). 6 draws each row on its ring (_ring_start,
+                               # _draw_row): the side seam's level changes are about as often as
+                               # inside (3×3 G=4, 256², 12 seeds: cell 4.59 → 1.04×, brick 1.82
+                               # → 0.93×) instead of gathering in a short bridge; the bottom seam
+                               # is closed as 5 does. 5 is 4 but for the last column, which
+                               # mends only windows across the bottom seam, no longer a row's
+                               # failed side closure far up the column (a redraw of most of the
+                               # column that seldom closed and cost up to a fifth of the plain
+                               # draw); 1 to 7: earlier ways, kept so older recipes replay the
+                               # same; 3 differs from 2 only in a scale drawn given its parents,
+                               # markov.multiscale
 
 
 @dataclass(frozen=True)
@@ -106,9 +117,11 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
     final only once the columns are closed, which may change any row: ``rows_final`` is told
     of the rows as the rows' pass leaves them, and its last call (n = H) gives the closed
     torus, to be compared with what it was told before. ``closure``
-    picks the seam closure: 7 (the current one: as 6, the last rows weighed towards the first
-    row's levels, _pull), 6 (each row drawn on its ring, its first points chosen given both
-    sides of the seam, then the rest given them at both ends; the bottom seam as 5), 5 (each
+    picks the seam closure: 8 (the current one: as 7 at the pull's full strength, and the
+    bottom seam redrawn only in the columns whose windows across it the DPJ lacks), 7 (as 6,
+    the last rows weighed towards the first row's levels, _pull), 6 (each row drawn on its
+    ring, its first points chosen given both sides of the seam, then the rest given them at
+    both ends; the bottom seam as 5), 5 (each
     row's end redrawn over a stretch from one window), 4 (as 5, but its last column also
     redraws from any window across the side seam a row's closure left outside the DPJ), 2 (as
     4 over longer stretches; 3 is the same here, see synthesize_given) or 1 (the first, which left a
@@ -136,7 +149,7 @@ def synthesize(dpj: DPJ, shape: tuple[int, int], *, seed: int = 0,
     return _draw(out, _tables(dpj), seed, progress, cancel,
                  (max_redraws, _row_cap(row_redraws, w)), rows_final, across,
                  closure, (redraw_budget, repair_budget), shares, steer,
-                 pull=_pull(dpj, h) if tileable and closure >= 7 else NO_PULL)
+                 pull=_pull(dpj, h, closure) if tileable and closure >= 7 else NO_PULL)
 
 
 def _row_cap(row_redraws, width: int) -> int:
@@ -168,9 +181,10 @@ def synthesize_given(dpj: DPJ, parents: np.ndarray, parent_levels: int, *, seed:
     G = dpj.levels // parent_levels. Row by row and exactly given the rows above and the
     parents, as :func:`synthesize`; the result holds the G-levels alone (so do the rows
     ``rows_final`` is told of). ``tileable``: on the torus, the parents tiling too
-    (``closure`` 3 to 7: as 2 with CLOSE_TRIES_3 tries a seam, what multi-scale synthesis
+    (``closure`` 3 to 8: as 2 with CLOSE_TRIES_3 tries a seam, what multi-scale synthesis
     uses; 4 and 5 over stretches from CLOSE_SPAN_4 windows; 6 each row on its ring; 7 the
-    last rows weighed towards the first by the chain given their parents, _pull_given);
+    last rows weighed towards the first by the chain given their parents, _pull_given; 8 as 7,
+    the bottom seam redrawn only where its windows leave the DPJ);
     ``shares``: the own levels' shares
     it is drawn given; ``steer``: the own levels' shares it is steered towards, given these
     parents (see synthesize)."""
@@ -359,34 +373,37 @@ def _transposed(dpj: DPJ) -> DPJ:
         np.ascontiguousarray(d.configs.transpose(0, 2, 1)), d.probs, d.levels))
 
 
-def _pull(dpj: DPJ, height: int) -> np.ndarray:
+def _pull(dpj: DPJ, height: int, closure: int = 7) -> np.ndarray:
     """Closure 7: the factors the last rows of a torus of ``height`` rows are weighed by, a row
     d + 1 rows above its first row: (d, level, first row's level) → P^(d+1)(level, that
     level) ** PULL_POWER, P the DPJ's vertical level chain (the left column of its windows, a
     level to the one under it). It is what a column alone would weigh by to end where the
     first row begins (at the power 1, a Doob h-transform); its columns are not alone, hence
     the power, and the rows are weighed only where the chain has not yet forgotten the first
-    row (PULL_ROWS). Closure 5
+    row (PULL_ROWS). Closure 8 weighs at the power 1 (PULL_POWER_8): its bottom seam is
+    redrawn only where the pulled rows did not close it. Closure 5
     closed the bottom seam by the columns' law over one window alone, and the rows drawn apart
     met there: brick 3×3, 256², 12 seeds, 3.6 times as many level changes across it as inside,
     2.8 with the pull; coffee 2.4 → 1.3, cell 5.4 → 2.4, camera 2.6 → 1.5."""
     rows = min(PULL_ROWS, height // PULL_SHARE)
     if dpj.window[1] < 2 or rows == 0:
         return NO_PULL
-    return derived(dpj, "pull", _pull_factors)[:rows]
+    if closure >= 8:
+        return derived(dpj, "pull 8", lambda d: _pull_factors(d, PULL_POWER_8))[:rows]
+    return derived(dpj, "pull", lambda d: _pull_factors(d, PULL_POWER))[:rows]
 
 
-def _pull_factors(dpj: DPJ) -> np.ndarray:
+def _pull_factors(dpj: DPJ, power: float) -> np.ndarray:
     u, v = dpj.window
     g = dpj.levels
     windows = decode(dpj.codes, g, v, u)
     chain = np.zeros((g, g))
     np.add.at(chain, (windows[:, 0, 0], windows[:, 1, 0]), dpj.probs)
     chain /= np.maximum(chain.sum(axis=1, keepdims=True), 1e-300)
-    factors, power = np.empty((PULL_ROWS, g, g)), np.eye(g)
+    factors, chain_d = np.empty((PULL_ROWS, g, g)), np.eye(g)
     for d in range(PULL_ROWS):
-        power = power @ chain
-        factors[d] = np.maximum(power, 1e-3) ** PULL_POWER
+        chain_d = chain_d @ chain
+        factors[d] = np.maximum(chain_d, 1e-3) ** power
     return factors
 
 
@@ -1253,23 +1270,37 @@ def _close_columns(across, t, state, tile_w, tile_h, closure):
     one (the corner, where the two seams cross). Closure 2 to 4 also redraw the last column
     from the first window across the side seam outside the DPJ, however far up (a row whose
     closure backed off left it; that long redraw seldom closes); closure 5 reads the last
-    column as the others, from where the columns before it were redrawn."""
+    column as the others, from where the columns before it were redrawn. Closure 8 keeps a
+    column as drawn where its windows and the next v-1 columns' are the DPJ's, from where the
+    columns before it were redrawn to across the seam (_first_bad, _whole_to)."""
     seg = _new_work(t.gx, t.u, across.shape[1], np.int64(MAX_REDRAW_DEPTH))
     u, v = t.u, t.v
     repairs = 0
     recent = np.full(max(v - 1, 1), tile_h, np.int64)   # the last v-1 columns' first change
+    whole = np.int64(-1)               # closure 8: the windows ending in the columns up to this
+    if closure >= 8:                   # one are the DPJ's near the seam (since the last redraw),
+        for j in range(across.shape[0]):   # read across it: each column's first points after
+            for i in range(u - 1):         # its last, as _close_row copies them
+                across[j, tile_h + i] = across[j, i]
     for j in range(tile_w):
         kmin = np.int64(max(0, v - 1 - j))
         reach, below, below_to = tile_h, np.int64(0), np.int64(0)
+        last = j == tile_w - 1
+        stretch = tile_h - (_span(closure) + 1) * u + 1       # where later closures may redraw
         if closure > 1 and j >= v - 1:
-            last = j == tile_w - 1
             below = np.int64(v - 1)
-            stretch = tile_h - (_span(closure) + 1) * u + 1   # where later closures may redraw
             below_to = np.int64(tile_h if last else stretch)
             n0 = 0 if last and closure < 5 else max(0, recent.min() - u + 1)
             reach = _first_bad(across, j, below if last else 0, n0, stretch, t)
-        c0 = _close_row(across, j, kmin, tile_h, reach, t, seg, state, closure, below,
-                        below_to)
+        ahead = j + v - 1 if j + v - 1 < tile_w else tile_w + v - 2   # the corner's, too
+        if closure >= 8 and j >= v - 1 and reach >= tile_h:
+            whole = _whole_to(across, j, ahead, whole, max(0, stretch), tile_h, t)
+        if closure >= 8 and j >= v - 1 and reach >= tile_h and whole >= ahead:
+            c0 = tile_h                # the pulled rows met the first ones: kept as drawn
+        else:
+            c0 = _close_row(across, j, kmin, tile_h, reach, t, seg, state, closure, below,
+                            below_to)
+            whole = np.int64(-1)
         repairs += c0 < 0
         recent[j % len(recent)] = -1 - c0 if c0 < 0 else c0
         if j < v - 1:                # a first column, as it is now, after the last
@@ -1347,6 +1378,19 @@ def _close_bridged(out, r, kmin, tile_w, reach, t, seg, state, below, below_to, 
         if tries % SPAN_TRIES == SPAN_TRIES - 1:
             span *= 2
     return -1 - c0
+
+
+@njit(cache=True, nogil=True)
+def _whole_to(out, r, ahead, known, n0, n1, t):
+    """The last of rows r..``ahead`` up to which every window at a position in [n0, n1) ending
+    in that row is a DPJ entry (those up to ``known`` are), or r-1. Closure 8 keeps row r as
+    drawn only when the next v-1 are whole too (the last rows: up to the corner): a row redrawn
+    between rows kept as drawn met dead ends, and backed off over more windows."""
+    for rk in range(max(r, known + 1), ahead + 1):
+        for n in range(n0, n1):
+            if _window_m(out, rk, n, np.int64(-1), np.int64(0), t) == 0.0:
+                return np.int64(rk - 1)
+    return np.int64(ahead)
 
 
 @njit(cache=True, nogil=True)

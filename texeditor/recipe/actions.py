@@ -425,7 +425,9 @@ def _tileable():
 
 def _closure():
     return param("int", 1, CLOSURE, default=CLOSURE,
-                 doc="how a tileable texture's seams are closed: 7 (current: as 6, the last "
+                 doc="how a tileable texture's seams are closed: 8 (current: as 7, the "
+                     "pull at its full strength, the bottom seam redrawn only where its "
+                     "windows leave the DPJ), 7 (as 6, the last "
                      "rows weighed towards the first row's levels), 6 (each row drawn "
                      "on its ring, the bottom seam as 5), 5 (every window an "
                      "earlier redraw changed and the corner kept in the DPJ, over stretches "
@@ -466,7 +468,10 @@ def _closure_as_written(cls, version: int, params: dict, default: int) -> dict:
 def _synthesis_of_version(cls, version: int, params: dict) -> dict:
     """Version 1 had no ``closure`` (closed the first way); version 2 closures 1 and 2
     (default 2), closed over stretches from CLOSE_SPAN windows; version 3 closures 1 to 4
-    (default 4); version 4 closures 1 to 5 (default 5)."""
+    (default 4); version 4 closures 1 to 5 (default 5); version 5 closures 1 to 7 (default
+    7)."""
+    if version == 5:
+        return _closure_as_written(cls, version, params, 7)
     if version == 4:
         return _closure_as_written(cls, version, params, 5)
     if version == 3:
@@ -523,7 +528,7 @@ class Synthesize(Action):
     """A new canvas drawn from a DPJ by the 2-D Markov process (thesis ch. 4); palette = DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize"
-    VERSION: ClassVar[int] = 5
+    VERSION: ClassVar[int] = 6
     EFFECT: ClassVar[str] = "reset"
     dpj: str = param("ref", doc="reference of a DPJ of the document")
     width: int = _side("points across")
