@@ -458,7 +458,7 @@ def test_textures_of_version_16_replay_as_they_were_written(name):
 def test_a_texture_of_version_17_replays_with_its_closure_6():
     """A file written by SynthesizeScales version 17 (tests/data/scales-v17: a coffee crop,
     tileable, closure 6) comes out bit-identical, levels and tone: its step reads closure 6
-    (version 17 had closures 1 to 6). A new step closes the scales by closure 7, which pulls
+    (version 17 had closures 1 to 6). A step naming closure 7 pulls
     the last rows of the finer scales towards the first, so the same seed draws another
     texture, as its model does; version 17 cannot name closure 7."""
     import hashlib
@@ -474,7 +474,40 @@ def test_a_texture_of_version_17_replays_with_its_closure_6():
     assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
     assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
     new = dataclasses.replace(step, closure=7)
-    assert SynthesizeScales.VERSION == 18 and SynthesizeScales(step.dpjs, 8, 8).closure == 7
+    assert SynthesizeScales.VERSION == 19 and SynthesizeScales(step.dpjs, 8, 8).closure == 8
+    pulled = new.prepare(doc)
+    assert not np.array_equal(pulled, doc.levels)
+    model = document_model(doc, step)
+    assert np.array_equal(pulled, model.synthesize((step.height, step.width), seed=step.seed,
+                                                   tileable=True, closure=7,
+                                                   tone=False).levels)
+    written = step.to_json()
+    with pytest.raises(FormatError):
+        action_from_json({**written, "version": 17, "closure": 7})
+    assert action_from_json({**written, "version": 17}).closure == 6
+
+
+def test_a_tileable_texture_of_scales_version_18_replays_as_it_did():
+    """A file written by SynthesizeScales version 18 (tests/data/scales-v18: a camera crop,
+    120×136, tileable, closure 7) comes out bit-identical, levels and tone: its step reads
+    closure 7 (version 18 had closures 1 to 7). A new step closes the scales by closure 8,
+    whose finer scales are pulled at full strength and redrawn at the bottom seam only where
+    they do not close, so the same seed draws another texture, as its model does; version 18
+    cannot name closure 8."""
+    import hashlib
+    import json
+    from tests.support import DATA
+    from texeditor.photo import document_model, document_tone
+    from texeditor.recipe.codec import action_from_json
+    expected = json.loads((DATA / "scales-v18" / "expected.json").read_text())["scales-tileable"]
+    doc = render_texture(DATA / "scales-v18" / "scales-tileable.texture")
+    step = doc.actions[-1]
+    assert expected["version"] == 18 and step.closure == expected["closure"] == 7
+    assert step.tileable and step.seed == expected["seed"] and doc.levels.shape == (136, 120)
+    assert hashlib.sha256(doc.levels.tobytes()).hexdigest() == expected["levels_sha256"]
+    assert hashlib.sha256(document_tone(doc).tobytes()).hexdigest() == expected["tone_sha256"]
+    new = dataclasses.replace(step, closure=8)
+    assert new.to_json()["version"] == 19
     pulled = new.prepare(doc)
     assert not np.array_equal(pulled, doc.levels)
     model = document_model(doc, step)
@@ -482,8 +515,8 @@ def test_a_texture_of_version_17_replays_with_its_closure_6():
                                                    tileable=True, tone=False).levels)
     written = step.to_json()
     with pytest.raises(FormatError):
-        action_from_json({**written, "version": 17, "closure": 7})
-    assert action_from_json({**written, "version": 17}).closure == 6
+        action_from_json({**written, "version": 18, "closure": 8})
+    assert action_from_json({**written, "version": 18}).closure == 7
 
 
 FLAGS = (("rebalance", 8), ("steer", 9), ("more_drafts", 10),    # the multiscale step's switches,
@@ -574,7 +607,9 @@ def test_a_version_2_multiscale_step_keeps_its_closure(obj, closure):
     ("synthesize_scales", 17, {}, 6), ("synthesize_scales", 17, {"closure": 5}, 5),
     ("synthesize_scales", 17, {"closure": 7}, None),
     ("synthesize_scales", 18, {}, 7), ("synthesize_scales", 18, {"closure": 6}, 6),
-    ("synthesize_scales", 18, {"closure": 8}, None), ("synthesize_scales", 19, {}, None),
+    ("synthesize_scales", 18, {"closure": 8}, None), ("synthesize_scales", 19, {}, 8),
+    ("synthesize_scales", 19, {"closure": 7}, 7), ("synthesize_scales", 19, {"closure": 9}, None),
+    ("synthesize_scales", 20, {}, None),
     ("synthesize", 2, {}, 2), ("synthesize", 2, {"closure": 1}, 1),
     ("synthesize", 2, {"closure": 3}, None), ("synthesize", 1, {}, 1),
     ("synthesize", 3, {}, 4), ("synthesize", 3, {"closure": 2}, 2),
@@ -590,8 +625,9 @@ def test_steps_keep_the_closure_of_their_version(kind, version, obj, closure):
     SynthesizeScales version 7, closure 5 of one DPJ (its last column read as the others) with
     Synthesize version 4, closure 6 (rows drawn on their ring) with Synthesize version 5 and
     SynthesizeScales version 17, closure 7 (the last rows pulled towards the first) with
-    Synthesize version 5 and SynthesizeScales version 18, closure 8 of one DPJ (pulled at full
-    strength, its bottom seam redrawn only where it does not close) with Synthesize version 6:
+    Synthesize version 5 and SynthesizeScales version 18, closure 8 (pulled at full strength,
+    the bottom seam redrawn only where it does not close) with Synthesize version 6 and
+    SynthesizeScales version 19:
     an older step keeps the closure it names, or its version's default, and cannot name a
     later one."""
     from texeditor.recipe.codec import action_from_json
@@ -656,7 +692,7 @@ def test_a_multiscale_step_keeps_its_coarsest_row_limit(version, obj, limit):
         step = read_scales_step(version, obj)
         assert step.coarse_row_redraws == limit and step.given_redraws == (
             GIVEN_REDRAWS if version >= 12 else 16)
-        assert step.to_json()["version"] == SynthesizeScales.VERSION == 18
+        assert step.to_json()["version"] == SynthesizeScales.VERSION == 19
 
 
 def _rezip(data: bytes, change) -> bytes:

@@ -1185,7 +1185,7 @@ def _sample_rows(out, r0, r1, t, state, max_redraws, row_redraws, tile_h, tile_w
         d = tile_h - 1 - r             # a pulled row: d < len(along)
         if 0 <= d < len(along):
             if r == start or d == len(along) - 1:   # the first row is final by then
-                _pull_along(out, tile_h, pull, t, along)
+                _pull_along(out, tile_h, pull, t, along, closure >= 8)
             work.pull[:, :t.gx] = along[d]
             work.pull[0, t.gx] = 1.0
         ring = tile_h > 0 and closure >= 6 and kmin == 0 and t.u > 1 and tile_w >= 2 * t.u \
@@ -1220,13 +1220,14 @@ def _pulled_rows(pull, t, tile_h):
 
 
 @njit(cache=True, nogil=True)
-def _pull_along(out, tile_h, pull, t, along):
+def _pull_along(out, tile_h, pull, t, along, full=False):
     """along[d, c, x]: the pull of level x in column c of the row d + 1 rows above the first
     (closure 7), towards the first row's level in that column. One DPJ: ``pull`` holds the
     factors (_pull). A scale given its parents: ``pull`` is its chain given the parents
     (_pull_given), and each column's factors come from the probability of reaching the first
     row's level through that column's own parents, h_d = P_d h_(d-1) from the seam up (scaled
-    to a largest of 1, which a position's weights do not see), ** PULL_POWER_GIVEN."""
+    to a largest of 1, which a position's weights do not see), ** PULL_POWER_GIVEN (``full``,
+    closure 8: ** PULL_POWER_8)."""
     g = t.gx
     w = along.shape[1]
     if t.gp == 1:
@@ -1253,7 +1254,10 @@ def _pull_along(out, tile_h, pull, t, along):
                 top = max(top, step[x])
             for x in range(g):
                 h[x] = step[x] / top if top > 0.0 else 1.0
-                along[d, c, x] = max(h[x], 1e-3) ** PULL_POWER_GIVEN
+                if full:
+                    along[d, c, x] = max(h[x], 1e-3) ** PULL_POWER_8
+                else:
+                    along[d, c, x] = max(h[x], 1e-3) ** PULL_POWER_GIVEN
             under = parent
 
 

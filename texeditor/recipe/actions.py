@@ -439,7 +439,9 @@ def _closure():
 
 def _scales_closure():
     return param("int", 1, SCALES_CLOSURE, default=SCALES_CLOSURE,
-                 doc="how a tileable texture's seams are closed: 7 (current: as 6, the "
+                 doc="how a tileable texture's seams are closed: 8 (current: as 7, the "
+                     "pull at its full strength, each scale's bottom seam redrawn only where "
+                     "its windows leave the DPJ), 7 (as 6, the "
                      "last rows of each scale drawn given its parents weighed towards the "
                      "first row's levels), 6 (as 5, each scale's rows drawn on their ring), "
                      "5 (as 4, the "
@@ -498,8 +500,8 @@ _SCALES_GAINED = (
 
 
 def _scales_of_version(cls, version: int, params: dict) -> dict:
-    """An older step with the parameters it lacks (_SCALES_GAINED) and its closure: version 17
-    had closures 1 to 6 (default 6), versions 7 to 16 1 to 5 (default 5), 5 and 6 1 to 4
+    """An older step with the parameters it lacks (_SCALES_GAINED) and its closure: version 18
+    had closures 1 to 7 (default 7), version 17 1 to 6 (default 6), versions 7 to 16 1 to 5 (default 5), 5 and 6 1 to 4
     (default 4), 4 1 to 3 (default 3).
     Versions 1 to 3 also tried OLD_REDRAWS times at a dead end of the coarsest scale and drew
     their tone without balance; version 1 had no ``closure`` (closed the first way), version 2
@@ -511,7 +513,8 @@ def _scales_of_version(cls, version: int, params: dict) -> dict:
             raise FormatError(f"action {cls.TYPE!r} version {version} has no {name}")
         params = {**params, name: older}
     if version >= 4:
-        return _closure_as_written(cls, version, params, 6 if version == 17 else
+        return _closure_as_written(cls, version, params, 7 if version == 18 else
+                                   6 if version == 17 else
                                    5 if version >= 7 else 4 if version >= 5 else 3)
     if version not in (1, 2, 3) or "coarse_redraws" in params or "tone_balance" in params:
         raise FormatError(f"action {cls.TYPE!r} version {version} is not supported "
@@ -589,7 +592,7 @@ class SynthesizeScales(Action):
     each finer one given the one under it (markov.multiscale); palette = the finest DPJ's."""
 
     TYPE: ClassVar[str] = "synthesize_scales"
-    VERSION: ClassVar[int] = 18
+    VERSION: ClassVar[int] = 19
     EFFECT: ClassVar[str] = "reset"
     dpjs: tuple = param("refs", hi=6, doc="the scales' DPJs of the document, coarsest first")
     width: int = _side("points across")
