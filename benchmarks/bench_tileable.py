@@ -35,13 +35,12 @@ import time
 from pathlib import Path
 
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import quality  # noqa: E402  (the module next to this script)
 
 import texeditor  # noqa: E402
-from texeditor.markov.dpj import encode  # noqa: E402
+from texeditor.markov.estimation import window_codes  # noqa: E402
 from texeditor.markov.multiscale import SCALES_CLOSURE  # noqa: E402
 from texeditor.markov.synthesis import CLOSURE  # noqa: E402
 
@@ -49,10 +48,8 @@ BAND = 4
 
 
 def torus_codes(levels, window, g):
-    u, v = window
-    a = np.pad(levels, ((0, v - 1), (0, u - 1)), mode="wrap")
-    win = sliding_window_view(a, (v, u))
-    return encode(np.ascontiguousarray(win.reshape(-1, v, u)), g).reshape(levels.shape)
+    """The code of the window at each point, read on the torus (across both seams)."""
+    return window_codes(levels, window, g, wrap=True).reshape(levels.shape)
 
 
 def off_share(levels, dpj):
