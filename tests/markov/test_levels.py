@@ -428,3 +428,18 @@ def test_load_image_keeps_pictures_within_their_usual_range_as_stored(tmp_path):
     colour = rgba[..., :3]
     assert np.allclose(image[..., :3], (colour - colour.min()) / np.ptp(colour), atol=1e-6)
     assert np.allclose(image[..., 3], rgba[..., 3], atol=1e-6)
+
+
+@pytest.mark.parametrize("scale, message", [(255.0, "reach 255"), (-3.0, "go down to -3")])
+def test_float_pixels_on_another_scale_are_refused_not_clipped(scale, message):
+    """A photo given as floats in 0..255 (an ``.astype(float)``, a mean of channels) would be
+    clipped to 0..1, almost black and white, and drawn without a word: it is refused, saying
+    how to bring it to 0..1; a little outside 0..1 is still clipped, as scikit-image reads it."""
+    import texeditor
+    photo = np.linspace(0, 1, 48 * 40).reshape(48, 40)
+    for call in (lambda p: lv.quantize(p, 4, "lloyd"), lambda p: lv.to_rgb(np.dstack([p] * 3)),
+                 lambda p: texeditor.resynthesize(p, (24, 24), seed=1)):
+        with pytest.raises(lv.ImageError, match=message):
+            call(photo * scale)
+    slightly = lv.quantize(np.clip(photo * 1.2 - 0.1, -0.1, 1.1), 4, "lloyd")
+    assert set(np.unique(slightly.levels)) == {0, 1, 2, 3}

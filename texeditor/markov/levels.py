@@ -202,7 +202,8 @@ def _check_shape(image: np.ndarray) -> None:
 def to_grey(image) -> np.ndarray:
     """Grey (H, W) float64 in [0, 1] of any supported image; RGBA is laid on white first.
 
-    Integer types are scaled by their range (uint16 65535 → 1); negative or > 1 floats are clipped.
+    Integer types are scaled by their range (uint16 65535 → 1); floats are read on 0..1, a little
+    below 0 or above 1 clipped, well outside it (FLOAT_RANGE) refused.
     Converted by bands of rows: a 64-megapixel RGBA photo as float64 would take 2 GB at once
     (every step is per pixel, so the result is the same as in one go).
     """
@@ -243,11 +244,28 @@ def _as_unit_float(image) -> np.ndarray:
     image = np.asarray(image)
     _check_shape(image)
     img = ski.util.img_as_float64(image)
-    if img.dtype.kind == "f" and image.dtype.kind == "f" and not np.all(np.isfinite(img)):
-        raise ImageError("the image holds NaN or infinite values")
+    if img.dtype.kind == "f" and image.dtype.kind == "f":
+        if not np.all(np.isfinite(img)):
+            raise ImageError("the image holds NaN or infinite values")
+        _check_float_range(img)
     if np.shares_memory(img, image):
         return np.clip(img, 0.0, 1.0)
     return np.clip(img, 0.0, 1.0, out=img)     # a converted copy: clipped where it is
+
+
+FLOAT_RANGE = (-1.0, 2.0)   # float pixels are read on 0..1 (scikit-image's convention) and
+                            # clipped; beyond these they are on another scale (0..255 after an
+                            # .astype(float)), which clipping would turn into a black-and-white
+                            # picture without a word
+
+
+def _check_float_range(img: np.ndarray) -> None:
+    lo, hi = float(img.min()), float(img.max())
+    if lo < FLOAT_RANGE[0] or hi > FLOAT_RANGE[1]:
+        seen = f"reach {hi:.4g}" if hi > FLOAT_RANGE[1] else f"go down to {lo:.4g}"
+        raise ImageError(f"the image's float pixels {seen}, but float pixels are read on 0..1: "
+                         "divide them by their maximum (by 255 for 0..255 values), or pass 8- "
+                         "or 16-bit integers")
 
 
 # -- quantisation -----------------------------------------------------------------------------
