@@ -57,6 +57,10 @@ class CanvasViewBox(pg.ViewBox):
     def mouseDragEvent(self, ev, axis=None):
         button = ev.button()
         left = button == QtCore.Qt.MouseButton.LeftButton
+        if left and self._canvas().in_gesture() and not ev.isStart():
+            ev.accept()              # a stroke under way stays one until its release: Space or
+            self._canvas().tool_drag(ev)   # the hand tool chosen mid-stroke pans the next drag
+            return
         tool = self._canvas().tool
         panning = button == QtCore.Qt.MouseButton.MiddleButton or (
             left and (self.pan_key_held or (tool is not None and tool.PANS)))
@@ -456,6 +460,7 @@ class CanvasView(pg.GraphicsView):
         if self._levels is None:
             return
         if ev.isStart():
+            self.end_gesture()
             self._gesture = self.tool.drag(self.point_at(ev.buttonDownScenePos()), ev.modifiers())
             if not self._next(None):
                 return
@@ -464,6 +469,16 @@ class CanvasView(pg.GraphicsView):
             if ev.isFinish():
                 gesture, self._gesture = self._gesture, None
                 gesture.close()
+
+    def in_gesture(self) -> bool:
+        return self._gesture is not None
+
+    def end_gesture(self) -> None:
+        """Close a drag left open (its release never came), so that its step lands now, in the
+        document it was drawn on — not in whatever document the next drag finds."""
+        if self._gesture is not None:
+            gesture, self._gesture = self._gesture, None
+            gesture.close()
 
     def _next(self, cell) -> bool:
         try:

@@ -512,6 +512,7 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
     def set_history(self, history: History, path=None, name: str | None = None) -> None:
         """Show another document (new, opened, or the start-up one); it starts unmodified.
         ``name`` titles a document without a file (a bank entry's name)."""
+        self.canvas.end_gesture()       # a drag left open belongs to the document it began on
         if self._unsubscribe is not None:
             self._unsubscribe()
         tool, first = self.canvas.tool, self.history is None
@@ -801,16 +802,22 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         """Draw ``action``'s levels from ``source`` (its DPJ or DPJs) in the worker, with
         progress and Cancel; the levels are applied on this thread when done."""
         start, history = time.perf_counter(), self.history
+        log = history.applied
         self.runner.run(label,
                         lambda progress, cancel: render_synthesis(action, source, progress, cancel),
-                        lambda result: self._synthesis_done(history, action, result, start),
+                        lambda result: self._synthesis_done(history, log, action, result, start),
                         on_cancel=lambda: self.statusBar().showMessage(
                             "Synthesis cancelled: the document is unchanged.", 8000),
                         on_error=lambda exc: self.show_error("Synthesis failed", exc))
 
-    def _synthesis_done(self, history, action, result, start) -> None:
+    def _synthesis_done(self, history, log, action, result, start) -> None:
         if history is not self.history:
             return       # another document was opened meanwhile
+        if history.applied != log:     # an undo, a step chosen in the History, a stroke: applied
+            self.statusBar().showMessage(  # now, it would drop the steps undone meanwhile
+                f"{action.label()}: the texture changed while it was drawn, so it was not "
+                "applied (the history is as you left it); synthesise again.", 10000)
+            return
         levels, repairs = result
         steps = self.history.index
         if not self.submit(action, prepared=levels) or self.history.index == steps:
