@@ -583,12 +583,12 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
                 self._forget_broken_journal()
                 self._journal = Journal()
                 reset = True
+            doc = self.history.document
             if reset:
-                self._journal.reset(self.history.applied, self.history.document.dpjs,
-                                    source=self.path, exemplars=self.history.document.exemplars)
+                self._journal.reset(self.history.applied, doc.dpjs, source=self.path,
+                                    exemplars=doc.exemplars, current=doc.dpj_ref)
             else:
-                self._journal.sync(self.history.applied, self.history.document.dpjs,
-                                   self.history.document.exemplars)
+                self._journal.sync(self.history.applied, doc.dpjs, doc.exemplars, doc.dpj_ref)
         except OSError as exc:
             self._journal_failed(exc)
             return

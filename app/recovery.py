@@ -134,7 +134,7 @@ def restore(target, item, *, fallback=None, elsewhere=None):
 
     def work(progress, cancel):
         return History.from_log(item.actions, item.dpjs, exemplars=item.exemplars,
-                                progress=progress, cancel=cancel)
+                                current=item.current, progress=progress, cancel=cancel)
 
     def done(history):
         window = target

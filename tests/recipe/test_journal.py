@@ -306,3 +306,37 @@ def test_a_damaged_changes_count_counts_as_none(tmp_path):
         path.write_bytes(b"\n".join([json.dumps(start).encode(), *lines[1:]]) + b"\n")
         got = recover(path)
         assert got.changes == expected and got.actions == history.applied
+
+
+def test_the_current_dpj_is_recovered_when_it_changed_without_a_step(tmp_path, monkeypatch):
+    """A DPJ edited and used (History.add_dpj: no step) is what the next synthesis draws from;
+    the journal records it, so restored work synthesises from it, not from the log's last
+    synthesis's DPJ — through an undo, a rewrite of the journal, and a damaged record."""
+    history = _history()
+    first = history.document.dpj_ref
+    journal = Journal(tmp_path)
+    journal.reset(history.applied, history.document.dpjs, current=history.document.dpj_ref)
+    edited = history.add_dpj(estimate_dpj(np.random.default_rng(2).integers(0, 3, (30, 30)),
+                                          (2, 2), 3))
+    assert edited != first
+    journal.sync(history.applied, history.document.dpjs, current=history.document.dpj_ref)
+    got = recover(journal.path)
+    assert got.current == edited and got.actions == history.applied
+    restored = History.from_log(got.actions, got.dpjs, current=got.current)
+    assert restored.document.dpj_ref == edited
+    assert History.from_log(got.actions, got.dpjs).document.dpj_ref == first    # as it was
+
+    history.apply(SetLevels(0, 0, 3, 3, 1))             # a step after it keeps it current
+    journal.sync(history.applied, history.document.dpjs, current=history.document.dpj_ref)
+    assert recover(journal.path).current == edited
+    monkeypatch.setattr(journal_module, "COMPACT_BYTES", 10)
+    journal._afresh = 0
+    history.apply(SetLevels(1, 1, 3, 3, 2))
+    journal.sync(history.applied, history.document.dpjs, current=history.document.dpj_ref)
+    got = recover(journal.path)                          # written afresh: still there
+    assert journal.path.read_bytes().count(b'"kind":"log"') == 1
+    assert got.current == edited and got.actions == history.applied
+
+    with open(journal.path, "ab") as f:                  # a record naming no DPJ it holds
+        f.write(b'{"kind":"current","ref":"0000"}\n')
+    assert recover(journal.path).current == edited

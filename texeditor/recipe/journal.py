@@ -7,7 +7,8 @@ that died, and ``recover`` rebuilds their logs. One window, one file: a live jou
 
 A journal is JSON Lines. ``start`` (format, the document's file if any, time), then ``dpj`` records
 (a DPJ the log refers to, base64 of its `.dpj` bytes), ``exemplar`` records (a model step's photo,
-base64 of its PNG), ``log`` records: keep the first ``keep``
+base64 of its PNG), ``current`` records (the reference of the DPJ the next synthesis draws
+from, when it changes without a step: a DPJ edited and used), ``log`` records: keep the first ``keep``
 actions of the log as it was and append ``append`` (undo keeps n-1 and appends nothing; an edit of
 step k keeps k-1 and appends the rest), and ``thumbnail`` records (base64 of a PNG of the middle
 of the picture as the window showed it, at most THUMB_SIDE a side; the last one is shown when the
@@ -83,8 +84,9 @@ class Journal:
         self._logs = 0            # log records since the start record
         self._thumb = None        # the last thumbnail record
         self._afresh = 0          # the size when last written afresh
+        self._current = None      # the current DPJ's reference, as last recorded
 
-    def reset(self, actions, dpjs: dict, *, source=None, exemplars=None) -> None:
+    def reset(self, actions, dpjs: dict, *, source=None, exemplars=None, current=None) -> None:
         """Start afresh from this log (a new or just-saved document): the old records go, but
         for the DPJs and photos still used, copied as they were written."""
         wanted = set(dpjs) | set(exemplars or {})
@@ -94,20 +96,25 @@ class Journal:
         self._file.seek(0)
         self._file.truncate()
         self._logged, self._refs, self._logs, self._thumb = (), {}, 0, None
+        self._current = None
         self._start = {"kind": "start", "format": FORMAT, "time": time.time(),
                        "source": None if source is None else str(source)}
         self._write(self._start, flush=False)
         for ref, line in kept.items():
             self._refs[ref] = self._write_line(line)
         self._afresh = MAX_JOURNAL_BYTES          # (not written afresh again at once)
-        self.sync(actions, dpjs, exemplars)
+        self.sync(actions, dpjs, exemplars, current)
         self._afresh = self._file.tell()
 
-    def sync(self, actions, dpjs: dict, exemplars=None) -> None:
+    def sync(self, actions, dpjs: dict, exemplars=None, current=None) -> None:
         """Record how the log changed since the last call (nothing if it did not), with the
-        DPJs and exemplar photos (ref → picture) not recorded yet."""
+        DPJs and exemplar photos (ref → picture) not recorded yet, and the ``current`` DPJ's
+        reference when it changed."""
         actions = tuple(actions)
         if actions == self._logged:
+            if current != self._current:
+                self._write_sources(dpjs, exemplars)
+                self._write_current(current)
             return
         keep = 0
         for old, new in zip(self._logged, actions):
@@ -119,8 +126,14 @@ class Journal:
                      "append": [a.to_json() for a in actions[keep:]]})
         self._logged = actions
         self._logs += 1
+        if current != self._current:
+            self._write_current(current)
         if self._start and self._file.tell() > max(COMPACT_BYTES, 2 * self._afresh):
             self._rewrite(dpjs, exemplars)
+
+    def _write_current(self, current) -> None:
+        self._write({"kind": "current", "ref": current})
+        self._current = current
 
     def _write_sources(self, dpjs: dict, exemplars, before=None) -> None:
         """The DPJs and exemplar photos not recorded yet (not flushed: the log record is);
@@ -159,7 +172,10 @@ class Journal:
                 self._write_sources(dpjs, exemplars, (written, refs))
                 self._write({"kind": "log", "keep": 0,
                              "append": [a.to_json() for a in logged]},
-                            flush=self._thumb is None)
+                            flush=self._thumb is None and self._current is None)
+                if self._current is not None:
+                    self._write({"kind": "current", "ref": self._current},
+                                flush=self._thumb is None)
                 if self._thumb is not None:
                     self._write(self._thumb)
             os.replace(new, self.path)
@@ -214,6 +230,7 @@ class Recovered:
     changes: int          # changes of the log since the document was opened or saved
     exemplars: dict = dataclasses.field(default_factory=dict)
     thumbnail: np.ndarray | None = None     # the last thumbnail recorded (uint8, grey or RGB)
+    current: str | None = None              # the current DPJ's reference, when recorded
 
 
 def thumbnail_of(picture) -> np.ndarray:
@@ -325,11 +342,15 @@ def recover(path: Path) -> Recovered:
     start = _record(next(lines, b""))
     if not isinstance(start, dict) or start.get("kind") != "start" or start.get("format") != FORMAT:
         raise FormatError(f"{path}: not a texeditor journal")
-    actions, dpjs, photos, logs, thumb = [], {}, {}, 0, None
+    actions, dpjs, photos, logs, thumb, current = [], {}, {}, 0, None, None
     for line in lines:
         record = _record(line)
         if isinstance(record, dict) and record.get("kind") == "thumbnail":
             thumb = _thumbnail(record.get("png"), thumb)
+            continue
+        if isinstance(record, dict) and record.get("kind") == "current":
+            ref = record.get("ref")       # which DPJ draws next: no work is lost with a bad one
+            current = ref if ref is None or (isinstance(ref, str) and ref in dpjs) else current
             continue
         try:
             if record is None:
@@ -341,7 +362,7 @@ def recover(path: Path) -> Recovered:
         logs += record.get("kind") == "log"
     source = start.get("source") if isinstance(start.get("source"), str) else None
     return Recovered(path, tuple(actions), dpjs, source, _start_time(start.get("time")),
-                     _changes(start) + max(0, logs - 1), photos, thumb)
+                     _changes(start) + max(0, logs - 1), photos, thumb, current)
 
 
 def _thumbnail(data, before):
