@@ -357,6 +357,9 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         menu.addActions([self.act_tiled, self.act_tone, self.act_plates])
         menu.addSeparator()
         menu.addActions([dock.toggleViewAction() for dock in self.docks()])
+        for dock in self.docks():          # a dock opened from View comes to the front of its
+            dock.toggleViewAction().triggered.connect(    # tabs, not a tab behind the others
+                lambda shown, d=dock: d.raise_() if shown else None)
 
         bar = self.addToolBar("Main")
         bar.setObjectName("MainToolBar")

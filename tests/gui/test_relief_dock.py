@@ -9,7 +9,7 @@ from PySide6 import QtCore, QtWidgets
 from app.relief_dock import BALL, DIRECTX_FILTER, OPENGL_FILTER, ReliefSettings, load_settings
 from texeditor.relief import plane_preview, sphere_preview
 
-from .support import LEFT, cell_pos, drag, press_key
+from .support import LEFT, cell_pos, drag, press_key, settle
 
 Key = QtCore.Qt.Key
 
@@ -51,7 +51,11 @@ def test_a_relief_session(window, qtbot, tmp_path, monkeypatch):
     view_action(window, "Relief").trigger()
     qtbot.waitUntil(dock.isVisible)
     assert dock.shown is not None and same(dock.shown, expected(window, dock))
+    qtbot.waitUntil(lambda: not dock.visibleRegion().isEmpty())    # in front of its tabs
+    settle(window)
+    assert dock.width() > 200 and dock.height() > 300, dock.size()  # sized as a dock in front
     assert not dock.widget().horizontalScrollBar().isVisible()      # it fits its column
+    assert not dock.widget().verticalScrollBar().isVisible()
     first = dock.shown
 
     # the light dragged to the right rim of the ball: from the right, grazing
