@@ -52,6 +52,8 @@ class SynthesisDock(QtWidgets.QDockWidget):
         form = QtWidgets.QFormLayout(body)
         tight_vertically(form)
         self.dpj_label = QtWidgets.QLabel()
+        self.dpj_label.setWordWrap(True)     # a long name or description wraps: the dock never
+                                             # scrolls sideways to show it
         self.width_box = self._side()
         self.height_box = self._side()
         size_row = QtWidgets.QHBoxLayout()

@@ -119,3 +119,23 @@ def test_space_or_the_hand_tool_mid_stroke_lands_the_stroke_at_its_release(qtbot
     window.mark_clean()
     window.set_history(fresh)
     assert len(window.history.actions) == 0 and not window.errors
+
+
+def test_a_long_dpj_name_wraps_and_the_synthesis_dock_never_scrolls_sideways(qtbot, window):
+    """A DPJ of a long name (an edited photo-model scale's description is as long) made the
+    dock's content 431 points wide in a 340-point dock; after Synthesise it was left scrolled
+    sideways, the row labels and Tileable out of sight."""
+    from .support import settle
+    dpj = window.document.dpj
+    named = type(dpj)(dpj.configs, dpj.probs, dpj.levels,
+                      meta={**dpj.meta, "name": "a photo of the old harbour wall, west side, taken at low tide in the morning light"})
+    window.history.add_dpj(named)
+    dock = window.synthesis_dock
+    qtbot.waitUntil(lambda: "old harbour" in dock.dpj_label.text())
+    window.synthesise_from_dock()
+    assert window.runner.wait(60_000)
+    settle(window)
+    scroll = dock.widget().horizontalScrollBar()
+    assert scroll.maximum() == 0 and scroll.value() == 0
+    assert dock.widget().widget().minimumSizeHint().width() <= dock.widget().viewport().width()
+    assert window.history.actions[-1].dpj == named.ref and not window.errors
