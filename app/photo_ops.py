@@ -51,6 +51,31 @@ class PhotoOps:
             self.history.add_dpj(dpj)
         self._show_document(self.history.document, None)
 
+    def use_edited_scale(self, dpj: DPJ) -> int | None:
+        """The DPJ editor's Use of a scale of the attached model, edited (the current DPJ was
+        one of its scales, and this DPJ says it is scale k of as many, with the same window
+        and levels): the model keeps it in place of scale k, with its tone, so Synthesise
+        draws every scale and the tone from it (used as a DPJ alone, its composite levels were
+        drawn as plain levels without the tone). Returns k, or None when it is not one."""
+        model, k = self.photo_model, dpj.meta.get("scale")
+        if model is None or self.history.document.dpj_ref not in self.scale_refs() \
+                or isinstance(k, bool) or not isinstance(k, int) or not 0 <= k < model.scales.scales:
+            return None
+        old = model.scales.dpjs[k]
+        keys = ("scales", "parent_levels", "parents_under", "parent_phase")
+        if (dpj.window, dpj.levels) != (old.window, old.levels) \
+                or any(dpj.meta.get(key) != old.meta.get(key) for key in keys):
+            return None
+        dpjs = list(model.scales.dpjs)
+        dpjs[k] = dpj
+        try:
+            scales = type(model.scales)(tuple(dpjs))
+        except TexeditorError:
+            return None
+        self.photo_model = PhotoModel(scales, model.tone)
+        self._tone_cache = None
+        return k
+
     def scale_refs(self) -> tuple[str, ...]:
         """The scales (references, coarsest first) the current DPJ belongs to: the attached
         model's, or those of a multi-scale synthesis in the log (a reopened `.texture`); ()

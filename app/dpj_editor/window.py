@@ -579,7 +579,13 @@ def use_in_main_window(window, dpj: DPJ, editor: DPJEditor | None = None) -> Non
             editor.statusBar().showMessage("The main window is replaying its history: use this "
                                            "DPJ again when it has finished.", 8000)
         return
+    k = window.use_edited_scale(dpj)
     window.history.add_dpj(dpj)
     u, v = dpj.window
+    if k is not None:
+        window.statusBar().showMessage(f"The edited scale {k + 1} of the photo model is now in "
+                                       "its place: Synthesise draws every scale, and the tone, "
+                                       "with it.", 10000)
+        return
     window.statusBar().showMessage(f"The hand-made {u}×{v} DPJ with G = {dpj.levels} is now the "
                                    f"current DPJ: {len(dpj):,} configurations.", 10000)

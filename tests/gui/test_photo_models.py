@@ -565,3 +565,37 @@ def test_a_step_drawn_with_16_coarse_redraws_again_is_the_older_texture(qtbot, w
     assert np.array_equal(window.canvas.picture, unbalanced)
     undo_to_start(qtbot, window)
     assert np.array_equal(window.document.levels, start)
+
+
+def test_an_edited_scale_used_from_the_dpj_editor_stays_a_scale_of_the_model(qtbot, window,
+                                                                            photo_path, small_dpj):
+    """Edit DPJ on a photo model's finest scale, then Use: the model keeps the edited DPJ in
+    that scale's place, so Synthesise draws every scale, the edited one among them, in the
+    photo's tone (it was drawn alone, its composite levels as plain levels, without a tone);
+    undo and redo go through it; a DPJ that is not that scale's shape is used alone."""
+    from app.dpj_editor.window import use_in_main_window
+    from texeditor.photo import document_tone
+    window.attach_model(acquire_model(load_image(photo_path), scales=2))
+    finest = window.document.dpj
+    probs = finest.probs.copy()
+    probs[0] *= 3
+    edited = DPJ(finest.configs, probs / probs.sum(), finest.levels, palette=finest.palette,
+                 meta={**finest.meta, "name": "hand-made"})
+    use_in_main_window(window, edited)
+    assert window.document.dpj_ref == edited.ref and window.scale_refs()[-1] == edited.ref
+    assert "scale 2" in window.statusBar().currentMessage()
+    synthesise(qtbot, window, 64, 48, 31)
+    step = window.history.actions[-1]
+    assert isinstance(step, SynthesizeScales) and step.dpjs[-1] == edited.ref
+    assert step.dpjs[0] == window.photo_model.scales.dpjs[0].ref and step.tone_photo is not None
+    drawn = window.document.levels.copy()
+    assert document_tone(window.document) is not None and drawn.max() < window.photo_model.levels
+    window.undo()
+    window.redo()
+    assert np.array_equal(window.document.levels, drawn)
+
+    other = DPJ(small_dpj.configs, small_dpj.probs, small_dpj.levels,    # another window
+                meta={**small_dpj.meta, "scale": 1, "scales": 2, "name": "other"})
+    use_in_main_window(window, other)
+    assert window.scale_refs() == () and window.photo_model.scales.dpjs[-1].ref == edited.ref
+    assert not window.errors
