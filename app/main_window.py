@@ -487,10 +487,35 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
             return
         super().closeEvent(ev)
 
+    def resizeEvent(self, ev) -> None:
+        super().resizeEvent(ev)
+        if self._docks_sized and ev.size().height() > ev.oldSize().height() >= 0:
+            QtCore.QTimer.singleShot(0, self, self._regrow_docks)    # once laid out anew
+
+    def _regrow_docks(self) -> None:
+        """The window grew: the synthesis and palette docks a smaller window squeezed (their
+        Synthesise button, their sliders scrolled out of sight) get their natural height back
+        from the history; docks at their height or taller are left as the user made them."""
+        docks = (self.synthesis_dock, self.palette_dock)
+        heights = self._natural_heights()
+        if any(d.isVisible() and d.height() < h for d, h in zip(docks, heights)):
+            self._size_column([max(d.height(), h) for d, h in zip(docks, heights)])
+
     def _size_docks(self) -> None:
         """Synthesis (and the Plates dock, its tab, when open: the taller, and their tab bar)
         and palette at their natural height; the history takes the rest."""
+        self._size_column(self._natural_heights())
+        self.resizeDocks([self.history_dock, self.tool_dock], [340, 190],
+                         QtCore.Qt.Orientation.Horizontal)
+
+    def _size_column(self, heights) -> None:
         docks = [self.synthesis_dock, self.palette_dock, self.history_dock]
+        rest = max(200, sum(d.height() for d in docks) - sum(heights))
+        self.resizeDocks(docks, heights + [rest], QtCore.Qt.Orientation.Vertical)
+
+    def _natural_heights(self) -> list[int]:
+        """The heights the synthesis (or its Plates tab) and palette docks show all of their
+        content at."""
 
         def natural(d):     # the content, its scroll area's frame and the dock's title bar
             area = d.widget()
@@ -500,12 +525,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
         tabs = [bar.sizeHint().height() for bar in self.findChildren(QtWidgets.QTabBar)
                 if plates and bar.isVisible() and self.plates_dock.windowTitle() in
                 [bar.tabText(i) for i in range(bar.count())]]
-        heights = [max([natural(self.synthesis_dock)] + [natural(self.plates_dock)] * plates)
-                   + sum(tabs[:1]), natural(self.palette_dock)]
-        rest = max(200, sum(d.height() for d in docks) - sum(heights))
-        self.resizeDocks(docks, heights + [rest], QtCore.Qt.Orientation.Vertical)
-        self.resizeDocks([self.history_dock, self.tool_dock], [340, 190],
-                         QtCore.Qt.Orientation.Horizontal)
+        return [max([natural(self.synthesis_dock)] + [natural(self.plates_dock)] * plates)
+                + sum(tabs[:1]), natural(self.palette_dock)]
 
     # -- the document -------------------------------------------------------------------------------
     @property

@@ -492,3 +492,34 @@ def test_a_window_deleted_just_as_its_task_ends_is_deleted_without_an_error(qtbo
     done = win.runner.wait(60_000)
     win.mark_clean()                     # closed at the end without a question
     assert done and win.document.levels.size and len(win.history.actions) == 1
+
+
+def test_docks_squeezed_by_a_small_window_get_their_height_back_when_it_grows(qtbot, window):
+    """Shrunk to its minimum, the window squeezes the Synthesis and Palette docks (their
+    Synthesise button and Contrast slider scroll out of sight); grown back, they stayed
+    squeezed and the History took the room. Now they get their height back; a dock the user
+    made taller than it needs is left as it is."""
+    from .support import settle
+    synth, palette, history = window.synthesis_dock, window.palette_dock, window.history_dock
+
+    def seen():
+        settle(window)
+        qtbot.wait(50)
+        return (not synth.button.visibleRegion().isEmpty(),
+                not palette.contrast.visibleRegion().isEmpty())
+    assert seen() == (True, True)
+    start = (synth.height(), palette.height(), history.height())
+    window.resize(1, 1)                                  # as small as its docks allow
+    assert seen() != (True, True)
+    window.resize(1100, 750)
+    assert seen() == (True, True)
+    assert (synth.height(), palette.height()) == start[:2] and history.height() >= 200
+    window.resizeDocks([synth, palette, history], [start[0] + 150, start[1], start[2] - 150],
+                       QtCore.Qt.Orientation.Vertical)
+    settle(window)
+    taller = synth.height()
+    window.resize(1100, 800)
+    settle(window)
+    qtbot.wait(50)
+    assert taller > start[0] + 30                         # the user's taller dock ...
+    assert synth.height() >= taller - 4 and not window.errors     # ... kept (but rounding)
