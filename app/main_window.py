@@ -568,6 +568,8 @@ class MainWindow(FileOps, PhotoOps, PlateOps, QtWidgets.QMainWindow):
             refs = self.scale_refs()
             self.synthesis_dock.refresh(self.history, [doc.dpjs[r] for r in refs])
             self.density_dock.refresh()
+            if self._docks_sized:         # a photo model's rows may need more height
+                QtCore.QTimer.singleShot(0, self, self._regrow_docks)
         self.act_undo.setEnabled(self.can_undo())
         self.act_redo.setEnabled(self.history.can_redo)
         self.act_tone.setEnabled(self.tone_available())
