@@ -558,3 +558,18 @@ def test_forced_moves_bring_back_a_level_a_small_texture_lacks(tileable):
         assert forced.moved > free.moved
         made = off_places(forced.levels, law, tileable) & ~off_places(free.levels, law, tileable)
         assert made.mean() < 0.08
+
+
+@pytest.mark.parametrize("value", [float("inf"), float("nan"), 2.5, "2", [2], None, {}, True])
+def test_a_parent_levels_that_is_not_a_whole_number_is_refused_by_name(value):
+    """A file's DPJ meta is any JSON value: Infinity, "abc" or [2] as a scale's parent_levels
+    escaped as OverflowError, ValueError or TypeError (a traceback from `texeditor render`),
+    and 2.5 or "2" were read as 2. Each is refused, naming it, as an InputError."""
+    rng = np.random.default_rng(5)
+    dpjs = multiscale.estimate_scales(rng.integers(0, 256, (48, 48)).astype(np.uint8),
+                                      scales=2)[0].dpjs
+    fine = dpjs[1]
+    bad = DPJ(fine.configs, fine.probs, fine.levels, meta={**fine.meta, "parent_levels": value})
+    with pytest.raises(InputError, match="parent_levels"):
+        multiscale.MultiScaleDPJ((dpjs[0], bad))
+    multiscale.MultiScaleDPJ((dpjs[0], fine))

@@ -160,7 +160,13 @@ class MultiScaleDPJ:
 def parent_levels(dpjs, k: int) -> int:
     """The parent codes of scale k: the levels of scale k - 1 (twice as many with
     PARENT_PHASE)."""
-    return 1 if k == 0 else int(dpjs[k].meta.get("parent_levels", 0))
+    if k == 0:
+        return 1
+    value = dpjs[k].meta.get("parent_levels", 0)      # a file's meta: any JSON value
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise InputError(f"scale {k}: its DPJ's parent_levels is {value!r:.40}, not a whole "
+                         "number of levels")
+    return value
 
 
 def has_phase(dpj: DPJ) -> bool:
