@@ -68,7 +68,7 @@ def test_a_damaged_row_never_makes_a_traceback(three, what):
     damage(path, DAMAGE[what], bad)
     for argv in (["list"], ["search", "entry"], ["search", "--like", first],
                  ["search", "--filter", "contrast=0:1e9"], ["show", first], ["show", bad],
-                 ["verify"], ["render", bad, path.parent / "out.png"]):
+                 ["verify"], ["render", bad, "-o", path.parent / "out.png"]):
         proc = texeditor(path, *argv)
         assert "Traceback" not in proc.stderr, (argv, proc.stderr[-3000:])
         assert proc.returncode in (0, 1, 2), (argv, proc.returncode, proc.stderr)
@@ -93,3 +93,16 @@ def test_list_names_the_row_it_skips(three, what):
     assert proc.returncode == 0
     assert "entry 1" not in proc.stdout
     assert f"skipped: bank entry {bad}:" in proc.stderr and "damaged" in proc.stderr
+
+
+@pytest.mark.parametrize("stamp", ["1e300", "-1e300", "1e18"])
+def test_a_time_past_the_clock_shows_as_unknown_not_as_a_traceback(three, stamp):
+    """A REAL creation or modification time the platform's clock cannot show (a hand-edited or
+    damaged bank) made `bank show` die with OverflowError, or say "Value too large for defined
+    data type" naming nothing; the entry itself is whole."""
+    path, (first, bad, _) = three
+    damage(path, f"UPDATE entries SET created = {stamp}, modified = {stamp} WHERE id = ?", bad)
+    proc = texeditor(path, "show", bad)
+    assert proc.returncode == 0 and "Traceback" not in proc.stderr, proc.stderr[-2000:]
+    assert "entry 1" in proc.stdout and "created at an unknown time" in proc.stdout
+    assert texeditor(path, "render", bad, "-o", path.parent / "out.png").returncode == 0

@@ -246,4 +246,9 @@ def _print_table(entries) -> None:
 
 
 def _when(stamp: float) -> str:
-    return time.strftime("%Y-%m-%d %H:%M", time.localtime(stamp))
+    """A bank time as the user reads it; one past what the platform's clock can show (a
+    damaged row: 1e300, NaN) is an unknown time, not a traceback."""
+    try:
+        return time.strftime("%Y-%m-%d %H:%M", time.localtime(stamp))
+    except (OverflowError, OSError, ValueError):
+        return "at an unknown time"
