@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from texeditor import DPJ
+from texeditor import DPJ, synthesize
 from texeditor.markov.dpj import decode, encode
 from texeditor.errors import FormatError, InputError
 from texeditor.markov.estimation import estimate_dpj
@@ -168,3 +168,39 @@ def test_a_header_declaring_terabytes_is_refused_before_allocating():
             z.writestr(f"{key}.npy", member.getvalue())
     with pytest.raises(FormatError, match="declares"):
         DPJ.from_bytes(buf.getvalue())
+
+
+GOOD = np.array([[[0, 0], [0, 1]], [[0, 1], [1, 0]], [[1, 0], [0, 1]]])
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: DPJ(GOOD + 0.5, [0.2, 0.3, 0.5], 2), "whole levels"),
+    (lambda: DPJ(GOOD.astype(str), [0.2, 0.3, 0.5], 2), "configurations"),
+    (lambda: DPJ([[[0, 0], [0]], [[1, 1], [1, 1]]], [0.5, 0.5], 2), "configurations"),
+    (lambda: DPJ(GOOD, [0.2, 0.3, 0.5], 2.5), "whole number"),
+    (lambda: DPJ(GOOD, [0.2, 0.3, 0.5], "2"), "whole number"),
+    (lambda: DPJ(GOOD, ["a", "b", "c"], 2), "probabilities"),
+    (lambda: DPJ(GOOD, [0.2, 0.3, 0.5j], 2), "probabilities"),
+    (lambda: DPJ(GOOD, [0.2, 0.3, 0.5], 2, meta=[1]), "meta"),
+    (lambda: DPJ.from_codes([99], [1.0], 2, (2, 2)), "codes"),
+    (lambda: DPJ.from_codes([-1], [1.0], 2, (2, 2)), "codes"),
+    (lambda: DPJ.from_codes([2**70], [1.0], 2, (2, 2)), "codes"),
+    (lambda: estimate_dpj(np.full((9, 9), np.nan), (2, 2), 2), "integers"),
+    (lambda: estimate_dpj(np.zeros((9, 9), int), (2.5, 2), 2), "whole number"),
+    (lambda: estimate_dpj(np.zeros((9, 9), int), (2, 2), 4.5), "whole number"),
+    (lambda: estimate_dpj(np.zeros((9, 9), int), (2, 2), 2, meta=[1, 2]), "meta"),
+    (lambda: synthesize(estimate_dpj(np.eye(9, dtype=int), (2, 2), 2), (float("inf"), 8)),
+     "size"),
+    (lambda: DPJ(GOOD, [1e308] * 3, 2).normalized(), "sum to inf"),
+    (lambda: synthesize(estimate_dpj(np.eye(9, dtype=int), (2, 2), 2), (8, 8), seed=2**64),
+     "seed"),                        # drawn, it could not be kept in a recipe (63 bits)
+])
+def test_the_python_calls_refuse_what_is_not_a_dpj_by_name(make, message):
+    """What the Python calls are given is checked as a file is: 2.5 levels, "2", a fraction in
+    a configuration or a code past G^(u·v) were truncated, read or wrapped into another
+    configuration without a word, and strings, ragged lists, NaN or infinity escaped as raw
+    numpy errors (ValueError, OverflowError, UFuncTypeError)."""
+    with pytest.raises(InputError, match=message):
+        make()
+    assert DPJ(GOOD.astype(float), [0.2, 0.3, 0.5], 2).configs.dtype == np.uint8   # 1.0: fine
+    assert len(DPJ(GOOD, [np.nan, -1.0, 0.5], 2).report().lines()) > 0   # hand entry, checked

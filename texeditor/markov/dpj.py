@@ -31,13 +31,28 @@ REF_LENGTH = 16            # hex digits of a DPJ reference
 _MEMBERS = {"configs.npy", "probs.npy", "meta.npy"}
 
 
+def whole(x, what: str) -> int:
+    """``x`` as an int when it is a whole number (3, np.int64(3), 3.0); a bool, 2.5, inf, NaN or
+    "3" is refused naming ``what`` (int() would truncate 2.5 and read "3")."""
+    if isinstance(x, (bool, np.bool_, str, bytes)) or not isinstance(x, (int, float, np.number)):
+        raise InputError(f"{what} must be a whole number, got {x!r:.40}")
+    try:
+        n = int(x)
+    except (OverflowError, ValueError):
+        raise InputError(f"{what} must be a whole number, got {x!r:.40}") from None
+    if n != x:
+        raise InputError(f"{what} must be a whole number, got {x!r:.40}")
+    return n
+
+
 def check_window(window: tuple[int, int], levels: int) -> tuple[int, int]:
     """Validate (u, v) and G; refuse windows whose G**(u*v) codes do not fit 63 bits."""
     try:
-        u, v = (int(x) for x in window)
-        levels = int(levels)
+        u, v = window
     except (TypeError, ValueError):
         raise InputError(f"window must be two integers (u columns, v rows), got {window!r}") from None
+    u, v = whole(u, "a window's width"), whole(v, "a window's height")
+    levels = whole(levels, "the number of levels G")
     if not (1 <= u <= MAX_SIDE and 1 <= v <= MAX_SIDE):
         raise InputError(f"window {u}x{v} is out of range: each side must be 1..{MAX_SIDE}")
     if not 2 <= levels <= MAX_LEVELS:
@@ -77,6 +92,20 @@ def decode(codes: np.ndarray, levels: int, v: int, u: int) -> np.ndarray:
         flat[:, k] = codes % levels
         codes //= levels
     return flat.reshape(len(flat), v, u)
+
+
+def _numbers(values, what: str, finite: bool = True) -> np.ndarray:
+    """An array of real numbers (no strings, objects, complex numbers, ragged lists; no NaN or
+    infinity where ``finite``: a hand-entered probability may be one, which the report names)."""
+    try:
+        array = np.asarray(values)
+    except (ValueError, TypeError):
+        raise InputError(f"the {what} must be an array of numbers") from None
+    if array.dtype.kind not in "buif" or (finite and array.dtype.kind == "f" and
+                                          not np.all(np.isfinite(array))):
+        raise InputError(f"the {what} must be {'finite ' * finite}real numbers, got "
+                         f"{array.dtype}")
+    return array
 
 
 def grey_ramp(levels: int) -> np.ndarray:
@@ -155,10 +184,15 @@ class DPJ:
     """
 
     def __init__(self, configs, probs, levels: int, palette=None, meta: dict | None = None):
-        configs = np.asarray(configs)
-        probs = np.asarray(probs, dtype=np.float64)
+        configs = _numbers(configs, "configurations")
+        probs = _numbers(probs, "probabilities", finite=False)
+        if configs.dtype.kind == "f" and not np.array_equal(configs, np.floor(configs)):
+            raise InputError("configurations must hold whole levels, got fractions")
+        probs = probs.astype(np.float64)
         if configs.ndim != 3 or probs.ndim != 1 or len(configs) != len(probs):
             raise InputError("configs must be (n, v, u) and probs (n,) with the same n")
+        if meta is not None and not isinstance(meta, dict):
+            raise InputError(f"a DPJ's meta must be a dict, got {type(meta).__name__}")
         v, u = configs.shape[1:]
         check_window((u, v), levels)
         if len(configs) and (configs.min() < 0 or configs.max() >= levels):
@@ -181,6 +215,10 @@ class DPJ:
     @classmethod
     def from_codes(cls, codes, probs, levels: int, window: tuple[int, int], **kw) -> "DPJ":
         u, v = check_window(window, levels)
+        codes = _numbers(codes, "codes")
+        if codes.dtype.kind not in "ui" or (codes.size and (codes.min() < 0 or
+                                                            codes.max() > levels ** (u * v) - 1)):
+            raise InputError(f"configuration codes must be whole numbers 0..{levels}^{u * v} - 1")
         return cls(decode(codes, levels, v, u), probs, levels, **kw)
 
     @classmethod
@@ -260,7 +298,8 @@ class DPJ:
         """Divide by the sum so the entries sum to 1."""
         total = self.total
         if not np.isfinite(total) or total <= 0:
-            raise InputError("cannot normalise: the probabilities sum to zero")
+            raise InputError("cannot normalise: the probabilities sum to "
+                             + ("zero" if total == 0 else f"{total:g}, not a positive number"))
         return self.with_probs(self._probs / total)
 
     def marginal(self, rows: slice = slice(None), cols: slice = slice(None)) -> "DPJ":

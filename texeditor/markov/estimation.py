@@ -54,7 +54,9 @@ def estimate_dpj(matrix: np.ndarray, window: tuple[int, int] = (2, 2), levels: i
     DPJ estimated with ``wrap`` already does. The meta records a scan other than rows and a
     stationarity enforced, so a DPJ acquired as before keeps its former bytes.
     """
-    matrix = to_scan(matrix, scan)
+    matrix = to_scan(_integers(matrix), scan)
+    if meta is not None and not isinstance(meta, dict):
+        raise InputError(f"a DPJ's meta must be a dict, got {type(meta).__name__}")
     if levels is None:
         levels = max(2, int(matrix.max()) + 1) if matrix.size else 2
     codes = window_codes(matrix, window, levels, wrap)
@@ -80,12 +82,22 @@ def _stationary(dpj: DPJ, cancel) -> DPJ:
     return done
 
 
-def _check_matrix(levels: np.ndarray, num_levels: int) -> np.ndarray:
-    levels = np.asarray(levels)
-    if levels.ndim != 2 or levels.size == 0:
-        raise InputError(f"a level matrix must be a non-empty 2-D array, got shape {levels.shape}")
+def _integers(levels) -> np.ndarray:
+    """A level matrix of integers (a float one, NaN included, is refused before its highest
+    level is read)."""
+    try:
+        levels = np.asarray(levels)
+    except (ValueError, TypeError):
+        raise InputError("a level matrix must be a 2-D array of integers") from None
     if levels.dtype.kind not in "ui" and levels.dtype != bool:
         raise InputError(f"a level matrix must hold integers, got {levels.dtype}")
+    return levels
+
+
+def _check_matrix(levels: np.ndarray, num_levels: int) -> np.ndarray:
+    levels = _integers(levels)
+    if levels.ndim != 2 or levels.size == 0:
+        raise InputError(f"a level matrix must be a non-empty 2-D array, got shape {levels.shape}")
     if levels.min() < 0 or levels.max() >= num_levels:
         raise InputError(f"the matrix holds levels outside 0..{num_levels - 1}")
     return levels if levels.dtype == np.uint8 else levels.astype(np.int64)

@@ -26,7 +26,7 @@ from ..errors import Cancelled, InputError
 from ..wording import counted
 from .balance import (FORCED_PASSES, FORCED_TRIGGER, FREE_PASSES, MAX_POINTS, TRIGGER,
                       rebalance)
-from .dpj import DPJ, MAX_LEVELS, check_window, encode
+from .dpj import DPJ, MAX_LEVELS, check_window, encode, whole
 from .estimation import estimate_dpj
 from .levels import check_levels, has_colour, quantize, to_grey
 from .particles import PARTICLES, Shares, check_particles, drafts_for
@@ -306,7 +306,7 @@ def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
     scale over the coarsest) also by the row's phase (PARENT_PHASE)."""
     colour = quantizer == "lab" and has_colour(image)
     grey = None if colour else to_grey(image)        # a colour photo's grey is not needed
-    scales = default_scales(np.shape(image)) if scales is None else int(scales)
+    scales = default_scales(np.shape(image)) if scales is None else whole(scales, "scales")
     if not 1 <= scales <= MAX_SCALES:
         raise InputError(f"{scales} scales: choose 1..{MAX_SCALES}")
     levels, coarse_levels = check_levels(levels), check_levels(coarse_levels)

@@ -436,9 +436,14 @@ def check_closure(closure) -> int:
     return int(closure)
 
 
+MAX_SEED = 2**63 - 1        # a recipe stores a seed as a 63-bit integer: a larger one would
+                            # draw a texture no .texture could replay
+
+
 def check_seed(seed) -> int:
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise InputError(f"the seed must be a non-negative integer, got {seed!r}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) \
+            or not 0 <= seed <= MAX_SEED:
+        raise InputError(f"the seed must be an integer 0..2^63 - 1, got {seed!r:.40}")
     return int(seed)
 
 
@@ -449,7 +454,7 @@ def check_size(shape) -> tuple[int, int]:
         if any(isinstance(x, bool) or int(x) != x for x in (h, w)):
             raise TypeError
         h, w = int(h), int(w)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"size must be (height, width), two integers, got {shape!r}") from None
     if h < 1 or w < 1:
         raise InputError(f"a {w}x{h} texture has no points: choose a size of at least 1x1")

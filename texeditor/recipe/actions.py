@@ -19,12 +19,11 @@ from ..markov.multiscale import (COARSE_REDRAWS, COARSE_ROW_REDRAWS, DRAFT_TRIGG
                                  GIVEN_REDRAWS, LEAN_DRAFTS, NO_ROW_LIMIT, OLD_REDRAWS,
                                  SCALES_CLOSURE, scales_phrase)
 from ..markov.particles import DRAFT_POINTS, MAX_PARTICLES, MORE_PARTICLES, PARTICLES
-from ..markov.synthesis import CLOSURE
+from ..markov.synthesis import CLOSURE, MAX_SEED
 from ..errors import FormatError, InputError, check_unicode
 
 MAX_CANVAS_SIDE = 16384
 MAX_CANVAS_PIXELS = 2**26
-MAX_SEED = 2**63 - 1
 MAX_POINTS = 1_000_000
 MAX_REFS = 64                  # a "refs" parameter without its own bound (a .texture's limit)
 MAX_TEXT = 2**24               # each text of a "texts" parameter (a texture recipe's limit)
