@@ -135,6 +135,8 @@ def test_bad_scales_are_refused_with_a_reason():
         multiscale.estimate_scales(photo, scales=3, levels=5)
     with pytest.raises(InputError, match="with 2 scales choose G ≤ 8"):
         multiscale.estimate_scales(photo, scales=2, levels=9)
+    with pytest.raises(InputError, match="choose at most 8 coarse levels"):   # not "G ≤ 1"
+        multiscale.estimate_scales(photo, scales=3, levels=16, coarse_levels=16)
     model, _ = multiscale.estimate_scales(photo, scales=2)
     with pytest.raises(InputError, match="does not sit"):
         multiscale.MultiScaleDPJ((model.dpjs[1], model.dpjs[0]))

@@ -318,6 +318,11 @@ def estimate_scales(image, *, scales: int | None = None, levels: int = LEVELS,
             most = max(g for g in range(1, MAX_LEVELS + 1)
                        if g * (max(g, coarse_levels) if scales > 2 else coarse_levels)
                        <= MAX_LEVELS)
+            if most < 2:                  # no G fits: the coarse levels are the ones to lower
+                raise InputError(f"{coarse_levels} levels at the coarsest scale leave no room "
+                                 "for the finer ones: a conditional DPJ holds G × its parents' "
+                                 f"levels, at most {MAX_LEVELS}; choose at most "
+                                 f"{MAX_LEVELS // 2} coarse levels")
             raise InputError(f"G = {levels} on a scale of {parents} levels: a conditional DPJ "
                              f"holds G × its parents' levels ({levels * parents}), at most "
                              f"{MAX_LEVELS}; with {scales} scales choose G ≤ {most}")
