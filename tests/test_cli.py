@@ -110,11 +110,16 @@ def test_bad_images_exit_2(tmp_path, photo, capsys):
 def test_bad_synth_parameters_exit_2(tmp_path, photo, capsys):
     dpj_path = tmp_path / "g.dpj"
     assert run(capsys, "acquire", photo, "--window", "2x2", "-o", dpj_path)[0] == 0
-    for extra in (["--size", "1x1"], ["--size", "big"], ["--seed", "-4"]):
+    for extra in (["--size", "1x1"], ["--size", "big"], ["--seed", "-4"],
+                  ["--seed", str(2**64)]):
         code, _, err = run(capsys, "synth", dpj_path, *extra, "-o", tmp_path / "x.png")
         assert code == 2 and err.count("\n") == 1, extra
     code, _, err = run(capsys, "synth", dpj_path, "-o", tmp_path / "x.jpg")
     assert code == 2 and ".png" in err
+    code, _, err = run(capsys, "synth", dpj_path, "-o", dpj_path / "x.png")   # under a file
+    assert code == 2 and "is not a folder" in err
+    code, _, err = run(capsys, "synth", dpj_path, "-o", tmp_path / "none" / "x.png")
+    assert code == 2 and "does not exist" in err
 
 
 def test_console_script_reports_one_line_and_exit_code(tmp_path):

@@ -280,5 +280,6 @@ def output_path(path: str, allowed: tuple[str, ...]) -> Path:
     if out.suffix.lower() not in allowed:
         raise InputError(f"the output must end with {', '.join(allowed)}: got {path!r}")
     if not out.parent.is_dir():
-        raise InputError(f"the output folder {str(out.parent)!r} does not exist")
+        what = "is not a folder" if out.parent.exists() else "does not exist"
+        raise InputError(f"the output folder {str(out.parent)!r} {what}")
     return out
