@@ -443,3 +443,146 @@ def test_float_pixels_on_another_scale_are_refused_not_clipped(scale, message):
             call(photo * scale)
     slightly = lv.quantize(np.clip(photo * 1.2 - 0.1, -0.1, 1.1), 4, "lloyd")
     assert set(np.unique(slightly.levels)) == {0, 1, 2, 3}
+
+
+# -- what load_image decodes: only what its header allows ----------------------------------------
+def _tiff_decodes(monkeypatch):
+    """Every array tifffile decodes, by shape; read through imageio or directly."""
+    import tifffile
+    decoded, real = [], tifffile.TiffFile.asarray
+
+    def spy(self, *args, **kwargs):
+        array = real(self, *args, **kwargs)
+        decoded.append(array.shape)
+        return array
+    monkeypatch.setattr(tifffile.TiffFile, "asarray", spy)
+    return decoded
+
+
+def test_a_tiff_stack_decodes_its_first_page_only(tmp_path):
+    """A TIFF stack gives its first page (as the docs say) and decodes that page only: a 6 MB
+    stack of 400 pages of 2048² took 1.85 GB, every page decoded and one kept."""
+    import tifffile
+    import tracemalloc
+    stack = np.random.default_rng(0).integers(0, 256, (16, 512, 512), dtype=np.uint8)
+    tifffile.imwrite(tmp_path / "stack.tif", stack, photometric="minisblack")
+    tracemalloc.start()
+    try:
+        image = lv.load_image(tmp_path / "stack.tif")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert np.array_equal(image, stack[0])
+    assert peak < stack.nbytes / 4
+
+
+@pytest.mark.parametrize("stored, limit, says", [
+    (np.zeros((64, 64)), "MAX_IMAGE_BYTES", "64-bit floats: 0 MiB decoded, more than 0 MiB"),
+    (np.zeros((64, 64), np.float16), "MAX_PIXELS", "64x64, more than 0 megapixels"),
+    (np.zeros((64, 64), np.uint64), "MAX_PIXELS", "64x64, more than 0 megapixels"),
+    (np.zeros((64, 64, 5), np.float32), None, r"shape \(64, 64, 5\) is not supported")])
+def test_a_tiff_pillow_cannot_open_is_checked_from_its_header_before_decoding(
+        tmp_path, monkeypatch, stored, limit, says):
+    """Pillow reads no float64, float16, 64-bit or 5-channel TIFF, so imageio decoded them
+    unchecked (a 1.6 MB float64 TIFF of 14000² took 1.7 GB before it was refused): tifffile's
+    header is checked first, and nothing is decoded."""
+    import tifffile
+    tifffile.imwrite(tmp_path / "x.tif", stored, photometric="minisblack", planarconfig="contig")
+    if limit:
+        monkeypatch.setattr(lv, limit, stored.size // 2)
+    decoded = _tiff_decodes(monkeypatch)
+    with pytest.raises(ImageError, match=says):
+        lv.load_image(tmp_path / "x.tif")
+    assert decoded == []
+
+
+def test_a_tiff_strip_that_inflates_past_its_size_is_refused(tmp_path):
+    """A page's size says what its strips hold; a deflated strip may inflate to far more (a
+    1 MB TIFF of a 64x64 page took 2.2 GB): it is refused, inflated a bounded piece at a time."""
+    import struct
+    import tifffile
+    import zlib
+    path = tmp_path / "strip.tif"
+    tifffile.imwrite(path, np.zeros((64, 64), np.uint8), compression="zlib", rowsperstrip=64)
+    with tifffile.TiffFile(path) as tif:
+        tags, order = tif.pages[0].tags, tif.byteorder
+        places = tags["StripOffsets"].valueoffset, tags["StripByteCounts"].valueoffset
+    data = bytearray(path.read_bytes())
+    bomb = zlib.compress(bytes(4 * 2**20))          # 4 MiB of zeros for a strip of 4 KiB
+    for place, value in zip(places, (len(data), len(bomb))):
+        struct.pack_into(order + "I", data, place, value)
+    path.write_bytes(bytes(data) + bomb)
+    with pytest.raises(ImageError, match="strip.tif: a strip or tile of the TIFF inflates past "
+                                         "its declared 4096 bytes"):
+        lv.load_image(path)
+
+
+def test_a_tiff_of_too_many_pages_is_refused_before_they_are_walked(tmp_path, monkeypatch):
+    """Pillow and tifffile read every page's header (4096 pages took 3 s, 100,000 minutes):
+    past MAX_TIFF_PAGES the file is refused; a chain of pages that loops is one page."""
+    import struct
+    import tifffile
+    monkeypatch.setattr(lv, "MAX_TIFF_PAGES", 3)
+    pages = np.arange(4 * 6 * 5, dtype=np.uint8).reshape(4, 6, 5)
+    tifffile.imwrite(tmp_path / "three.tif", pages[:3], photometric="minisblack")
+    tifffile.imwrite(tmp_path / "four.tif", pages, photometric="minisblack", bigtiff=True)
+    assert np.array_equal(lv.load_image(tmp_path / "three.tif"), pages[0])
+    with pytest.raises(ImageError, match="four.tif: the TIFF has more than 3 pages"):
+        lv.load_image(tmp_path / "four.tif")
+    data = bytearray((tmp_path / "three.tif").read_bytes())
+    first = struct.unpack_from("<I", data, 4)[0]
+    entries = struct.unpack_from("<H", data, first)[0]
+    struct.pack_into("<I", data, first + 2 + 12 * entries, first)    # page 1 is page 0 again
+    (tmp_path / "loop.tif").write_bytes(bytes(data))
+    assert np.array_equal(lv.load_image(tmp_path / "loop.tif"), pages[0])
+
+
+@pytest.mark.parametrize("name", ["a.npz", "a.png"])
+def test_an_npz_is_not_a_picture(tmp_path, monkeypatch, name):
+    """imageio's NPZ reader decoded an .npz's array whatever its size (a 1.5 MB file took
+    1.7 GB): a file neither Pillow nor tifffile reads is refused, nothing decoded."""
+    with open(tmp_path / name, "wb") as f:
+        np.savez(f, np.arange(64 * 64, dtype=np.uint8).reshape(64, 64))
+    monkeypatch.setattr(lv.iio, "imread", lambda *a, **k: pytest.fail("decoded"))
+    with pytest.raises(ImageError, match=f"{name}: cannot read it as an image"):
+        lv.load_image(tmp_path / name)
+
+
+def test_a_stacks_planar_first_page_is_read_interleaved(tmp_path):
+    """The first page of a stack of planar RGB pages is (H, W, 3), as a planar file of one page
+    is (it was refused as a 4-D image, or read as its red plane)."""
+    import tifffile
+    pages = np.random.default_rng(1).integers(0, 256, (2, 3, 20, 30), dtype=np.uint8)
+    tifffile.imwrite(tmp_path / "p.tif", pages, planarconfig="separate", photometric="rgb")
+    assert np.array_equal(lv.load_image(tmp_path / "p.tif"), np.moveaxis(pages[0], 0, -1))
+
+
+# -- arrays read as the file reader reads the same samples ----------------------------------------
+@pytest.mark.parametrize("dtype", [np.int64, np.int32, np.uint32])
+@pytest.mark.parametrize("photo", [data.camera()[::4, ::4], data.astronaut()[::4, ::4]],
+                         ids=["grey", "rgb"])
+def test_wide_integer_photos_quantise_as_the_8_bit_photo(photo, dtype):
+    """``np.array(picture, dtype=int)`` is int64, numpy's default: read on int64's scale it
+    was ~0, "constant: a single grey (0)"; it is read by its own range, as load_image reads
+    such samples, so a 0..255 photo gives the levels and palette of the uint8 one."""
+    photo = photo.copy()
+    photo[0, 0], photo[0, 1] = 0, 255       # 0..255: its own range is uint8's
+    wide = photo.astype(dtype)
+    for method in lv.METHODS:
+        q8, q = lv.quantize(photo, 4, method), lv.quantize(wide, 4, method)
+        assert np.array_equal(q.levels, q8.levels) and np.array_equal(q.palette, q8.palette)
+    assert np.allclose(lv.to_grey(wide), lv.to_grey(photo), atol=1e-7)
+    assert np.allclose(lv.to_rgb(wide), lv.to_rgb(photo), atol=1e-7)
+
+
+@pytest.mark.parametrize("samples", [np.arange(-600, 600, dtype=np.int16),
+                                     np.arange(1000, 2200, dtype=np.int64) * 10**9])
+def test_an_array_reads_as_a_tiff_of_the_same_samples(tmp_path, samples):
+    """Signed samples below 0 and 64-bit ones: the API reads the array as load_image reads a
+    TIFF holding it (by its own range), levels and greys alike."""
+    import tifffile
+    image = samples.reshape(30, 40)
+    tifffile.imwrite(tmp_path / "s.tif", image)
+    read = lv.load_image(tmp_path / "s.tif")
+    assert np.array_equal(lv.quantize(image, 4).levels, lv.quantize(read, 4).levels)
+    assert np.allclose(lv.to_grey(image), lv.to_grey(read), atol=1e-7)

@@ -51,6 +51,36 @@ def test_resynthesize_auto_scales_fit_a_small_texture():
         texeditor.resynthesize(photo, (16, 32), scales=3)
 
 
+def test_resynthesize_reads_a_photo_given_by_its_path(tmp_path):
+    """A path (text or pathlib) is read with load_image: it failed with "min() arg is an empty
+    sequence"; a missing file is an ImageError naming it."""
+    photo = speckle((64, 64), colour=True)
+    ski.io.imsave(tmp_path / "p.png", photo, check_contrast=False)
+    want = texeditor.resynthesize(photo, (24, 24), seed=1, scales=2)
+    for path in (str(tmp_path / "p.png"), tmp_path / "p.png"):
+        got = texeditor.resynthesize(path, (24, 24), seed=1, scales=2)
+        assert np.array_equal(got.image, want.image) and np.array_equal(got.levels, want.levels)
+    with pytest.raises(texeditor.ImageError, match="gone.png: no such file"):
+        texeditor.resynthesize(str(tmp_path / "gone.png"), (24, 24))
+
+
+@pytest.mark.parametrize("colour", [False, True])
+def test_an_int64_photo_resynthesizes_as_the_file_reader_reads_it(colour, tmp_path):
+    """``np.array(picture, dtype=int)`` (int64, values 0..255) was read on int64's scale and
+    refused as "constant: a single grey (0)": it is read by its own range, as load_image reads
+    a TIFF of the same samples; a grey one draws what its uint8 photo draws."""
+    import tifffile
+    photo = speckle((64, 64), colour=colour)
+    wide = photo.astype(np.int64)
+    tifffile.imwrite(tmp_path / "wide.tif", wide, photometric="rgb" if colour else "minisblack")
+    got = texeditor.resynthesize(wide, (24, 24), seed=3, scales=2)
+    for want in (texeditor.resynthesize(str(tmp_path / "wide.tif"), (24, 24), seed=3, scales=2),
+                 *([] if colour else [texeditor.resynthesize(photo, (24, 24), seed=3, scales=2)])):
+        assert np.array_equal(got.image, want.image) and np.array_equal(got.levels, want.levels)
+    assert np.array_equal(acquire_model(wide, scales=2).tone.colour,
+                          acquire_model(photo, scales=2).tone.colour)
+
+
 def test_tone_draws_each_point_from_photo_points_of_its_level(model):
     """Every grey drawn is a grey the photo has at that level (the 3×3 context backs off to
     the level itself at worst), so flat levels become the photo's own shading (then finished:
@@ -754,6 +784,61 @@ def test_hostile_model_files_are_refused_with_a_reason(model, case):
     data = _rezip(model.to_bytes(), HOSTILE[case])
     with pytest.raises(FormatError):
         model_from_bytes(data, "hostile.dpj")
+
+
+def _deflated_npy(zf, name: str, shape) -> None:
+    """A member holding a uint8 .npy of zeros of ``shape``, deflated as it is written."""
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(header, {"descr": "|u1", "fortran_order": False,
+                                                  "shape": shape})
+    with zf.open(name, "w") as f:
+        f.write(header.getvalue())
+        f.write(bytes(int(np.prod(shape))))
+
+
+def test_a_tone_bomb_is_refused_from_its_header_before_it_is_inflated(model):
+    """tone.npz is stored in the model, so the model's 512 MiB limit sees only its compressed
+    size: levels declared just past MAX_TONE_PIXELS, deflated to a few KB, are refused from
+    their .npy header, the array never inflated (a 57 KB model of two 40000² such arrays took
+    3.3 GB before it was refused)."""
+    import tracemalloc
+    from texeditor.photo import model as photo_model
+    shape = (photo_model.MAX_TONE_PIXELS // 4096 + 1, 4096)
+    tone_npz = io.BytesIO()
+    with zipfile.ZipFile(tone_npz, "w", zipfile.ZIP_DEFLATED) as zf:
+        _deflated_npy(zf, "levels.npy", shape)
+        _deflated_npy(zf, "grey.npy", (8, 8))
+    data = _rezip(model.to_bytes(), lambda m: m.__setitem__("tone.npz", tone_npz.getvalue()))
+    assert len(data) < 2**20
+    tracemalloc.start()
+    try:
+        with pytest.raises(FormatError, match=r"tone levels of 4096x4097 points, more than the "
+                                              r"limit of 16777216"):
+            model_from_bytes(data, "bomb.dpj")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 4 * 2**20
+
+
+@pytest.mark.parametrize("picture", [("grey", np.zeros((8, 9), np.uint8)),
+                                     ("colour", np.zeros((8, 8, 3), np.float32)),
+                                     ("grey", np.zeros((8, 8, 4), np.uint8))])
+def test_a_tones_photo_is_checked_from_its_header_before_any_array_is_read(model, monkeypatch,
+                                                                           picture):
+    """The photo's declared shape and dtype must fit the levels' before either is read."""
+    arrays = {"levels": np.zeros((8, 8), np.uint8), picture[0]: picture[1]}
+    data = _rezip(model.to_bytes(), lambda m: m.__setitem__("tone.npz", _tone_with(arrays)))
+    read, real = [], np.lib.format.read_array
+
+    def spy(*args, **kwargs):
+        array = real(*args, **kwargs)
+        read.append(array.shape)
+        return array
+    monkeypatch.setattr(np.lib.format, "read_array", spy)
+    with pytest.raises(FormatError, match="the tone's photo must be uint8 grey or colour"):
+        model_from_bytes(data, "hostile.dpj")
+    assert read and not [shape for shape in read if shape[:2] == (8, 8)]   # DPJs' only
 
 
 def test_tone_refuses_levels_it_cannot_show(model):

@@ -6,7 +6,11 @@ level matrix made here, and synthesis paints its levels with the palette made he
 
 from __future__ import annotations
 
+import lzma
+import math
+import struct
 import warnings
+import zlib
 from pathlib import Path
 from typing import NamedTuple
 
@@ -26,6 +30,7 @@ MAX_PIXELS = 64 * 2**20
 # Decoded, at most a 64-megapixel RGBA photo of 8 bits: acquiring one peaks at 1.9 GB (measured,
 # benchmarks/bench_limits.py); 16-bit or float colour pictures that large would pass 2 GiB.
 MAX_IMAGE_BYTES = 256 * 2**20
+MAX_TIFF_PAGES = 1024     # a multi-page TIFF gives its first page; every page's header is read
 BAND = (5.0, 95.0)
 MAX_LLOYD_ITERATIONS = 100
 METHODS = ("band", "lloyd", "lab")
@@ -54,19 +59,29 @@ def load_image(path) -> np.ndarray:
     """Read an image file as stored: (H, W) grey or (H, W, C) with C = 1..4, dtype preserved.
 
     Palette images come back as RGB(A). A multi-page file (animated GIF, TIFF stack) gives its
-    first page. The declared size is checked against MAX_PIXELS before decoding, so a
-    decompression bomb is refused without allocating it. Every failure is an ImageError naming
-    the file, and no reader warning escapes. Samples that have no 0..1 scale of their own come
-    back as float32 in 0..1 by their own range (see _own_range).
+    first page, and only that page is decoded. The declared size is checked against MAX_PIXELS
+    and MAX_IMAGE_BYTES before decoding (Pillow's header; a TIFF's through tifffile), so a
+    decompression bomb is refused without allocating it; a file neither can read is not a
+    picture (an .npz, which imageio would decode unchecked). Every failure is an ImageError
+    naming the file, and no reader warning escapes. Samples that have no 0..1 scale of their
+    own come back as float32 in 0..1 by their own range (see _own_range).
     """
     path = as_path(path)
     _check_file(path)
+    tiff = _is_tiff(path)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         warnings.simplefilter("error", Image.DecompressionBombWarning)
+        if tiff:
+            _check_tiff_pages(path)         # before Pillow counts them
         size, pages, mode = _declared_size(path)
+        if tiff and mode != "CMYK":
+            return _own_range(_check_decoded(_decode_tiff(path), path))
+        if size is None:
+            raise ImageError(f"{path}: cannot read it as an image (unknown format, or a "
+                             "damaged or truncated file)")
         image = _decode_cmyk(path) if mode == "CMYK" else _decode(path)
-    if pages > 1 and image.ndim >= 3 and size is not None and image.shape[1:3] == size:
+    if pages > 1 and image.ndim >= 3 and image.shape[1:3] == size:
         image = image[0]
     image = _interleaved(image, size, mode)
     return _own_range(_check_decoded(image, path))
@@ -151,8 +166,9 @@ def _decode_cmyk(path: Path) -> np.ndarray:
 
 
 def _decode(path: Path) -> np.ndarray:
+    """A picture Pillow has identified (its size checked), decoded by Pillow alone."""
     try:
-        return np.asarray(iio.imread(path, index=0))
+        return np.asarray(iio.imread(path, index=0, plugin="pillow"))
     except (Image.DecompressionBombWarning, Image.DecompressionBombError):
         raise ImageError(f"{path}: the image is too large to open safely") from None
     except MemoryError:
@@ -160,6 +176,120 @@ def _decode(path: Path) -> np.ndarray:
     except Exception as exc:  # every reader fails differently; the user needs one message
         raise ImageError(f"{path}: cannot read it as an image "
                          "(unknown format, or a damaged or truncated file)") from exc
+
+
+# -- TIFF ---------------------------------------------------------------------------------------
+_TIFF_MAGIC = (b"II*\0", b"MM\0*", b"II+\0", b"MM\0+")     # classic and BigTIFF
+_INFLATE = {8: zlib.decompressobj, 32946: zlib.decompressobj, 50013: zlib.decompressobj,
+            34925: lzma.LZMADecompressor}      # what tifffile decodes without imagecodecs
+
+
+def _is_tiff(path: Path) -> bool:
+    try:
+        with open(path, "rb") as f:
+            return f.read(4) in _TIFF_MAGIC
+    except OSError as exc:
+        raise ImageError(f"{path}: cannot read ({exc.strerror or exc})") from None
+
+
+def _tifffile():
+    """tifffile (imageio's TIFF reader), loaded when a TIFF is read; what it logs about a
+    damaged file is not printed (the ImageError says it)."""
+    import logging
+    import tifffile
+    logger = logging.getLogger("tifffile")
+    if not logger.handlers:
+        logger.addHandler(logging.NullHandler())
+    return tifffile
+
+
+def _check_tiff_pages(path: Path) -> None:
+    """At most MAX_TIFF_PAGES pages: Pillow and tifffile walk every page's header (4096 pages
+    of 1x1 took 3 s, 100,000 several minutes), though only the first is read. The chain of
+    page headers (IFDs) is followed here, MAX_TIFF_PAGES + 1 links at most, a loop ending it."""
+    seen = set()
+    try:
+        with open(path, "rb") as f:
+            head = f.read(16)
+            order, big = ("<" if head[:2] == b"II" else ">"), head[2:4] in (b"\0+", b"+\0")
+            count, entry, link = ("Q", 20, "Q") if big else ("H", 12, "I")
+            offset = struct.unpack_from(order + link, head, 8 if big else 4)[0]
+            while offset and offset not in seen and len(seen) <= MAX_TIFF_PAGES:
+                seen.add(offset)
+                f.seek(offset)
+                entries = _unpack(f, order + count)
+                f.seek(offset + struct.calcsize(count) + (entries or 0) * entry)
+                offset = None if entries is None else _unpack(f, order + link)
+    except (OSError, ValueError, struct.error):
+        return                          # a damaged header: _decode_tiff says so
+    if len(seen) > MAX_TIFF_PAGES:
+        raise ImageError(f"{path}: the TIFF has more than {MAX_TIFF_PAGES} pages; only its "
+                         "first page is read: save it alone")
+
+
+def _unpack(f, fmt: str) -> int | None:
+    """One integer read at the file's position, or None past its end."""
+    raw = f.read(struct.calcsize(fmt))
+    return struct.unpack(fmt, raw)[0] if len(raw) == struct.calcsize(fmt) else None
+
+
+def _decode_tiff(path: Path) -> np.ndarray:
+    """The first page of a TIFF's first series, its shape, dtype and strips or tiles checked
+    before it is decoded: a stack of pages decodes one page only (imageio decoded the whole
+    series), and a float or 64-bit page Pillow cannot open is checked too."""
+    try:
+        with _tifffile().TiffFile(path) as tif:
+            series = tif.series[0]
+            first = series.pages[0]
+            page = first.keyframe
+            whole = series.size == page.size          # one page: its series' own shape
+            shape = series.shape if whole else _page_shape(series, page)
+            _check_decoded_size(_planes_last(shape, page), page.dtype, path)
+            _check_segments(tif, first, page, path)
+            image = tif.asarray(series=0) if whole else tif.asarray(series=0, key=0)
+    except ImageError:
+        raise
+    except MemoryError:
+        raise ImageError(f"{path}: not enough memory to decode this image") from None
+    except Exception as exc:  # tifffile fails in many ways on damaged files
+        raise ImageError(f"{path}: cannot read it as an image "
+                         "(unknown format, or a damaged or truncated file)") from exc
+    if not whole:
+        image = image.reshape(shape)
+    return np.moveaxis(image, 0, -1) if _planes_last(image.shape, page) != image.shape else image
+
+
+def _page_shape(series, page) -> tuple:
+    """A stack's first page as indexing the series would give it: (n, ...) → (...)."""
+    rest = tuple(series.shape[1:])
+    if series.shape[0] == len(series.pages) and math.prod(rest) == page.size:
+        return rest
+    return tuple(page.shape)
+
+
+def _planes_last(shape, page) -> tuple:
+    """A planar page (one plane per channel, (C, H, W)) as (H, W, C), like every picture."""
+    shape = tuple(shape)
+    if page.planarconfig == 2 and len(shape) == 3 and shape[0] == page.samplesperpixel > 1:
+        return shape[1:] + shape[:1]
+    return shape
+
+
+def _check_segments(tif, first, page, path: Path) -> None:
+    """Refuse a deflated or LZMA strip or tile that inflates past its declared size (tifffile
+    would inflate it whole): inflated here a bounded piece at a time, never kept."""
+    inflater = _INFLATE.get(int(page.compression))
+    if inflater is None:
+        return
+    limit = math.prod(page.chunks) * page.dtype.itemsize
+    end = tif.filehandle.size
+    for offset, count in zip(first.dataoffsets, first.databytecounts):
+        offset, count = int(offset), int(count)
+        tif.filehandle.seek(offset)
+        data = tif.filehandle.read(max(0, min(count, end - offset)))
+        if len(inflater().decompress(data, limit + 1)) > limit:
+            raise ImageError(f"{path}: a strip or tile of the TIFF inflates past its "
+                             f"declared {limit} bytes: a damaged file or a decompression bomb")
 
 
 def _check_pixels(height: int, width: int, path: Path) -> None:
@@ -171,30 +301,41 @@ def _check_pixels(height: int, width: int, path: Path) -> None:
 
 
 def _check_decoded(image: np.ndarray, path: Path) -> np.ndarray:
-    try:
-        _check_shape(image)
-    except ImageError as exc:
-        raise ImageError(f"{path}: {exc}") from None
-    _check_pixels(image.shape[0], image.shape[1], path)
-    if image.nbytes > MAX_IMAGE_BYTES:
-        h, w = image.shape[:2]
-        channels = 1 if image.ndim == 2 else image.shape[2]
-        kind = "floats" if image.dtype.kind == "f" else "integers"
-        raise ImageError(f"{path}: the image is {w}x{h} with {channels} channel(s) of "
-                         f"{image.dtype.itemsize * 8}-bit {kind}: "
-                         f"{image.nbytes / 2**20:.0f} MiB decoded, more than "
-                         f"{MAX_IMAGE_BYTES // 2**20} MiB; reduce it or save it with 8 bits "
-                         "per channel")
+    _check_decoded_size(image.shape, image.dtype, path)
     return image
 
 
+def _check_decoded_size(shape: tuple, dtype: np.dtype, path: Path) -> None:
+    """What a decoded picture must be (layout, pixels, bytes), checked from a header's shape
+    and dtype before decoding as well as on the decoded array."""
+    try:
+        _check_layout(shape, dtype)
+    except ImageError as exc:
+        raise ImageError(f"{path}: {exc}") from None
+    _check_pixels(shape[0], shape[1], path)
+    nbytes = math.prod(shape) * dtype.itemsize
+    if nbytes > MAX_IMAGE_BYTES:
+        h, w = shape[:2]
+        channels = 1 if len(shape) == 2 else shape[2]
+        kind = "floats" if dtype.kind == "f" else "integers"
+        raise ImageError(f"{path}: the image is {w}x{h} with {channels} channel(s) of "
+                         f"{dtype.itemsize * 8}-bit {kind}: "
+                         f"{nbytes / 2**20:.0f} MiB decoded, more than "
+                         f"{MAX_IMAGE_BYTES // 2**20} MiB; reduce it or save it with 8 bits "
+                         "per channel")
+
+
 def _check_shape(image: np.ndarray) -> None:
+    _check_layout(image.shape, image.dtype)
+
+
+def _check_layout(shape: tuple, dtype: np.dtype) -> None:
     """Grey (H, W) or (H, W, C) with C = 1 grey, 2 grey+alpha, 3 RGB, 4 RGBA; numbers only."""
-    if not (image.ndim == 2 or (image.ndim == 3 and 1 <= image.shape[2] <= 4)):
-        raise ImageError(f"an image of shape {image.shape} is not supported: expected grey, "
+    if not (len(shape) == 2 or (len(shape) == 3 and 1 <= shape[2] <= 4)):
+        raise ImageError(f"an image of shape {tuple(shape)} is not supported: expected grey, "
                          "grey + alpha, RGB or RGBA pixels")
-    if image.dtype.kind not in "biuf":
-        raise ImageError(f"pixels of type {image.dtype} are not supported: expected bool, "
+    if dtype.kind not in "biuf":
+        raise ImageError(f"pixels of type {dtype} are not supported: expected bool, "
                          "integer or float")
 
 
@@ -202,13 +343,13 @@ def _check_shape(image: np.ndarray) -> None:
 def to_grey(image) -> np.ndarray:
     """Grey (H, W) float64 in [0, 1] of any supported image; RGBA is laid on white first.
 
-    Integer types are scaled by their range (uint16 65535 → 1); floats are read on 0..1, a little
-    below 0 or above 1 clipped, well outside it (FLOAT_RANGE) refused.
+    Integer types are scaled by their range (uint16 65535 → 1), 32/64-bit and negative ones by
+    their own (as_read); floats are read on 0..1, a little below 0 or above 1 clipped, well
+    outside it (FLOAT_RANGE) refused.
     Converted by bands of rows: a 64-megapixel RGBA photo as float64 would take 2 GB at once
     (every step is per pixel, so the result is the same as in one go).
     """
-    image = np.asarray(image)
-    _check_shape(image)
+    image = as_read(image)
     grey = np.empty(image.shape[:2], np.float64)
     for top, band in zip(range(0, image.shape[0], _BAND_ROWS), _bands(image)):
         grey[top:top + _BAND_ROWS] = _grey_band(band)
@@ -218,11 +359,20 @@ def to_grey(image) -> np.ndarray:
 _BAND_ROWS = 256
 
 
+def as_read(image) -> np.ndarray:
+    """An array as load_image reads the same samples from a file: 32- or 64-bit integers, and
+    signed ones with negative samples, by their own range (_own_range: an int64 photo of 0..255,
+    numpy's default integers, would be ~0 on its type's scale, "constant"). The whole array at
+    once, so that its bands are scaled alike; floats and other integers are kept as they are."""
+    image = np.asarray(image)
+    _check_shape(image)
+    return _own_range(image) if image.dtype.kind in "iu" and image.size else image
+
+
 def to_rgb(image) -> np.ndarray:
     """RGB (H, W, 3) float64 in [0, 1] of any supported image: RGBA laid on white (as in
     `to_grey`), a grey one repeated in the three channels."""
-    image = np.asarray(image)
-    _check_shape(image)
+    image = as_read(image)
     if image.ndim == 2 or image.shape[2] < 3:
         return np.repeat(to_grey(image)[..., None], 3, axis=2)
     rgb = _as_unit_float(image)
@@ -275,8 +425,9 @@ def quantize(image, levels: int, method: str = "band") -> Quantization:
     levels = check_levels(levels)
     if method not in METHODS:
         raise InputError(f"unknown quantisation method {method!r}: choose one of {', '.join(METHODS)}")
+    image = as_read(image)
     if method == "lab" and has_colour(image):
-        return _lab_quantize(np.asarray(image), levels)
+        return _lab_quantize(image, levels)
     grey = to_grey(image)
     np.round(grey, _DECIMALS, out=grey)
     _check_contrast(grey)

@@ -12,7 +12,7 @@ import numpy as np
 from . import tone
 from ..markov.multiscale import COARSE_WINDOW, WINDOW, default_scales, scales_that_fit
 from ..markov.synthesis import check_seed, check_size
-from .model import (PhotoModel, Resynthesis, Tone, acquire_model, document_model,
+from .model import (PhotoModel, Resynthesis, Tone, acquire_model, as_photo, document_model,
                     document_tone, load_model, model_from_bytes, photo_tone, step_wrap)
 
 
@@ -23,8 +23,10 @@ def resynthesize(photo, shape, *, seed: int = 0, tone: bool = True, tileable: bo
 
     ``acquire`` overrides the model's defaults (scales, levels, window, coarse_levels,
     coarse_window, quantizer), chosen for quality; without ``scales``, the photo's number of
-    scales, or fewer when the texture is too small to hold them (auto_scales)."""
+    scales, or fewer when the texture is too small to hold them (auto_scales). ``photo``: an
+    array, or an image file's path (read by load_image)."""
     check_seed(seed), check_size(shape)          # before the photo's model is made
+    photo = as_photo(photo)
     if acquire.get("scales") is None:
         acquire["scales"] = auto_scales(photo, shape, **acquire)
     model = acquire_model(photo, tone=tone, **acquire)

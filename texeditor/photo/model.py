@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import io
 import json
+import math
+import os
 import threading
 import zipfile
 from concurrent.futures import ThreadPoolExecutor
@@ -22,7 +24,7 @@ import numpy as np
 from ..errors import Cancelled, FormatError, InputError
 from ..fileio import load_json, read_limited, write_file
 from ..markov.dpj import DPJ, MAX_FILE_BYTES, check_npy_headers
-from ..markov.levels import to_grey
+from ..markov.levels import as_read, load_image, to_grey
 from ..markov.particles import PARTICLES
 from ..markov.synthesis import check_closure
 from ..markov.multiscale import (COARSE_LEVELS, COARSE_REDRAWS, COARSE_ROW_REDRAWS,
@@ -38,6 +40,8 @@ MODEL_FORMAT_VERSION = 2
 MAX_TONE_PIXELS = 4096 * 4096
 TONE_ROWS = 256                      # a photo's greys for its tone: this many rows at a time
 _ZIP_DATE = (1980, 1, 1, 0, 0, 0)    # fixed, so the same model always has the same bytes
+_NPY_HEADERS = {(1, 0): np.lib.format.read_array_header_1_0,
+                (2, 0): np.lib.format.read_array_header_2_0}
 
 
 class Tone(NamedTuple):
@@ -282,17 +286,25 @@ def acquire_model(image, *, scales: int | None = None, levels: int = LEVELS, win
                   coarse_levels: int = COARSE_LEVELS, coarse_window=COARSE_WINDOW,
                   quantizer: str = "lab", tone: bool = True) -> PhotoModel:
     """Acquire a photo model: its multi-scale DPJ and (``tone``) its greys and colours."""
-    image = np.asarray(image)
+    image = as_photo(image)
     ms, lv = estimate_scales(image, scales=scales, levels=levels, window=window,
                              coarse_levels=coarse_levels, coarse_window=coarse_window,
                              quantizer=quantizer)
     return PhotoModel(ms, photo_tone(image, lv[-1]) if tone else None)
 
 
+def as_photo(photo) -> np.ndarray:
+    """A photo given as an array, or as an image file's path (read by load_image), as
+    load_image reads its samples (as_read)."""
+    if isinstance(photo, (str, bytes, os.PathLike)):
+        return load_image(photo)
+    return as_read(photo)
+
+
 def photo_tone(image, finest: np.ndarray) -> Tone:
     """The photo's tone for its finest levels (``estimate_scales``'s last level matrix, which
     covers the photo's top-left corner): its greys, and its colours when it has them."""
-    image = np.asarray(image)
+    image = as_read(image)              # whole: its bands below are scaled alike
     h, w = finest.shape
     grey = np.empty((h, w), np.uint8)
     for top in range(0, h, TONE_ROWS):     # a large photo is never whole as float64
@@ -383,27 +395,62 @@ def _tone_bytes(tone: Tone) -> bytes:
 
 
 def _parse_tone(data: bytes, g: int, name: str) -> Tone:
-    """The tone arrays, checked: uint8, one shape, levels below G; grey from colour if absent."""
+    """The tone arrays, checked: uint8, one shape, levels below G; grey from colour if absent.
+    Shapes and dtypes are checked from the .npy headers before any array is inflated: the
+    model's 512 MiB limit counts tone.npz as stored, and its members may be deflated again."""
     zf = zipfile.ZipFile(io.BytesIO(data))
     members = sorted(i.filename for i in zf.infolist())
     if members not in (["grey.npy", "levels.npy"], ["colour.npy", "levels.npy"]):
         raise FormatError(f"{name}: tone holds levels and grey or colour; found {members}")
     check_npy_headers(zf, f"{name}: tone")
-    with np.load(io.BytesIO(data), allow_pickle=False) as npz:
-        arrays = {k: npz[k] for k in npz.files}
-    levels = arrays["levels"]
-    if levels.dtype != np.uint8 or levels.ndim != 2 or levels.size == 0 \
-            or levels.size > MAX_TONE_PIXELS or levels.max() >= g:
-        raise FormatError(f"{name}: tone levels must be a 2-D uint8 matrix of levels below {g}")
-    return tone_of_pictures(levels, arrays.get("colour", arrays.get("grey")), name)
+    picture = members[0]
+    shape = _check_tone_levels(*_npy_header(zf, "levels.npy"), g, name)
+    _check_picture(shape, *_npy_header(zf, picture), name)
+    levels = _npy_array(zf, "levels.npy")
+    if levels.max() >= g:
+        raise FormatError(_bad_levels(g, name))
+    return tone_of_pictures(levels, _npy_array(zf, picture), name)
+
+
+def _check_tone_levels(shape: tuple, dtype: np.dtype, g: int, name: str) -> tuple:
+    """The levels' declared shape, if a 2-D uint8 matrix of at most MAX_TONE_PIXELS."""
+    if dtype != np.uint8 or len(shape) != 2 or 0 in shape:
+        raise FormatError(_bad_levels(g, name))
+    if math.prod(shape) > MAX_TONE_PIXELS:
+        raise FormatError(f"{name}: tone levels of {shape[1]}x{shape[0]} points, more than "
+                          f"the limit of {MAX_TONE_PIXELS} points")
+    return shape
+
+
+def _bad_levels(g: int, name: str) -> str:
+    return f"{name}: tone levels must be a 2-D uint8 matrix of levels below {g}"
+
+
+def _npy_header(zf: zipfile.ZipFile, member: str) -> tuple[tuple, np.dtype]:
+    """(shape, dtype) from a member's .npy header alone, nothing inflated past it."""
+    with zf.open(member) as f:
+        read = _NPY_HEADERS[np.lib.format.read_magic(f)]    # versions check_npy_headers took
+        shape, _, dtype = read(f, max_header_size=10_000)
+    return shape, dtype
+
+
+def _npy_array(zf: zipfile.ZipFile, member: str) -> np.ndarray:
+    """A member's array, once its header is checked (no pickle)."""
+    with zf.open(member) as f:
+        return np.lib.format.read_array(f, allow_pickle=False, max_header_size=10_000)
+
+
+def _check_picture(levels_shape: tuple, shape: tuple, dtype: np.dtype, name: str) -> None:
+    """The tone's photo: uint8 grey or colour of the levels' shape."""
+    if dtype != np.uint8 or tuple(shape) not in (levels_shape, levels_shape + (3,)):
+        raise FormatError(f"{name}: the tone's photo must be uint8 grey or colour of the "
+                          f"levels' shape {levels_shape}, got {dtype} {tuple(shape)}")
 
 
 def tone_of_pictures(levels: np.ndarray, picture: np.ndarray, name: str = "tone") -> Tone:
     """A tone from the photo's finest levels and its picture (uint8 grey, or colour whose greys
     are computed as on acquisition): how a `.dpj` and a document store it."""
-    if picture.dtype != np.uint8 or picture.shape not in (levels.shape, levels.shape + (3,)):
-        raise FormatError(f"{name}: the tone's photo must be uint8 grey or colour of the "
-                          f"levels' shape {levels.shape}, got {picture.dtype} {picture.shape}")
+    _check_picture(levels.shape, picture.shape, picture.dtype, name)
     if picture.ndim == 2:
         return Tone(levels, picture, None)
     return Tone(levels, np.round(to_grey(picture) * 255).astype(np.uint8), picture)
