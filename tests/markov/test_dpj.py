@@ -170,18 +170,18 @@ def test_a_header_declaring_terabytes_is_refused_before_allocating():
         DPJ.from_bytes(buf.getvalue())
 
 
-GOOD = np.array([[[0, 0], [0, 1]], [[0, 1], [1, 0]], [[1, 0], [0, 1]]])
+CONFIGS = np.array([[[0, 0], [0, 1]], [[0, 1], [1, 0]], [[1, 0], [0, 1]]])
 
 
 @pytest.mark.parametrize("make, message", [
-    (lambda: DPJ(GOOD + 0.5, [0.2, 0.3, 0.5], 2), "whole levels"),
-    (lambda: DPJ(GOOD.astype(str), [0.2, 0.3, 0.5], 2), "configurations"),
+    (lambda: DPJ(CONFIGS + 0.5, [0.2, 0.3, 0.5], 2), "whole levels"),
+    (lambda: DPJ(CONFIGS.astype(str), [0.2, 0.3, 0.5], 2), "configurations"),
     (lambda: DPJ([[[0, 0], [0]], [[1, 1], [1, 1]]], [0.5, 0.5], 2), "configurations"),
-    (lambda: DPJ(GOOD, [0.2, 0.3, 0.5], 2.5), "whole number"),
-    (lambda: DPJ(GOOD, [0.2, 0.3, 0.5], "2"), "whole number"),
-    (lambda: DPJ(GOOD, ["a", "b", "c"], 2), "probabilities"),
-    (lambda: DPJ(GOOD, [0.2, 0.3, 0.5j], 2), "probabilities"),
-    (lambda: DPJ(GOOD, [0.2, 0.3, 0.5], 2, meta=[1]), "meta"),
+    (lambda: DPJ(CONFIGS, [0.2, 0.3, 0.5], 2.5), "whole number"),
+    (lambda: DPJ(CONFIGS, [0.2, 0.3, 0.5], "2"), "whole number"),
+    (lambda: DPJ(CONFIGS, ["a", "b", "c"], 2), "probabilities"),
+    (lambda: DPJ(CONFIGS, [0.2, 0.3, 0.5j], 2), "probabilities"),
+    (lambda: DPJ(CONFIGS, [0.2, 0.3, 0.5], 2, meta=[1]), "meta"),
     (lambda: DPJ.from_codes([99], [1.0], 2, (2, 2)), "codes"),
     (lambda: DPJ.from_codes([-1], [1.0], 2, (2, 2)), "codes"),
     (lambda: DPJ.from_codes([2**70], [1.0], 2, (2, 2)), "codes"),
@@ -191,7 +191,7 @@ GOOD = np.array([[[0, 0], [0, 1]], [[0, 1], [1, 0]], [[1, 0], [0, 1]]])
     (lambda: estimate_dpj(np.zeros((9, 9), int), (2, 2), 2, meta=[1, 2]), "meta"),
     (lambda: synthesize(estimate_dpj(np.eye(9, dtype=int), (2, 2), 2), (float("inf"), 8)),
      "size"),
-    (lambda: DPJ(GOOD, [1e308] * 3, 2).normalized(), "sum to inf"),
+    (lambda: DPJ(CONFIGS, [1e308] * 3, 2).normalized(), "sum to inf"),
     (lambda: synthesize(estimate_dpj(np.eye(9, dtype=int), (2, 2), 2), (8, 8), seed=2**64),
      "seed"),                        # drawn, it could not be kept in a recipe (63 bits)
 ])
@@ -202,5 +202,16 @@ def test_the_python_calls_refuse_what_is_not_a_dpj_by_name(make, message):
     numpy errors (ValueError, OverflowError, UFuncTypeError)."""
     with pytest.raises(InputError, match=message):
         make()
-    assert DPJ(GOOD.astype(float), [0.2, 0.3, 0.5], 2).configs.dtype == np.uint8   # 1.0: fine
-    assert len(DPJ(GOOD, [np.nan, -1.0, 0.5], 2).report().lines()) > 0   # hand entry, checked
+    assert DPJ(CONFIGS.astype(float), [0.2, 0.3, 0.5], 2).configs.dtype == np.uint8   # 1.0: fine
+    assert len(DPJ(CONFIGS, [np.nan, -1.0, 0.5], 2).report().lines()) > 0   # hand entry, checked
+
+
+def test_a_file_of_deflated_zeros_declaring_too_many_entries_is_refused_unread(monkeypatch):
+    """A few hundred KB of deflated zeros declaring 40 million entries took 612 MB before
+    "more than 4000000 entries": the count is read from the header, before numpy inflates."""
+    import texeditor.markov.dpj as dpj_module
+    big = DPJ.from_codes(np.arange(200), np.full(200, 1 / 200), 2, (3, 3))
+    monkeypatch.setattr(dpj_module, "MAX_ENTRIES", 100)
+    monkeypatch.setattr(np, "load", lambda *a, **k: pytest.fail("inflated before refused"))
+    with pytest.raises(FormatError, match="at most 100 entries"):
+        DPJ.from_bytes(big.to_bytes())

@@ -477,7 +477,7 @@ def _parse_dpj(data: bytes, name: str) -> DPJ:
                           f"{sorted(names)}")
     if sum(i.file_size for i in infos) > MAX_FILE_BYTES:
         raise FormatError(f"{name}: declared content is larger than {MAX_FILE_BYTES} bytes")
-    check_npy_headers(zf, name)
+    check_npy_headers(zf, name, _LARGEST)
     try:
         with np.load(io.BytesIO(data), allow_pickle=False) as npz:
             configs, probs, meta_raw = npz["configs"], npz["probs"], npz["meta"]
@@ -508,9 +508,16 @@ _NPY_HEADERS = {(1, 0): np.lib.format.read_array_header_1_0,
                 (2, 0): np.lib.format.read_array_header_2_0}
 
 
-def check_npy_headers(zf: zipfile.ZipFile, name: str) -> None:
-    """Refuse (as FormatError) object arrays (pickles) and headers that declare more data than the member holds:
-    numpy would allocate the declared shape before finding the data missing."""
+_LARGEST = {"configs.npy": MAX_ENTRIES * MAX_SIDE * MAX_SIDE, "probs.npy": 8 * MAX_ENTRIES,
+            "meta.npy": 4 * MAX_META_CHARS}   # the bytes a DPJ's members decode to, at most
+
+
+def check_npy_headers(zf: zipfile.ZipFile, name: str, largest: dict | None = None) -> None:
+    """Refuse (as FormatError) object arrays (pickles), headers that declare more data than the
+    member holds (numpy would allocate the declared shape before finding the data missing),
+    and members declaring more than ``largest`` (file name → bytes) allows, or more than
+    MAX_ENTRIES entries (rows): a small file of deflated zeros would otherwise be inflated
+    before its size is read."""
     try:
         for info in zf.infolist():
             with zf.open(info) as f:
@@ -523,6 +530,11 @@ def check_npy_headers(zf: zipfile.ZipFile, name: str) -> None:
             if math.prod(shape) * dtype.itemsize > info.file_size:
                 raise FormatError(f"{name}: {info.filename} declares {shape} {dtype}, more than "
                                   f"its {info.file_size} bytes")
+            most = (largest or {}).get(info.filename)
+            if most is not None and (math.prod(shape) * dtype.itemsize > most
+                                     or (shape and shape[0] > MAX_ENTRIES)):
+                raise FormatError(f"{name}: {info.filename} declares {shape} {dtype}, more "
+                                  f"than a DPJ holds (at most {MAX_ENTRIES} entries)")
     except FormatError:
         raise
     except (zipfile.BadZipFile, zlib.error, OSError, EOFError, ValueError, TypeError,
