@@ -203,3 +203,31 @@ def test_a_missing_level_fails_cleanly_and_keeps_the_document():
     assert history.document.result_hash() == before
     with pytest.raises(FormatError, match="rotation"):
         action_from_json({"type": "scatter_regions", "version": 1, "rotation": "spin"})
+
+
+@pytest.mark.parametrize("band", [1, 7, 64, 2**20])
+def test_the_regions_first_points_are_found_band_by_band_as_by_sorting_them_all(monkeypatch,
+                                                                                 band):
+    """Sorting the 2^26 labels of a canvas at once to find each region's first point took
+    1.6 GB: they are looked through a band at a time, with the same labels, order and boxes."""
+    from texeditor.regions import scatter, transforms
+    rng = np.random.default_rng(band)
+    monkeypatch.setattr(scatter, "LABEL_BAND", band)
+    for shape in [(1, 1), (1, 40), (40, 1), (17, 23), (30, 30)]:
+        for levels in (2, 4):
+            texture = rng.integers(0, levels, shape).astype(np.uint8)
+            labels, order, boxes = region_labels(texture, connectivity=4 + 4 * (levels == 2))
+            ids, first = np.unique(labels.ravel(), return_index=True)
+            assert order == [int(k) for k in ids[np.argsort(first, kind="stable")] if k]
+            found_ids, found_first = scatter._first_points(labels)
+            np.testing.assert_array_equal(found_ids, ids)
+            np.testing.assert_array_equal(found_first, first)
+    assert scatter._first_points(np.zeros((0, 3), np.intp))[0].size == 0
+    texture = rng.integers(0, 4, (29, 37)).astype(np.uint8)
+    monkeypatch.setattr(transforms, "BAND_POINTS", band)        # each region's box in bands
+    scattered = scatter_regions(texture, 3, radius=9, rotation="any", scale=(0.5, 2.5), wrap=True)
+    monkeypatch.setattr(scatter, "LABEL_BAND", 2**62)
+    monkeypatch.setattr(transforms, "BAND_POINTS", 2**62)      # each region's box at once
+    np.testing.assert_array_equal(scattered, scatter_regions(texture, 3, radius=9,
+                                                             rotation="any", scale=(0.5, 2.5),
+                                                             wrap=True))

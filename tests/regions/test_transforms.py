@@ -272,3 +272,58 @@ def test_wrap_keeps_a_tileable_texture_tileable(tile, kind, cr, cc):
         out = identity(texture, (cr, cc), wrap=True)
     assert np.array_equal(out, np.roll(out, k, axis=0))
     assert np.array_equal(out, np.roll(out, k, axis=1))
+
+
+def _blocks(shape, seed, levels=4, block=5):
+    """A random texture of blocks with a few stray points: regions of every size."""
+    rng = np.random.default_rng(seed)
+    h, w = shape
+    coarse = rng.integers(0, levels, (-(-h // block), -(-w // block))).astype(np.uint8)
+    out = np.kron(coarse, np.ones((block, block), np.uint8))[:h, :w].copy()
+    points = rng.integers(0, [h, w], (h * w // 20 + 1, 2))
+    out[points[:, 0], points[:, 1]] = rng.integers(0, levels, len(points))
+    return out
+
+
+@pytest.mark.parametrize("band", [1, 3, 17, 256])
+def test_a_selection_carried_band_by_band_lands_as_the_whole_box_did(monkeypatch, band):
+    """A carried selection's index arrays over its whole box took 2.5 GB for 2^26 points: the
+    box is carried a band of points at a time (and a long row cut). The levels, the landed mask
+    and every overlap of folds (last in scan order) are those of the box in one band."""
+    cases = []
+    for seed in range(6):
+        levels = _blocks((23, 31), seed)
+        mask = levels == levels[seed, 2 * seed] if seed % 2 else levels > 0   # several levels
+        cases.append((levels, mask, ((2, 0), (0, 0.5)), (11.5, 4), (0, 0)))         # scale
+        cases.append((levels, mask, rotation_matrix(30 + 50 * seed), (3, 7.5), (1.5, -2)))
+        cases.append((levels, mask, ((3.5, 0.4), (-1, 2.7)), (0, 0), (-4, 40)))    # folds
+        cases.append((levels, mask, ((0.3, 0), (0, 0.2)), (20, 20), (0.25, 0)))
+    results = {}
+    for band_points in (2**62, band):
+        monkeypatch.setattr(transforms, "BAND_POINTS", band_points)
+        results[band_points] = [
+            (warp(levels, m, centre=c, offset=o, mask=mask, wrap=wrap, fill=3, keep_source=keep),
+             transform_mask(mask, m, centre=c, offset=o, wrap=wrap))
+            for levels, mask, m, c, o in cases for wrap in (False, True) for keep in (False, True)]
+    for (levels, landed), (whole, whole_landed) in zip(results[band], results[2**62]):
+        np.testing.assert_array_equal(levels, whole)
+        np.testing.assert_array_equal(landed, whole_landed)
+
+
+def test_a_carried_selection_never_holds_its_box_of_indices():
+    """Half a 2048×1024 canvas zoomed ×2 and folded back (wrap): 298 MiB of index arrays, now
+    a band's (the levels themselves are 2 MiB)."""
+    import tracemalloc
+    levels = np.zeros((1024, 2048), np.uint8)
+    levels[:, :1024] = 1
+    tracemalloc.start()
+    try:
+        similarity(levels, 2, (3, 3), mask=levels == 1, wrap=True)
+        folded = tracemalloc.get_traced_memory()[1]
+        tracemalloc.reset_peak()
+        similarity(levels, 2, (3, 3), angle=45, mask=levels == 1)
+        turned = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert folded < 120 * 2**20
+    assert turned < 60 * 2**20                      # was 84 MiB

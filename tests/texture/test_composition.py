@@ -243,3 +243,85 @@ def test_expression_inputs_are_checked():
         cp.evaluate("T1 max T2", [(X2, 2), (Y2.T, 2)], 2)
     with pytest.raises(InputError, match="levels outside"):
         cp.evaluate("T1 max T2", [(X4, 2), (Y4, 4)], 4)
+
+
+def _evaluated_whole(text, textures, levels):
+    """An expression as every release before evaluated it: each texture's greys over the
+    whole canvas at once (float64), then the tree, then the levels."""
+    tree = cp.parse_expression(text, len(textures))
+    greys = [cp.to_scale(t, g) for t, g in textures]
+    return cp.from_scale(np.broadcast_to(cp._value(tree, greys, levels),
+                                         np.shape(textures[0][0])), levels)
+
+
+EXPRESSIONS = ["T1 and T2 or T3", "not[(0.5 multiply T1) max T2] min (T3 xor 0.75)",
+               "T1 replace T2 add (0.3 multiply T3)", "(0.34 multiply T1) add (0.33 multiply T2) "
+               "add (0.33 multiply T3)", "T3 multiply not T1 min T2", "T1 xor T2 xor T3 add 0.1"]
+
+
+@pytest.mark.parametrize("band", [1, 5, 64, 2**18])
+def test_an_expression_evaluated_band_by_band_gives_the_whole_canvas_bit_for_bit(monkeypatch,
+                                                                                  band):
+    """Eight float64 copies of a 2^26-point canvas took 4 GiB: the expression is evaluated a
+    band of rows at a time, every operator point by point, so the levels are the same."""
+    monkeypatch.setattr(cp, "BAND_POINTS", band)
+    rng = np.random.default_rng(band)
+    for shape in [(37, 23), (1, 50), (50, 1), (9, 200), (0, 4), (3,), ()]:
+        for text in EXPRESSIONS:
+            gs = [int(g) for g in rng.integers(2, 17, 3)]
+            textures = [(rng.integers(0, g, shape), g) for g in gs]
+            for levels in (2, 7, 16):
+                out = cp.evaluate(text, textures, levels)
+                expected = _evaluated_whole(text, textures, levels)
+                assert out.dtype == expected.dtype == np.uint8
+                np.testing.assert_array_equal(out, expected, err_msg=f"{shape} {text}")
+
+
+@pytest.mark.parametrize("band", [1, 7, 2**18])
+def test_textures_fitted_band_by_band_mix_as_their_fitted_copies(monkeypatch, band):
+    """mix_textures repeats or crops each Ti to the canvas: ``evaluate_fitted`` takes the rows
+    of each a band needs, never the whole copies, and gives what evaluate gives of the copies;
+    a level out of range is an error only where fit() keeps it."""
+    monkeypatch.setattr(cp, "BAND_POINTS", band)
+    rng = np.random.default_rng(band)
+    shape = (23, 31)
+    sources = [rng.integers(0, 3, (1, 1)), rng.integers(0, 2, (2, 40)),
+               rng.integers(0, 16, (50, 9)).astype(np.uint8), rng.integers(0, 4, shape),
+               rng.integers(0, 5, (23, 7)).astype(np.int16), rng.integers(0, 2, (30, 31))]
+    gs = [3, 2, 16, 4, 5, 2]
+    textures = [(rng.integers(0, 8, shape).astype(np.uint8), 8)] + list(zip(sources, gs))
+    for text in ["T1 add T2 add T3 add T4 add T5 add T6 add T7",
+                 "not[T1 xor T2] or (T3 max T4) multiply T5 replace T6 min T7",
+                 "T7 replace T6 replace T5 min T4 and T3 or T2 xor T1"]:
+        for levels in (2, 8, 16):
+            fitted = [(cp.fit(t, shape), g) for t, g in textures]
+            np.testing.assert_array_equal(cp.evaluate_fitted(text, textures, levels, shape),
+                                          _evaluated_whole(text, fitted, levels))
+    cropped = np.zeros((30, 40), np.uint8)
+    cropped[23:, :] = cropped[:, 31:] = 9           # out of range for G = 2, but cropped away
+    assert cp.evaluate_fitted("T1 max T2", [(textures[0][0], 8), (cropped, 2)], 8,
+                              shape).tolist() == textures[0][0].tolist()
+    cropped[22, 30] = 2
+    with pytest.raises(InputError, match=r"T2 holds levels outside 0\.\.1"):
+        cp.evaluate_fitted("T1 max T2", [(textures[0][0], 8), (cropped, 2)], 8, shape)
+    with pytest.raises(InputError, match="does not use T2"):
+        cp.evaluate_fitted("T1 max T1", [(textures[0][0], 8), (cropped, 2)], 8, shape)
+
+
+def test_an_expression_never_holds_the_canvas_in_float():
+    """Eight textures on a 2048×1024 canvas: their float64 greys were 16 MiB each, 128 MiB
+    before the operators' own temporaries; now a band's greys and temporaries (about 40 MiB)."""
+    import tracemalloc
+    rng = np.random.default_rng(1)
+    textures = [(rng.integers(0, 4, (1024, 2048)).astype(np.uint8), 4) for _ in range(8)]
+    text = " add ".join(f"(0.1 multiply T{k})" for k in range(1, 9))
+    tracemalloc.start()
+    try:
+        out = cp.evaluate(text, textures, 16)
+        fitted = cp.evaluate_fitted(text, [textures[0]] + [(np.eye(3, dtype=np.uint8), 2)] * 7,
+                                    16, (1024, 2048))
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert out.shape == fitted.shape == (1024, 2048)
+    assert peak < 48 * 2**20

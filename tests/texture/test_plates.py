@@ -21,8 +21,9 @@ from texeditor.regions.actions import Fill
 from texeditor.spots.actions import DeleteSpot, PlaceSpot, spot_ref
 from texeditor.texture.actions import RenderGrains
 from texeditor.texture.plate_actions import AddPlates, OnPlates, PlatesFromPhoto, RemovePlates
+from texeditor.texture import plates as plates_module
 from texeditor.texture.plates import (document_picture, grid_of_text, grid_plates, grid_text,
-                                      laid_on_plates, photo_grid)
+                                      laid_on_plates, photo_grid, stretched_grid)
 
 from ..support import REFS, TINY
 from ..support import plates as sp
@@ -170,6 +171,52 @@ def test_plates_from_a_photo_split_it_where_its_colours_change():
     assert np.abs(doc.plate_colours.astype(int) - [sp.BLUE, sp.RED]).max() < 30
     assert doc.plate_colours.tolist() == grid_plates(grid, (6, 24), 2)[1].tolist()
     assert history.applied[-1].label() == "Plates from halves (2 plates)"
+
+
+def _stretched_whole(grid, shape):
+    """The grid stretched as every release before did it: the whole canvas at once."""
+    import skimage as ski
+    canvas = ski.transform.resize(grid / 255.0, shape, order=1, anti_aliasing=False)
+    return np.round(canvas * 255).astype(np.uint8)
+
+
+@pytest.mark.parametrize("band", [1, 7, 2**20])
+def test_a_grid_stretched_band_by_band_is_the_whole_canvas_stretched_bit_for_bit(monkeypatch, band):
+    """Plates from a photo stretch its grid over the canvas a band of rows at a time (2^26 points
+    at once took 4.9 GB); the colours, so the plates, are those of the whole canvas at once:
+    grids and canvases of any shape, a grid as large as the canvas, bands of one row or of a few."""
+    monkeypatch.setattr(plates_module, "_STRETCH_POINTS", band)
+    rng = np.random.default_rng(band)
+    cases = [((2, 2), (2, 2)), ((2, 2), (37, 300)), ((1, 1), (5, 3)), ((64, 64), (7, 300)),
+             ((3, 5), (1, 1)), ((1, 4), (90, 1)), ((13, 9), (13, 9))]
+    cases += [((int(rng.integers(1, 65)), int(rng.integers(1, 65))),
+               (int(rng.integers(1, 150)), int(rng.integers(1, 150)))) for _ in range(25)]
+    for grid_shape, shape in cases:
+        grid = rng.integers(0, 256, grid_shape + (3,)).astype(np.uint8)
+        stretched = stretched_grid(grid, shape)
+        assert stretched.dtype == np.uint8 and stretched.shape == shape + (3,)
+        np.testing.assert_array_equal(stretched, _stretched_whole(grid, shape),
+                                      err_msg=f"{grid_shape} over {shape}")
+    grid = rng.integers(0, 256, (5, 6, 3)).astype(np.uint8)
+    plates, colours = grid_plates(grid, (40, 70), 3)
+    from texeditor.markov.levels import quantize
+    whole = quantize(_stretched_whole(grid, (40, 70)), 3, "lab")
+    np.testing.assert_array_equal(plates, whole.levels)
+    np.testing.assert_array_equal(colours, whole.palette)
+
+
+def test_plates_from_a_photo_never_hold_the_canvas_in_float():
+    """A 2048×1024 canvas: the float64 canvas alone was 48 MiB, and each temporary as much."""
+    import tracemalloc
+    grid = np.random.default_rng(3).integers(0, 256, (2, 2, 3)).astype(np.uint8)
+    tracemalloc.start()
+    try:
+        stretched = stretched_grid(grid, (1024, 2048))
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert stretched.nbytes == 6 * 2**20
+    assert peak < stretched.nbytes + 30 * 2**20         # a band: 24 MiB of float64
 
 
 def test_photo_grids_and_steps_on_the_plates_are_checked():

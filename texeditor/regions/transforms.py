@@ -20,7 +20,7 @@ from ..errors import InputError
 
 MAX_LEVEL = 255
 MAX_WARP_POINTS = 2**26       # destination points a carried selection may span (wrap, big zooms)
-BAND_POINTS = 2**19           # whole-texture resampling works in bands of rows of this many points
+BAND_POINTS = 2**19           # resampling, carrying a selection: bands of this many points
 
 Point = tuple[float, float]
 
@@ -214,12 +214,16 @@ def _integer_offset(offset) -> tuple[int, int] | None:
 
 
 def _carry(mask, m, inv, centre, offset, wrap, *, label=None, box=None):
-    """Where each point of a selection lands: destination (rows, cols) and source (rows, cols).
+    """Where each point of a selection lands: destination (rows, cols) and source (rows, cols),
+    a band of BAND_POINTS destination points at a time (an iterator of such four arrays).
 
     Every destination point of the image of the selection's box takes its nearest source; it is
     kept when that source is selected. With ``wrap`` destinations are folded onto the canvas and,
-    where folds overlap, the last in scan order wins. ``mask`` may be a label matrix: the
-    selection is then its points of ``label``, whose box is ``box``.
+    where folds overlap, the last in scan order wins: within a band its last one is kept, and
+    the bands come in scan order, so writing them in turn leaves the last of all (as the whole
+    box at once did; its index arrays took 2.5 GB for a box of 2^26 points). ``mask`` may be a
+    label matrix: the selection is then its points of ``label``, whose box is ``box``. A box too
+    large is refused here, before anything is written.
     """
     h, w = mask.shape
     t, l, b, r = bbox(mask) if box is None else box
@@ -230,26 +234,36 @@ def _carry(mask, m, inv, centre, offset, wrap, *, label=None, box=None):
     if not wrap:
         r0, r1, c0, c1 = max(r0, 0), min(r1, h), max(c0, 0), min(c1, w)
     if r1 <= r0 or c1 <= c0:
-        empty = np.zeros(0, np.intp)
-        return empty, empty, empty, empty
+        return iter(())
     if (r1 - r0) * (c1 - c0) > MAX_WARP_POINTS:
         raise InputError(f"the transformed selection would span {(r1 - r0)}×{(c1 - c0)} points; "
                          "use a smaller factor")
-    qr, qc = np.arange(r0, r1), np.arange(c0, c1)
-    sr, sc = _sources(inv, centre, offset, qr, qc)
-    ok = (sr >= 0) & (sr < h) & (sc >= 0) & (sc < w)
-    ok[ok] = mask[sr[ok], sc[ok]] if label is None else mask[sr[ok], sc[ok]] == label
-    dr, dc = np.nonzero(ok)
-    sr, sc = sr[dr, dc], sc[dr, dc]
-    dr, dc = dr + r0, dc + c0
-    if wrap:
-        dr, dc = dr % h, dc % w
-        if r1 - r0 > h or c1 - c0 > w:          # folds may overlap: keep the last in scan order
-            flat = (dr * w + dc)[::-1]
-            _, first = np.unique(flat, return_index=True)
-            keep = np.sort(len(flat) - 1 - first)
-            dr, dc, sr, sc = dr[keep], dc[keep], sr[keep], sc[keep]
-    return dr, dc, sr, sc
+    folds = wrap and (r1 - r0 > h or c1 - c0 > w)       # folds may overlap
+    return _carried(mask, inv, centre, offset, wrap, folds, label, (r0, r1, c0, c1))
+
+
+def _carried(mask, inv, centre, offset, wrap, folds, label, box):
+    h, w = mask.shape
+    r0, r1, c0, c1 = box
+    rows = max(1, BAND_POINTS // (c1 - c0))
+    cols = min(c1 - c0, BAND_POINTS)            # a row longer than a band is cut too
+    for top in range(r0, r1, rows):
+        qr = np.arange(top, min(top + rows, r1))
+        for left in range(c0, c1, cols):
+            sr, sc = _sources(inv, centre, offset, qr, np.arange(left, min(left + cols, c1)))
+            ok = (sr >= 0) & (sr < h) & (sc >= 0) & (sc < w)
+            ok[ok] = mask[sr[ok], sc[ok]] if label is None else mask[sr[ok], sc[ok]] == label
+            dr, dc = np.nonzero(ok)
+            sr, sc = sr[dr, dc], sc[dr, dc]
+            dr, dc = dr + top, dc + left
+            if wrap:
+                dr, dc = dr % h, dc % w
+                if folds:                           # keep the last in scan order
+                    flat = (dr * w + dc)[::-1]
+                    _, first = np.unique(flat, return_index=True)
+                    keep = np.sort(len(flat) - 1 - first)
+                    dr, dc, sr, sc = dr[keep], dc[keep], sr[keep], sc[keep]
+            yield dr, dc, sr, sc
 
 
 def _checked(levels, mask, centre, offset, fill):
@@ -295,8 +309,8 @@ def warp(levels, matrix, *, centre: Point = (0.0, 0.0), offset: Point = (0.0, 0.
         if shift is not None:
             paste(out, levels, mask, shift, wrap=wrap, box=box)
         else:
-            dr, dc, sr, sc = _carry(mask, m, inv, centre, offset, wrap)
-            out[dr, dc] = levels[sr, sc]
+            for dr, dc, sr, sc in _carry(mask, m, inv, centre, offset, wrap):
+                out[dr, dc] = levels[sr, sc]
         return out
     if shift is not None and wrap:
         return np.roll(levels, shift, axis=(0, 1))
@@ -338,9 +352,9 @@ def carry_region(out: np.ndarray, levels: np.ndarray, labels: np.ndarray, label:
            [ 0,  0, 10]], dtype=uint8)
     """
     m, inv = linear_map(matrix)
-    dr, dc, sr, sc = _carry(labels, m, inv, _as_vector(centre, "centre"),
-                            _as_vector(offset, "offset"), wrap, label=label, box=box)
-    out[dr, dc] = levels[sr, sc]
+    for dr, dc, sr, sc in _carry(labels, m, inv, _as_vector(centre, "centre"),
+                                 _as_vector(offset, "offset"), wrap, label=label, box=box):
+        out[dr, dc] = levels[sr, sc]
 
 
 def transform_mask(mask, matrix, *, centre: Point = (0.0, 0.0), offset: Point = (0.0, 0.0),
@@ -365,8 +379,8 @@ def transform_mask(mask, matrix, *, centre: Point = (0.0, 0.0), offset: Point = 
     if shift is not None:
         paste(out, mask, mask, shift, wrap=wrap)
     else:
-        dr, dc, _, _ = _carry(mask, m, inv, centre, offset, wrap)
-        out[dr, dc] = True
+        for dr, dc, _, _ in _carry(mask, m, inv, centre, offset, wrap):
+            out[dr, dc] = True
     return out
 
 

@@ -306,9 +306,10 @@ class MixTextures(Action):
     def apply(self, doc, prepared=None) -> None:
         textures = [(doc.levels, doc.num_levels)]
         for text in self.sources:
-            levels, g = source_levels(doc, text, _recipe_refs(text, self.sources_dpjs))
-            textures.append((composition.fit(levels, doc.shape), g))
-        _commit(doc, composition.evaluate(self.expression, textures, doc.num_levels))
+            textures.append(source_levels(doc, text, _recipe_refs(text, self.sources_dpjs)))
+        # each Ti fitted to the canvas band by band, never whole (composition.evaluate_fitted)
+        _commit(doc, composition.evaluate_fitted(self.expression, textures, doc.num_levels,
+                                                 doc.shape))
 
     def label(self) -> str:
         text = " ".join(self.expression.split())

@@ -21,6 +21,7 @@ MAX_BLUR_SIDE = 1024    # a larger photo is first taken one point in k (the blur
 MAX_GRID_CHARS = MAX_GRID * (6 * MAX_GRID + 1)
 _GRID_ROW = re.compile(r"^(?:[0-9a-f]{6})+$")
 _BAND_ROWS = 256        # rows laid on plates at once (bounds the float temporaries)
+_STRETCH_POINTS = 2**20     # canvas points a photo grid is stretched over at once (24 MiB)
 _GREY = np.array([0.2125, 0.7154, 0.0721])      # skimage's rgb2gray weights, as `to_grey`
 
 
@@ -119,6 +120,63 @@ def grid_plates(grid: np.ndarray, shape: tuple[int, int], count: int):
     """(plates, colours): the grid stretched over a canvas of ``shape`` (bilinear) and cut
     into ``count`` colour classes in CIELAB (`markov.levels`, "lab"): the plates and their
     mean colours, darkest first."""
-    canvas = ski.transform.resize(grid / 255.0, shape, order=1, anti_aliasing=False)
-    q = quantize(np.round(canvas * 255).astype(np.uint8), count, "lab")
+    q = quantize(stretched_grid(grid, shape), count, "lab")
     return q.levels, q.palette
+
+
+def stretched_grid(grid: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """The grid stretched over a canvas of ``shape``, (H, W, 3) uint8: bit for bit
+    ``round(255 · skimage.transform.resize(grid / 255, shape, order=1, anti_aliasing=False))``,
+    the colours every release has cut into plates, made _STRETCH_POINTS canvas points at a time.
+
+    The whole canvas in float64 took 1.5 GiB for 2^26 points, and as much again for each
+    temporary (4.9 GB for a 707-byte recipe). ``resize`` ends in SciPy's ``zoom_shift`` (its
+    bilinear zoom, here in "mirror" mode and grid mode), which can also shift: a band of rows is
+    that same routine with the same zoom, shifted by the band's first row. Each output point's
+    arithmetic depends only on its own row and column, so the bands hold the whole zoom's rows
+    bit for bit on every machine (a zoom written again here could round differently where a
+    compiler fuses a multiply and an add). ``zoom_shift`` is not public SciPy: where it cannot
+    be imported or called as here, the canvas is stretched whole, as before (the plates tests
+    compare the two).
+    """
+    image = np.asarray(grid) / 255.0
+    out_shape = tuple(int(n) for n in shape) + image.shape[2:]
+    zoom_shift = _zoom_shift()
+    if zoom_shift is not None and all(out_shape):
+        # resize's zoom factors, then the output shape and zoom scipy.ndimage.zoom makes of them
+        zooms = [1 / f for f in np.divide(image.shape, out_shape)]
+        if not all(z == 1 for z in zooms) and tuple(
+                int(round(n * z)) for n, z in zip(image.shape, zooms)) == out_shape:
+            zoom = np.ascontiguousarray(np.divide(np.array(image.shape), np.array(out_shape)))
+            try:
+                return _stretched_bands(image, out_shape, zoom, *zoom_shift)
+            except TypeError:           # another signature: not the routine this was made for
+                pass
+    canvas = ski.transform.resize(image, shape, order=1, anti_aliasing=False)
+    return np.round(canvas * 255).astype(np.uint8)
+
+
+def _stretched_bands(image, out_shape, zoom, zoom_shift, mirror) -> np.ndarray:
+    lo, hi = np.asarray(image.min()), np.asarray(image.max())   # resize clips to the input's
+    out = np.empty(out_shape, np.uint8)
+    step = max(1, _STRETCH_POINTS // out_shape[1])
+    band = np.empty((min(step, out_shape[0]),) + out_shape[1:])
+    shift = np.zeros(len(out_shape))
+    for top in range(0, out_shape[0], step):
+        rows = band[:min(step, out_shape[0] - top)]
+        shift[0] = top                  # output row k of the band is row top + k of the zoom
+        zoom_shift(image, zoom, shift, rows, 1, mirror, 0.0, 0, True)
+        np.clip(rows, lo, hi, out=rows)
+        np.multiply(rows, 255, out=rows)
+        out[top:top + len(rows)] = np.round(rows, out=rows)
+    return out
+
+
+def _zoom_shift():
+    """(scipy.ndimage's zoom_shift, the code of its "mirror" mode), or None."""
+    try:
+        from scipy.ndimage._nd_image import zoom_shift
+        from scipy.ndimage._ni_support import _extend_mode_to_code
+        return zoom_shift, _extend_mode_to_code("mirror")
+    except (ImportError, RuntimeError):
+        return None
