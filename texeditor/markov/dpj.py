@@ -274,8 +274,10 @@ class DPJ:
 
     @functools.cached_property
     def total(self) -> float:
-        """The sum of the probabilities (cached: a table asks it for every row it paints)."""
-        return float(self._probs.sum())
+        """The sum of the probabilities (cached: a table asks it for every row it paints);
+        inf when they overflow (a hand-entered 1e308 or two), without numpy's warning."""
+        with np.errstate(over="ignore"):
+            return float(self._probs.sum())
 
     def prob(self, config) -> float:
         """P(config) for one (v, u) configuration; 0 for a configuration not stored."""
