@@ -22,6 +22,7 @@ from PIL import Image
 import skimage as ski     # its subpackages load on first use, not at start-up
 
 from ..errors import ImageError, InputError
+from .dpj import whole
 from ..fileio import as_path, check_regular
 
 MIN_LEVELS = 2
@@ -456,14 +457,7 @@ def _bands(image: np.ndarray):
 
 def check_levels(levels) -> int:
     """G as an int in MIN_LEVELS..MAX_LEVELS (the DPJ's codes and the palette depend on it)."""
-    try:
-        if isinstance(levels, bool):
-            raise TypeError
-        g = int(levels)
-        if g != levels:
-            raise TypeError
-    except (TypeError, ValueError):
-        raise InputError(f"the number of levels must be an integer, got {levels!r}") from None
+    g = whole(levels, "the number of levels")
     if not MIN_LEVELS <= g <= MAX_LEVELS:
         raise InputError(f"G = {g} levels is out of range: choose {MIN_LEVELS}..{MAX_LEVELS}")
     return g
